@@ -1,0 +1,36 @@
+// jam: compression-driven jamming of bidisperse soft spheres. One executable, subcommands.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <exception>
+
+#include "app/sim_command.hpp"
+#include "sim/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"jam: compression-driven jamming of bidisperse soft spheres"};
+  app.set_version_flag("--version", std::string(jam::kVersion));
+  app.require_subcommand(1);
+  jam::SimConfig sim_config;
+  jam::add_sim_command(app, sim_config);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, naming the option: CLI11's messages already do.
+    fmt::print(stderr, "jam: error: {}\n", e.what());
+    return 2;
+  }
+  try {
+    if (app.got_subcommand("sim")) return jam::run_sim_command(sim_config);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "jam: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

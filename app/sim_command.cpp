@@ -1,0 +1,68 @@
+#include "app/sim_command.hpp"
+
+#include <fmt/format.h>
+
+#include "sim/run/compression_run.hpp"
+
+namespace jam {
+
+void add_sim_command(CLI::App& app, SimConfig& c) {
+  CLI::App* sim = app.add_subcommand(
+      "sim", "Compress one bidisperse soft-sphere packing at a fixed rate and write a run file");
+  sim->option_defaults()->always_capture_default();
+  sim->add_option("--dim", c.dim, "Dimension, 2 or 3");
+  sim->add_option("--n", c.n, "Number of particles (even; half small d=1, half big)");
+  sim->add_option("--phi-init", c.phi_init, "Packing fraction of the random start");
+  sim->add_option("--phi-stop", c.phi_stop, "Packing fraction at which the run ends");
+  sim->add_option("--phi-step", c.phi_step, "Output spacing in packing fraction");
+  sim->add_option("--rate", c.compression_rate, "Compression rate (true strain rate, 1/t0)");
+  sim->add_option("--dt", c.dt, "Time step (units of t0)");
+  sim->add_option("--dynamics", c.dynamics, "overdamped (Q -> 0) or inertial");
+  sim->add_option("--integrator", c.integrator,
+                  "euler or heun (overdamped; default euler), verlet (inertial)");
+  sim->add_option("--q", c.q, "Quality factor Q (inertial dynamics only)");
+  sim->add_option("--seed", c.seed, "Seed of the random initial configuration");
+  sim->add_option("--skin", c.skin, "Neighbor-list skin (units of d_s)");
+  sim->add_option("--diameter-ratio", c.diameter_ratio, "Big/small diameter ratio");
+  sim->add_option("--relax", c.relax,
+                  "Relax the start at zero rate before compressing (the paper's protocol)");
+  sim->add_option("--relax-energy", c.relax_energy,
+                  "Relaxation ends when the energy per particle is at or below this");
+  sim->add_option("--relax-time-max", c.relax_time_max, "Longest relaxation (units of t0)");
+  sim->add_flag("--stress", c.stress, "Also write the full stress tensor at each output point");
+  sim->add_flag("--rattlers", c.rattlers,
+                "Also write Z with rattlers removed (fewer than D+1 contacts, iteratively)");
+  sim->add_option("--out", c.out, "Run file to write (HDF5)")->required();
+  auto* read = sim->add_option("--read-lammps-data", c.read_lammps_data,
+                               "Start from this LAMMPS data file (box and packing from the file)");
+  sim->add_option("--write-lammps-data", c.write_lammps_data,
+                  "Write the configuration the compression starts from as a LAMMPS data file");
+  sim->add_flag("--quiet", c.quiet, "No progress display and no summary");
+  sim->callback([sim, read, &c]() {
+    c.n_given = sim->count("--n") > 0;
+    c.phi_init_given = sim->count("--phi-init") > 0;
+    if (read->count() == 0) {
+      c.n_given = c.phi_init_given = true;  // defaults apply to generated configurations
+    }
+  });
+}
+
+int run_sim_command(const SimConfig& c) {
+  const RunSummary s = run_compression(c);
+  if (!c.quiet) {
+    fmt::print("jam sim: {}D, N = {}, rate {:g}, {} dt {:g}\n", c.dim, s.n, c.compression_rate,
+               c.resolved_integrator(), c.dt);
+    fmt::print("  phi {:.6f} -> {:.6f} in {} steps ({} relaxation steps{}), {} output points\n",
+               s.phi_init, s.final_packing_fraction, s.steps, s.relax_steps,
+               s.relax_converged ? "" : ", NOT converged", s.output_points);
+    fmt::print("  at phi_stop: pressure {:.6e}, Z {:.4f}, energy/particle {:.6e}\n",
+               s.final_pressure, s.final_contacts_per_particle, s.final_energy_per_particle);
+    fmt::print("  bulk viscosity p/rate {:.6e}\n", s.final_pressure / c.compression_rate);
+    fmt::print("  wall time {:.2f} s, {:.3g} particle-steps/s, {} neighbor-list builds\n",
+               s.wall_seconds, s.particle_steps_per_second, s.neighbor_builds);
+    fmt::print("  wrote {}\n", c.out);
+  }
+  return 0;
+}
+
+}  // namespace jam

@@ -1,0 +1,38 @@
+#pragma once
+// Forward Euler for the overdamped equation of motion (the paper's Q -> 0 limit),
+//   dr_i/dt = v_host(r_i) + f_i^el / gamma_i.
+// In scaled coordinates s = r/L + 1/2 the host flow drops out: ds_i/dt = f_i^el / (gamma_i L).
+// First order in dt; one force evaluation per step; no velocity arrays.
+#include <array>
+#include <cstddef>
+
+#include "sim/dynamics/system.hpp"
+
+namespace jam {
+
+template <int D>
+class OverdampedEuler {
+ public:
+  static constexpr const char* kName = "euler";
+  static constexpr int kOrder = 1;
+
+  explicit OverdampedEuler(std::size_t /*n*/) {}
+  void reset() {}
+
+  /// Advances the system from time t to t + dt.
+  void step(System<D>& sys, double t, double dt) {
+    const double box_length = sys.box.length(t);
+    sys.compute_elastic_forces(box_length);
+    const std::array<double, 2> c = {dt * sys.species.mobility[0] / box_length,
+                                     dt * sys.species.mobility[1] / box_length};
+    const std::size_t n = sys.size();
+    const auto* type = sys.particles.type.data();
+    for (int d = 0; d < D; ++d) {
+      double* s = sys.particles.s[d].data();
+      const double* f = sys.force[d].data();
+      for (std::size_t i = 0; i < n; ++i) s[i] = wrap_unit(s[i] + c[type[i]] * f[i]);
+    }
+  }
+};
+
+}  // namespace jam

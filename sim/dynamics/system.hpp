@@ -1,0 +1,77 @@
+#pragma once
+// Everything the dynamics acts on: particles, species constants, the compressing box, the
+// neighbor list and the elastic forces. The one force loop of the project lives here.
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "sim/model/compressing_box.hpp"
+#include "sim/model/harmonic_contact.hpp"
+#include "sim/model/particles.hpp"
+#include "sim/model/species.hpp"
+#include "sim/neighbor/neighbor_list.hpp"
+
+namespace jam {
+
+template <int D>
+struct System {
+  ParticleData<D> particles;
+  Species<D> species;
+  CompressingBox<D> box;
+  NeighborList<D> neighbors;
+  std::array<std::vector<double>, D> force;  // elastic force f_i^el, physical units
+
+  System(ParticleData<D> p, const Species<D>& sp, const CompressingBox<D>& b, double skin)
+      : particles(std::move(p)), species(sp), box(b), neighbors(skin) {
+    for (auto& f : force) f.assign(particles.size(), 0.0);
+  }
+
+  std::size_t size() const { return particles.size(); }
+
+  /// Makes the neighbor list valid for box length L.
+  void update_neighbors(double box_length) {
+    if (neighbors.needs_rebuild(particles, box_length)) {
+      neighbors.build(particles, species, box_length);
+    }
+  }
+
+  /// f_i^el = sum_j f_ij^el at box length L (paper, "Model"). Half list, Newton's third law,
+  /// branch-free pair evaluation, no allocation.
+  void compute_elastic_forces(double box_length) {
+    update_neighbors(box_length);
+    const HarmonicContact contact(species);
+    const std::size_t n = size();
+    for (int d = 0; d < D; ++d) std::fill(force[d].begin(), force[d].end(), 0.0);
+    const std::uint32_t* offsets = neighbors.offsets().data();
+    const std::uint32_t* nbr = neighbors.neighbors().data();
+    const std::uint8_t* type = particles.type.data();
+    std::array<const double*, D> s;
+    std::array<double*, D> f;
+    for (int d = 0; d < D; ++d) {
+      s[d] = particles.s[d].data();
+      f[d] = force[d].data();
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      std::array<double, D> si, fi{};
+      for (int d = 0; d < D; ++d) si[d] = s[d][i];
+      const int ti = type[i];
+      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+        const std::uint32_t j = nbr[k];
+        std::array<double, D> dr;
+        double r2 = 0.0;
+        for (int d = 0; d < D; ++d) {
+          dr[d] = box_length * minimum_image(si[d] - s[d][j]);
+          r2 += dr[d] * dr[d];
+        }
+        const double c = contact.force_over_r(r2, ti + type[j]);
+        for (int d = 0; d < D; ++d) {
+          fi[d] += c * dr[d];
+          f[d][j] -= c * dr[d];
+        }
+      }
+      for (int d = 0; d < D; ++d) f[d][i] += fi[d];
+    }
+  }
+};
+
+}  // namespace jam

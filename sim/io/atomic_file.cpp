@@ -1,0 +1,40 @@
+#include "sim/io/atomic_file.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+namespace jam {
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(temporary_name(path_)) {
+  stream_ = std::fopen(temporary_.c_str(), "w");
+  if (!stream_) {
+    throw std::runtime_error(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));
+  }
+}
+
+AtomicFile::~AtomicFile() {
+  if (stream_) std::fclose(stream_);
+  if (!committed_) std::remove(temporary_.c_str());
+}
+
+void AtomicFile::commit() {
+  const bool write_failed = std::ferror(stream_) != 0;
+  const bool close_failed = std::fclose(stream_) != 0;
+  stream_ = nullptr;
+  if (write_failed || close_failed) {
+    throw std::runtime_error(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));
+  }
+  publish(path_);
+  committed_ = true;
+}
+
+void AtomicFile::publish(const std::string& path) {
+  if (std::rename(temporary_name(path).c_str(), path.c_str()) != 0) {
+    throw std::runtime_error(fmt::format("cannot rename to '{}': {}", path, std::strerror(errno)));
+  }
+}
+
+}  // namespace jam

@@ -1,0 +1,145 @@
+#include "sim/io/hdf5_file.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace jam::h5 {
+namespace {
+
+hid_t check(hid_t id, const std::string& what) {
+  if (id < 0) throw std::runtime_error(what);
+  return id;
+}
+
+void check_status(herr_t status, const std::string& what) {
+  if (status < 0) throw std::runtime_error(what);
+}
+
+// HDF5 prints its own error stack by default; errors are reported through exceptions here.
+struct SilenceHdf5 {
+  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+};
+const SilenceHdf5 silence_hdf5;
+
+}  // namespace
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+  if (this != &o) {
+    reset();
+    id_ = o.id_;
+    close_ = o.close_;
+    o.id_ = -1;
+  }
+  return *this;
+}
+
+void Handle::reset() {
+  if (id_ >= 0 && close_) close_(id_);
+  id_ = -1;
+}
+
+File File::create(const std::string& path) {
+  Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_obj_track_times(fcpl.get(), false);
+  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT);
+  return File(Handle(check(id, fmt::format("cannot create HDF5 file '{}'", path)), H5Fclose), path);
+}
+
+File File::open_read(const std::string& path) {
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  return File(Handle(check(id, fmt::format("cannot open HDF5 file '{}'", path)), H5Fclose), path);
+}
+
+namespace {
+void write_scalar_attribute(hid_t file, const std::string& name, hid_t type, const void* value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle attr(check(H5Acreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                    "cannot create attribute " + name),
+              H5Aclose);
+  check_status(H5Awrite(attr.get(), type, value), "cannot write attribute " + name);
+}
+}  // namespace
+
+void File::write_attribute(const std::string& name, double value) {
+  write_scalar_attribute(id(), name, H5T_NATIVE_DOUBLE, &value);
+}
+
+void File::write_attribute(const std::string& name, std::int64_t value) {
+  write_scalar_attribute(id(), name, H5T_NATIVE_INT64, &value);
+}
+
+void File::write_attribute(const std::string& name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), value.empty() ? 1 : value.size());
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
+  write_scalar_attribute(id(), name, type.get(), value.c_str());
+}
+
+void File::write_dataset(const std::string& name, const std::vector<double>& data,
+                         const std::vector<hsize_t>& shape) {
+  std::vector<hsize_t> dims = shape.empty() ? std::vector<hsize_t>{data.size()} : shape;
+  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_obj_track_times(dcpl.get(), false);
+  Handle set(check(H5Dcreate2(id(), name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                              dcpl.get(), H5P_DEFAULT),
+                   "cannot create dataset " + name),
+             H5Dclose);
+  check_status(H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+               "cannot write dataset " + name);
+}
+
+bool File::has_attribute(const std::string& name) const {
+  return H5Aexists(id(), name.c_str()) > 0;
+}
+
+bool File::has_dataset(const std::string& name) const {
+  return H5Lexists(id(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
+namespace {
+Handle open_attribute(hid_t file, const std::string& path, const std::string& name) {
+  return Handle(check(H5Aopen(file, name.c_str(), H5P_DEFAULT),
+                      fmt::format("{}: missing attribute '{}'", path, name)),
+                H5Aclose);
+}
+}  // namespace
+
+double File::read_attribute_double(const std::string& name) const {
+  Handle attr = open_attribute(id(), path_, name);
+  double v = 0.0;
+  check_status(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &v), path_ + ": cannot read " + name);
+  return v;
+}
+
+std::int64_t File::read_attribute_int(const std::string& name) const {
+  Handle attr = open_attribute(id(), path_, name);
+  std::int64_t v = 0;
+  check_status(H5Aread(attr.get(), H5T_NATIVE_INT64, &v), path_ + ": cannot read " + name);
+  return v;
+}
+
+std::string File::read_attribute_string(const std::string& name) const {
+  Handle attr = open_attribute(id(), path_, name);
+  Handle type(H5Aget_type(attr.get()), H5Tclose);
+  const std::size_t size = H5Tget_size(type.get());
+  std::string v(size, '\0');
+  check_status(H5Aread(attr.get(), type.get(), v.data()), path_ + ": cannot read " + name);
+  v.resize(v.find('\0') == std::string::npos ? v.size() : v.find('\0'));
+  return v;
+}
+
+std::vector<double> File::read_dataset(const std::string& name) const {
+  Handle set(check(H5Dopen2(id(), name.c_str(), H5P_DEFAULT),
+                   fmt::format("{}: missing dataset '{}'", path_, name)),
+             H5Dclose);
+  Handle space(H5Dget_space(set.get()), H5Sclose);
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  std::vector<double> v(static_cast<std::size_t>(count < 0 ? 0 : count));
+  check_status(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+               path_ + ": cannot read " + name);
+  return v;
+}
+
+}  // namespace jam::h5

@@ -1,0 +1,57 @@
+#pragma once
+// A thin RAII layer over the HDF5 C API: just what run files need (scalar attributes,
+// string attributes, 1-D and N-D double datasets), with errors turned into exceptions.
+// Object modification times are not recorded, so identical runs give identical files.
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace jam::h5 {
+
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept;
+  ~Handle() { reset(); }
+  void reset();
+  hid_t get() const { return id_; }
+
+ private:
+  hid_t id_ = -1;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+class File {
+ public:
+  static File create(const std::string& path);  // truncates
+  static File open_read(const std::string& path);
+  hid_t id() const { return file_.get(); }
+  const std::string& path() const { return path_; }
+  void close() { file_.reset(); }
+
+  void write_attribute(const std::string& name, double value);
+  void write_attribute(const std::string& name, std::int64_t value);
+  void write_attribute(const std::string& name, const std::string& value);
+  void write_dataset(const std::string& name, const std::vector<double>& data,
+                     const std::vector<hsize_t>& shape = {});
+
+  bool has_attribute(const std::string& name) const;
+  bool has_dataset(const std::string& name) const;
+  double read_attribute_double(const std::string& name) const;
+  std::int64_t read_attribute_int(const std::string& name) const;
+  std::string read_attribute_string(const std::string& name) const;
+  std::vector<double> read_dataset(const std::string& name) const;
+
+ private:
+  File(Handle h, std::string path) : file_(std::move(h)), path_(std::move(path)) {}
+  Handle file_;
+  std::string path_;
+};
+
+}  // namespace jam::h5

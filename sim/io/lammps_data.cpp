@@ -1,0 +1,201 @@
+#include "sim/io/lammps_data.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "sim/io/atomic_file.hpp"
+
+namespace jam {
+
+template <int D>
+void write_lammps_data(const std::string& path, const ParticleData<D>& p, double box_length,
+                       double mass_small, double mass_big, const std::string& title) {
+  AtomicFile out(path);
+  std::FILE* f = out.stream();
+  const double half = 0.5 * box_length;
+  fmt::print(f, "LAMMPS data file: {}\n\n{} atoms\n2 atom types\n\n", title, p.size());
+  const char* axes[3] = {"x", "y", "z"};
+  for (int d = 0; d < 3; ++d) {
+    if (d < D) {
+      fmt::print(f, "{:.17g} {:.17g} {}lo {}hi\n", -half, half, axes[d], axes[d]);
+    } else {
+      fmt::print(f, "-0.5 0.5 zlo zhi\n");
+    }
+  }
+  fmt::print(f, "\nMasses\n\n1 {:.17g}\n2 {:.17g}\n\nAtoms # atomic\n\n", mass_small, mass_big);
+  std::vector<std::size_t> order(p.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return p.id[a] < p.id[b]; });
+  for (std::size_t i : order) {
+    fmt::print(f, "{} {}", p.id[i], p.type[i] + 1);
+    for (int d = 0; d < 3; ++d) {
+      fmt::print(f, " {:.17g}", d < D ? box_length * (p.s[d][i] - 0.5) : 0.0);
+    }
+    fmt::print(f, " 0 0 0\n");
+  }
+  out.commit();
+}
+
+namespace {
+
+struct Reader {
+  std::string path;
+  int line_no = 0;
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(fmt::format("{}:{}: {}", path, line_no, what));
+  }
+
+  double number(const std::string& token, const std::string& field) const {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(token, &used);
+    } catch (const std::exception&) {
+      fail(fmt::format("{}: '{}' is not a number", field, token));
+    }
+    if (used != token.size() || !std::isfinite(v)) {
+      fail(fmt::format("{}: '{}' is not a finite number", field, token));
+    }
+    return v;
+  }
+
+  long long integer(const std::string& token, const std::string& field) const {
+    const double v = number(token, field);
+    if (v != std::floor(v) || std::abs(v) > 9e15) {
+      fail(fmt::format("{}: '{}' is not an integer", field, token));
+    }
+    return static_cast<long long>(v);
+  }
+};
+
+std::vector<std::string> tokens(const std::string& line) {
+  std::string text = line.substr(0, line.find('#'));
+  std::istringstream in(text);
+  std::vector<std::string> t;
+  for (std::string w; in >> w;) t.push_back(w);
+  return t;
+}
+
+}  // namespace
+
+template <int D>
+LammpsData<D> read_lammps_data(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("--read-lammps-data {}: cannot open file", path));
+  Reader r{path};
+  std::string line;
+  std::getline(in, line);  // title line
+  r.line_no = 1;
+
+  long long natoms = -1, ntypes = -1;
+  std::array<double, 3> lo{}, hi{};
+  std::array<bool, 3> have_bounds{};
+  LammpsData<D> data;
+  bool have_atoms = false;
+  while (std::getline(in, line)) {
+    ++r.line_no;
+    const auto t = tokens(line);
+    if (t.empty()) continue;
+    if (t.size() == 2 && t[1] == "atoms") {
+      natoms = r.integer(t[0], "atoms");
+    } else if (t.size() == 3 && t[1] == "atom" && t[2] == "types") {
+      ntypes = r.integer(t[0], "atom types");
+    } else if (t.size() == 4 && t[2].size() == 3 && t[2].substr(1) == "lo" && t[3].substr(1) == "hi") {
+      const int axis = t[2][0] - 'x';
+      if (axis < 0 || axis > 2) r.fail(fmt::format("unknown box bound '{}'", t[2]));
+      lo[axis] = r.number(t[0], t[2]);
+      hi[axis] = r.number(t[1], t[3]);
+      if (!(hi[axis] > lo[axis])) r.fail(fmt::format("{} {}: empty box", t[2], t[3]));
+      have_bounds[axis] = true;
+    } else if (t.size() >= 3 && t.back() == "yz") {
+      r.fail("triclinic boxes (xy xz yz) are not supported");
+    } else if (t[0] == "Masses" || t[0] == "Velocities") {
+      // Masses follow from the quality factor, velocities start at zero: skip the section.
+      std::getline(in, line);
+      ++r.line_no;
+      while (std::getline(in, line)) {
+        ++r.line_no;
+        if (tokens(line).empty()) break;
+      }
+    } else if (t[0] == "Atoms") {
+      if (t.size() > 1 && t[1] != "atomic") {
+        r.fail(fmt::format("Atoms section style '{}': only atomic is supported", t[1]));
+      }
+      if (natoms < 0) r.fail("Atoms section before the 'atoms' count");
+      if (natoms < 2) r.fail(fmt::format("atoms: {} (at least 2 are needed)", natoms));
+      for (int d = 0; d < D; ++d) {
+        if (!have_bounds[d]) r.fail(fmt::format("missing {}lo {}hi line", "xyz"[d], "xyz"[d]));
+      }
+      const double length = hi[0] - lo[0];
+      for (int d = 1; d < D; ++d) {
+        if (std::abs((hi[d] - lo[d]) - length) > 1e-12 * length) {
+          r.fail(fmt::format("box is not square/cubic: side {} is {} but x is {}", "xyz"[d],
+                             hi[d] - lo[d], length));
+        }
+      }
+      data.box_length = length;
+      data.particles.resize(static_cast<std::size_t>(natoms));
+      std::vector<bool> seen(static_cast<std::size_t>(natoms) + 1, false);
+      std::getline(in, line);  // blank line after the header
+      ++r.line_no;
+      if (!tokens(line).empty()) r.fail("expected a blank line after 'Atoms'");
+      for (long long k = 0; k < natoms; ++k) {
+        if (!std::getline(in, line)) {
+          r.fail(fmt::format("file ends after {} of {} atoms", k, natoms));
+        }
+        ++r.line_no;
+        const auto a = tokens(line);
+        if (a.size() != 5 && a.size() != 8) {
+          r.fail(fmt::format("atom line has {} fields, expected 'id type x y z [ix iy iz]'", a.size()));
+        }
+        const long long id = r.integer(a[0], "atom id");
+        if (id < 1 || id > natoms || seen[static_cast<std::size_t>(id)]) {
+          r.fail(fmt::format("atom id: {} is out of range or repeated", a[0]));
+        }
+        seen[static_cast<std::size_t>(id)] = true;
+        const long long type = r.integer(a[1], "atom type");
+        if (type != 1 && type != 2) r.fail(fmt::format("atom type: {} (must be 1 or 2)", a[1]));
+        const std::size_t i = static_cast<std::size_t>(k);
+        data.particles.id[i] = static_cast<std::uint32_t>(id);
+        data.particles.type[i] = static_cast<std::uint8_t>(type - 1);
+        for (int d = 0; d < 3; ++d) {
+          const double x = r.number(a[2 + d], std::string(1, "xyz"[d]));
+          if (d < D) {
+            data.particles.s[d][i] = wrap_unit((x - lo[d]) / length);
+          } else if (x != 0.0) {
+            r.fail(fmt::format("z: {} (a 2D configuration needs z = 0)", a[2 + d]));
+          }
+        }
+      }
+      have_atoms = true;
+    } else {
+      // Sections this project never writes would silently change the model: refuse them.
+      if (std::isupper(static_cast<unsigned char>(t[0][0]))) {
+        r.fail(fmt::format("unsupported section '{}'", t[0]));
+      }
+      r.fail(fmt::format("unrecognised header line '{}'", line));
+    }
+  }
+  if (!have_atoms) r.fail("no Atoms section");
+  if (ntypes > 2) {
+    throw std::runtime_error(fmt::format("{}: atom types: {} (at most 2)", path, ntypes));
+  }
+  return data;
+}
+
+template void write_lammps_data<2>(const std::string&, const ParticleData<2>&, double, double,
+                                   double, const std::string&);
+template void write_lammps_data<3>(const std::string&, const ParticleData<3>&, double, double,
+                                   double, const std::string&);
+template LammpsData<2> read_lammps_data<2>(const std::string&);
+template LammpsData<3> read_lammps_data<3>(const std::string&);
+
+}  // namespace jam

@@ -1,0 +1,84 @@
+#include "sim/io/run_file.hpp"
+
+#include <cstdio>
+
+#include "sim/io/atomic_file.hpp"
+#include "sim/io/hdf5_file.hpp"
+#include "sim/version.hpp"
+
+namespace jam {
+
+template <int D>
+void write_run_file(const std::string& path, const SimConfig& c, const RunMetadata& meta,
+                    const std::vector<Observables<D>>& points) {
+  const std::string temporary = AtomicFile::temporary_name(path);
+  try {
+    h5::File f = h5::File::create(temporary);
+    f.write_attribute("dim", std::int64_t{D});
+    f.write_attribute("n", meta.n);
+    f.write_attribute("phi_init", meta.phi_init);
+    f.write_attribute("phi_stop", c.phi_stop);
+    f.write_attribute("phi_step", c.phi_step);
+    f.write_attribute("compression_rate", c.compression_rate);
+    f.write_attribute("dt", c.dt);
+    f.write_attribute("seed", static_cast<std::int64_t>(c.seed));
+    f.write_attribute("integrator", meta.integrator);
+    f.write_attribute("dynamics", c.dynamics);
+    f.write_attribute("q", c.dynamics == "inertial" ? c.q : 0.0);
+    f.write_attribute("diameter_ratio", c.diameter_ratio);
+    f.write_attribute("skin", c.skin);
+    f.write_attribute("initial_box_length", meta.initial_box_length);
+    f.write_attribute("initial_configuration", meta.initial_configuration);
+    f.write_attribute("relax", std::int64_t{c.relax});
+    f.write_attribute("relax_energy", c.relax_energy);
+    f.write_attribute("relax_steps", meta.relax_steps);
+    f.write_attribute("relax_converged", std::int64_t{meta.relax_converged});
+    f.write_attribute("steps", meta.steps);
+    f.write_attribute("version", std::string(kVersion));
+
+    const std::size_t m = points.size();
+    std::vector<double> phi(m), p(m), z(m), e(m), t(m);
+    for (std::size_t k = 0; k < m; ++k) {
+      phi[k] = points[k].packing_fraction;
+      p[k] = points[k].pressure;
+      z[k] = points[k].contacts_per_particle;
+      e[k] = points[k].energy_per_particle;
+      t[k] = points[k].time;
+    }
+    f.write_dataset("packing_fraction", phi);
+    f.write_dataset("pressure", p);
+    f.write_dataset("contacts_per_particle", z);
+    f.write_dataset("energy_per_particle", e);
+    f.write_dataset("time", t);
+    if (c.rattlers) {
+      std::vector<double> znr(m), frac(m);
+      for (std::size_t k = 0; k < m; ++k) {
+        znr[k] = points[k].contacts_per_particle_no_rattlers;
+        frac[k] = points[k].rattler_fraction;
+      }
+      f.write_dataset("contacts_per_particle_no_rattlers", znr);
+      f.write_dataset("rattler_fraction", frac);
+    }
+    if (c.stress) {
+      std::vector<double> s;
+      s.reserve(m * D * D);
+      for (const auto& pt : points)
+        for (int a = 0; a < D; ++a)
+          for (int b = 0; b < D; ++b) s.push_back(pt.stress[a][b]);
+      f.write_dataset("stress", s, {m, static_cast<hsize_t>(D), static_cast<hsize_t>(D)});
+    }
+    f.write_attribute("complete", std::int64_t{1});
+    f.close();
+    AtomicFile::publish(path);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
+}
+
+template void write_run_file<2>(const std::string&, const SimConfig&, const RunMetadata&,
+                                const std::vector<Observables<2>>&);
+template void write_run_file<3>(const std::string&, const SimConfig&, const RunMetadata&,
+                                const std::vector<Observables<3>>&);
+
+}  // namespace jam

@@ -1,0 +1,50 @@
+#pragma once
+// Particle data, structure of arrays. Positions are stored in scaled (box) coordinates
+// s in [0,1)^D; the physical position relative to the box centre is r = L(t) (s - 1/2).
+// In these coordinates the host flow v_host = -rate r (paper, "Model") is the box shrinking
+// itself, so the affine part of the motion is exact and never accumulates round-off.
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace jam {
+
+template <int D>
+struct ParticleData {
+  std::array<std::vector<double>, D> s;  // scaled positions, each in [0, 1)
+  std::vector<std::uint8_t> type;        // kSmall or kBig
+  std::vector<std::uint32_t> id;         // 1-based LAMMPS atom id, kept through reordering
+
+  std::size_t size() const { return type.size(); }
+
+  void resize(std::size_t n) {
+    for (auto& c : s) c.resize(n);
+    type.resize(n);
+    id.resize(n);
+  }
+
+  std::size_t count(int species) const {
+    std::size_t c = 0;
+    for (auto t : type) c += (t == species);
+    return c;
+  }
+};
+
+/// Wraps a scaled coordinate into [0, 1). The rare out-of-range case is a well-predicted branch.
+inline double wrap_unit(double x) {
+  if (x < 0.0 || x >= 1.0) {
+    x -= std::floor(x);
+    if (x >= 1.0) x = 0.0;  // -tiny - floor(-tiny) rounds to exactly 1
+  }
+  return x;
+}
+
+/// Minimum-image separation of two scaled coordinates in [0,1): result in [-1/2, 1/2].
+/// Branch-free so that the force loop has no data-dependent branches.
+inline double minimum_image(double ds) {
+  return ds - static_cast<double>(ds > 0.5) + static_cast<double>(ds < -0.5);
+}
+
+}  // namespace jam

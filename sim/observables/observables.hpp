@@ -1,0 +1,85 @@
+#pragma once
+// Observables of one configuration, computed only at output points:
+//   stress tensor  sigma = L^{-D} sum_{i<j} f_ij^el (x) (r_i - r_j)   (paper, "Model")
+//   pressure       p = tr(sigma) / D
+//   contacts per particle Z = 2 N_contacts / N, over all particles (rattlers not removed)
+//   elastic energy per particle
+//   optionally Z with rattlers removed (sim/observables/rattlers.hpp).
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "sim/dynamics/system.hpp"
+#include "sim/observables/rattlers.hpp"
+
+namespace jam {
+
+template <int D>
+struct Observables {
+  double time = 0.0;
+  double packing_fraction = 0.0;
+  double pressure = 0.0;
+  double contacts_per_particle = 0.0;
+  double energy_per_particle = 0.0;
+  std::array<std::array<double, D>, D> stress{};
+  double contacts_per_particle_no_rattlers = 0.0;  // only when requested
+  double rattler_fraction = 0.0;                   // only when requested
+};
+
+/// Measures the configuration at time t. The neighbor list is brought up to date first.
+template <int D>
+Observables<D> measure(System<D>& sys, double t, bool remove_rattlers) {
+  const double box_length = sys.box.length(t);
+  sys.update_neighbors(box_length);
+  const HarmonicContact contact(sys.species);
+  const auto& p = sys.particles;
+  const auto& offsets = sys.neighbors.offsets();
+  const auto& nbr = sys.neighbors.neighbors();
+  const std::size_t n = sys.size();
+
+  Observables<D> obs;
+  obs.time = t;
+  obs.packing_fraction = sys.box.packing_fraction(t);
+  double energy = 0.0;
+  std::size_t contacts = 0;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> contact_pairs;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = nbr[k];
+      std::array<double, D> dr;
+      double r2 = 0.0;
+      for (int d = 0; d < D; ++d) {
+        dr[d] = box_length * minimum_image(p.s[d][i] - p.s[d][j]);
+        r2 += dr[d] * dr[d];
+      }
+      const int pair = p.type[i] + p.type[j];
+      if (!contact.in_contact(r2, pair)) continue;
+      ++contacts;
+      energy += contact.energy(r2, pair);
+      const double c = contact.force_over_r(r2, pair);
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b) obs.stress[a][b] += c * dr[a] * dr[b];
+      if (remove_rattlers) contact_pairs.emplace_back(static_cast<std::uint32_t>(i), j);
+    }
+  }
+  const double volume = std::pow(box_length, D);
+  double trace = 0.0;
+  for (int a = 0; a < D; ++a) {
+    for (int b = 0; b < D; ++b) obs.stress[a][b] /= volume;
+    trace += obs.stress[a][a];
+  }
+  obs.pressure = trace / D;
+  obs.contacts_per_particle = 2.0 * static_cast<double>(contacts) / static_cast<double>(n);
+  obs.energy_per_particle = energy / static_cast<double>(n);
+  if (remove_rattlers) {
+    const RattlerAnalysis r = find_rattlers(n, contact_pairs, D + 1);
+    obs.contacts_per_particle_no_rattlers = r.contacts_per_particle;
+    obs.rattler_fraction = static_cast<double>(r.rattlers) / static_cast<double>(n);
+  }
+  return obs;
+}
+
+}  // namespace jam

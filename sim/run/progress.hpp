@@ -1,0 +1,25 @@
+#pragma once
+// Progress line on stderr (packing, steps/s, ETA) when stderr is a terminal and the run is
+// not quiet; silent otherwise, so CI logs and pipes stay clean.
+#include <chrono>
+#include <cstddef>
+
+namespace jam {
+
+class Progress {
+ public:
+  Progress(bool enabled, double phi_init, double phi_stop);
+  /// fraction: completed share of the run's time span.
+  void update(double fraction, double phi, std::size_t steps, std::size_t particles);
+  void finish();
+  bool enabled() const { return enabled_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool enabled_;
+  double phi_init_, phi_stop_;
+  Clock::time_point start_, last_;
+  bool printed_ = false;
+};
+
+}  // namespace jam

@@ -1,0 +1,92 @@
+#include "sim/run/sim_config.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace jam {
+namespace {
+
+[[noreturn]] void reject(const std::string& option, const std::string& value,
+                         const std::string& why) {
+  throw ConfigError(fmt::format("--{} {}: {}", option, value, why));
+}
+
+std::string str(double v) { return fmt::format("{:g}", v); }
+
+void require_finite_positive(const std::string& option, double v) {
+  if (!std::isfinite(v) || v <= 0.0) reject(option, str(v), "must be a finite number > 0");
+}
+
+}  // namespace
+
+void validate(const SimConfig& c) {
+  if (c.dim != 2 && c.dim != 3) reject("dim", std::to_string(c.dim), "must be 2 or 3");
+  if (c.read_lammps_data.empty()) {
+    if (c.n < 2) reject("n", std::to_string(c.n), "at least 2 particles are needed");
+    if (c.n % 2 != 0) {
+      reject("n", std::to_string(c.n), "must be even for a 50:50 mixture of small and big");
+    }
+    if (c.n > (std::int64_t{1} << 31)) reject("n", std::to_string(c.n), "too large");
+    if (!std::isfinite(c.phi_init) || c.phi_init <= 0.0 || c.phi_init >= 1.5) {
+      reject("phi-init", str(c.phi_init), "must be in (0, 1.5)");
+    }
+  } else {
+    if (c.n_given) reject("n", std::to_string(c.n), "conflicts with --read-lammps-data");
+    if (c.phi_init_given) {
+      reject("phi-init", str(c.phi_init), "conflicts with --read-lammps-data (taken from the file)");
+    }
+  }
+  if (!std::isfinite(c.phi_stop) || c.phi_stop <= 0.0 || c.phi_stop >= 1.5) {
+    reject("phi-stop", str(c.phi_stop), "must be in (0, 1.5)");
+  }
+  if (c.read_lammps_data.empty() && c.phi_init >= c.phi_stop) {
+    reject("phi-init", str(c.phi_init), fmt::format("must be below --phi-stop ({:g})", c.phi_stop));
+  }
+  require_finite_positive("phi-step", c.phi_step);
+  require_finite_positive("rate", c.compression_rate);
+  require_finite_positive("dt", c.dt);
+  require_finite_positive("skin", c.skin);
+  if (!std::isfinite(c.diameter_ratio) || c.diameter_ratio < 1.0 || c.diameter_ratio > 2.0) {
+    reject("diameter-ratio", str(c.diameter_ratio), "must be in [1, 2]");
+  }
+  if (!std::isfinite(c.relax_energy) || c.relax_energy < 0.0) {
+    reject("relax-energy", str(c.relax_energy), "must be >= 0");
+  }
+  if (!std::isfinite(c.relax_time_max) || c.relax_time_max < 0.0) {
+    reject("relax-time-max", str(c.relax_time_max), "must be >= 0");
+  }
+  if (c.dynamics != "overdamped" && c.dynamics != "inertial") {
+    reject("dynamics", c.dynamics, "must be overdamped or inertial");
+  }
+  const std::string integ = c.resolved_integrator();
+  if (c.dynamics == "overdamped" && integ != "euler" && integ != "heun") {
+    reject("integrator", integ, "overdamped dynamics takes euler or heun");
+  }
+  if (c.dynamics == "inertial") {
+    if (integ != "verlet") reject("integrator", integ, "inertial dynamics takes verlet");
+    require_finite_positive("q", c.q);
+    // Explicit drag in velocity Verlet is unstable beyond dt = 2 m_s / gamma_s, which is
+    // 2 Q^2 k_d V_s = 4 Q^2 / D in these units.
+    const double bound = 4.0 * c.q * c.q / c.dim;
+    if (c.dt >= bound) {
+      reject("dt", str(c.dt),
+             fmt::format("unstable for inertial dynamics with --q {:g}: dt must be below "
+                         "2 m_s/gamma_s = {:.3g}",
+                         c.q, bound));
+    }
+  }
+  if (c.out.empty()) throw ConfigError("--out: a run file name is required");
+}
+
+void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance) {
+  const double range = max_contact_distance + c.skin;
+  if (!(box_length_at_stop > 2.0 * range)) {
+    throw ConfigError(fmt::format(
+        "--n {}: box length {:.4g} at --phi-stop {:g} is not larger than twice the "
+        "interaction range 2 x ({:g} + skin {:g}) = {:.4g}",
+        c.n, box_length_at_stop, c.phi_stop, max_contact_distance, c.skin, 2.0 * range));
+  }
+}
+
+}  // namespace jam

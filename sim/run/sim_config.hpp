@@ -1,0 +1,56 @@
+#pragma once
+// Parameters of one compression run (`jam sim`), their defaults and their validation.
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace jam {
+
+/// Bad input: the message names the option and its value, in one line.
+struct ConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct SimConfig {
+  int dim = 2;
+  std::int64_t n = 1024;
+  double phi_init = 0.6;
+  double phi_stop = 0.86;
+  double phi_step = 0.001;
+  double compression_rate = 1e-4;
+  double dt = 0.01;
+  std::string dynamics = "overdamped";  // overdamped | inertial
+  std::string integrator;               // euler | heun (overdamped), verlet (inertial)
+  double q = 0.03;                      // quality factor, inertial dynamics only
+  std::uint64_t seed = 1;
+  double skin = 0.3;
+  double diameter_ratio = 1.4;
+  bool relax = true;                    // relax the start at zero rate (paper's protocol)
+  double relax_energy = 1e-16;          // ... until energy per particle is below this
+  double relax_time_max = 1e4;          // ... or this much time has passed
+  bool stress = false;
+  bool rattlers = false;
+  std::string out;
+  std::string read_lammps_data;
+  std::string write_lammps_data;
+  bool quiet = false;
+
+  bool phi_init_given = true;  // false when taken from --read-lammps-data
+  bool n_given = true;
+
+  /// The integrator after applying the dynamics-dependent default.
+  std::string resolved_integrator() const {
+    if (!integrator.empty()) return integrator;
+    return dynamics == "inertial" ? "verlet" : "euler";
+  }
+};
+
+/// Checks every parameter that does not need the configuration; throws ConfigError.
+void validate(const SimConfig& c);
+
+/// Checks that the box at phi_stop is at least twice the interaction range (contact distance
+/// plus neighbor skin), so that the minimum image convention holds; throws ConfigError.
+void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance);
+
+}  // namespace jam
