@@ -1,0 +1,103 @@
+// Every bad input of `jam sim` is rejected with a one-line error naming the option and the
+// value, a non-zero exit status, and no output file.
+#define BOOST_TEST_MODULE bad_input
+#include <boost/test/unit_test.hpp>
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int status;
+  std::string stderr_text;
+};
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-bad-input-" + std::to_string(::getpid()));
+
+Outcome run_jam(const std::string& args) {
+  fs::create_directories(kDir);
+  const fs::path err = kDir / "stderr.txt";
+  const std::string cmd = std::string(JAM_EXECUTABLE) + " sim " + args + " > /dev/null 2> " +
+                          err.string();
+  const int raw = std::system(cmd.c_str());
+  std::ifstream in(err);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, {std::istreambuf_iterator<char>(in), {}}};
+}
+
+void expect_rejected(const std::string& args, const std::string& must_mention) {
+  const std::string out = (kDir / "out.h5").string();
+  fs::remove(out);
+  const Outcome o = run_jam(args + " --quiet --out " + out);
+  BOOST_TEST_CONTEXT("jam sim " << args) {
+    BOOST_TEST(o.status != 0);
+    BOOST_TEST(o.stderr_text.find(must_mention) != std::string::npos, o.stderr_text);
+    BOOST_TEST(std::count(o.stderr_text.begin(), o.stderr_text.end(), '\n') == 1);
+    BOOST_TEST(!fs::exists(out));
+    BOOST_TEST(!fs::exists(out + ".partial"));
+  }
+}
+
+void write_file(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(bad_numbers) {
+  expect_rejected("--n 1023", "--n 1023");
+  expect_rejected("--n 0", "--n 0");
+  expect_rejected("--n 1", "--n 1");
+  expect_rejected("--phi-init 0.9 --phi-stop 0.86", "--phi-init 0.9");
+  expect_rejected("--phi-init 0.86 --phi-stop 0.86", "--phi-init 0.86");
+  expect_rejected("--rate 0", "--rate 0");
+  expect_rejected("--rate -1e-4", "--rate -0.0001");
+  expect_rejected("--dt 0", "--dt 0");
+  expect_rejected("--dt -0.01", "--dt -0.01");
+  expect_rejected("--dim 4", "--dim 4");
+  expect_rejected("--n abc", "abc");
+  expect_rejected("--rate nan", "--rate nan");
+  expect_rejected("--dynamics inertial --q 0.03 --dt 0.01", "--dt 0.01");
+  expect_rejected("--integrator rk4", "--integrator rk4");
+}
+
+BOOST_AUTO_TEST_CASE(box_too_small) {
+  expect_rejected("--n 4 --phi-init 0.5", "--n 4");
+  expect_rejected("--n 8 --dim 3 --phi-init 0.3 --phi-stop 0.6", "--n 8");
+}
+
+BOOST_AUTO_TEST_CASE(unknown_option) { expect_rejected("--bogus 3", "--bogus"); }
+
+BOOST_AUTO_TEST_CASE(unwritable_output) {
+  const Outcome o = run_jam("--n 64 --quiet --out /nonexistent-dir/run.h5");
+  BOOST_TEST(o.status != 0);
+  BOOST_TEST(o.stderr_text.find("--out /nonexistent-dir/run.h5") != std::string::npos,
+             o.stderr_text);
+}
+
+BOOST_AUTO_TEST_CASE(unreadable_or_bad_data_files) {
+  expect_rejected("--read-lammps-data /nonexistent.data", "--read-lammps-data /nonexistent.data");
+  const fs::path bad = kDir / "bad.data";
+  fs::create_directories(kDir);
+  const std::string header =
+      "title\n\n4 atoms\n2 atom types\n\n0 10 xlo xhi\n0 10 ylo yhi\n-0.5 0.5 zlo zhi\n\n";
+  write_file(bad, header + "Atoms # atomic\n\n1 1 1 1 0\n2 1 2 2 0\n3 3 3 3 0\n4 2 4 4 0\n");
+  expect_rejected("--read-lammps-data " + bad.string(), bad.string() + ":14: atom type: 3");
+  write_file(bad, header + "Atoms # atomic\n\n1 1 1 1 0\n2 1 2 x 0\n");
+  expect_rejected("--read-lammps-data " + bad.string(), bad.string() + ":13: y: 'x'");
+  write_file(bad, header + "Atoms # atomic\n\n1 1 1 1 0\n2 1 2 2 0\n");
+  expect_rejected("--read-lammps-data " + bad.string(), "file ends after 2 of 4 atoms");
+  write_file(bad, "title\n\n4 atoms\n0 10 xlo xhi\n0 12 ylo yhi\n\nAtoms\n\n");
+  expect_rejected("--read-lammps-data " + bad.string(), "not square");
+  write_file(bad, header + "Bonds\n\n");
+  expect_rejected("--read-lammps-data " + bad.string(), "unsupported section 'Bonds'");
+  // A file that is fine is accepted, but --n alongside it is a conflict.
+  write_file(bad, header + "Atoms # atomic\n\n1 1 1 1 0\n2 1 6 6 0\n3 2 1 6 0\n4 2 6 1 0\n");
+  expect_rejected("--n 4 --read-lammps-data " + bad.string(), "--n 4");
+  fs::remove_all(kDir);
+}
