@@ -27,7 +27,8 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
   sim->add_option("--relax", c.relax,
                   "Relax the start at zero rate before compressing (the paper's protocol)");
   sim->add_option("--relax-energy", c.relax_energy,
-                  "Relaxation ends when the energy per particle is at or below this");
+                  "Relaxation ends when the energy per particle is at or below this; auto = "
+                  "1e-4 rate^2 (residual pressure ~1% of the rate)");
   sim->add_option("--relax-time-max", c.relax_time_max, "Longest relaxation (units of t0)");
   sim->add_flag("--stress", c.stress, "Also write the full stress tensor at each output point");
   sim->add_flag("--rattlers", c.rattlers,
@@ -37,6 +38,9 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
                                "Start from this LAMMPS data file (box and packing from the file)");
   sim->add_option("--write-lammps-data", c.write_lammps_data,
                   "Write the configuration the compression starts from as a LAMMPS data file");
+  sim->add_option("--write-final-lammps-data", c.write_final_lammps_data,
+                  "Write the configuration at phi-stop as a LAMMPS data file (a start for a "
+                  "slower rate, as in the paper's protocol)");
   sim->add_flag("--quiet", c.quiet, "No progress display and no summary");
   sim->callback([sim, read, &c]() {
     c.n_given = sim->count("--n") > 0;

@@ -64,6 +64,8 @@ BOOST_AUTO_TEST_CASE(bad_numbers) {
   expect_rejected("--rate nan", "--rate nan");
   expect_rejected("--dynamics inertial --q 0.03 --dt 0.01", "--dt 0.01");
   expect_rejected("--integrator rk4", "--integrator rk4");
+  expect_rejected("--relax-energy -1", "--relax-energy -1");
+  expect_rejected("--skin 0", "--skin 0");
 }
 
 BOOST_AUTO_TEST_CASE(box_too_small) {

@@ -30,7 +30,7 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
     f.write_attribute("initial_box_length", meta.initial_box_length);
     f.write_attribute("initial_configuration", meta.initial_configuration);
     f.write_attribute("relax", std::int64_t{c.relax});
-    f.write_attribute("relax_energy", c.relax_energy);
+    f.write_attribute("relax_energy", c.resolved_relax_energy());
     f.write_attribute("relax_steps", meta.relax_steps);
     f.write_attribute("relax_converged", std::int64_t{meta.relax_converged});
     f.write_attribute("steps", meta.steps);

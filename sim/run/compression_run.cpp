@@ -82,6 +82,7 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
 
   // Relaxation at zero rate (paper's supplement, "Compression Protocol").
   if (c.relax) {
+    const double target_energy = c.resolved_relax_energy();
     sys.box.compression_rate = 0.0;
     double t = 0.0;
     std::size_t k = 0;
@@ -93,7 +94,7 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
           throw std::runtime_error(fmt::format(
               "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt", c.dt));
         }
-        if (obs.energy_per_particle <= c.relax_energy) {
+        if (obs.energy_per_particle <= target_energy) {
           meta.relax_converged = true;
           break;
         }
@@ -108,12 +109,13 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
     stepper.reset();
   }
 
-  if (!c.write_lammps_data.empty()) {
+  auto write_configuration = [&](const std::string& path, double t, const char* what) {
     const auto masses = sys.species.masses(c.q);
-    write_lammps_data(c.write_lammps_data, sys.particles, sys.box.length(0.0), masses[0], masses[1],
-                      fmt::format("jam initial configuration, dim {} n {} phi {:.17g} seed {}", D,
-                                  n, sys.box.packing_fraction(0.0), c.seed));
-  }
+    write_lammps_data(path, sys.particles, sys.box.length(t), masses[0], masses[1],
+                      fmt::format("jam {} configuration, dim {} n {} phi {:.17g} seed {}", what, D,
+                                  n, sys.box.packing_fraction(t), c.seed));
+  };
+  if (!c.write_lammps_data.empty()) write_configuration(c.write_lammps_data, 0.0, "initial");
 
   const std::vector<double> targets =
       output_times(sys.box, meta.phi_init, c.phi_stop, c.phi_step);
@@ -162,6 +164,9 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
   meta.steps = static_cast<std::int64_t>(step);
+  if (!c.write_final_lammps_data.empty()) {
+    write_configuration(c.write_final_lammps_data, t_stop, "final");
+  }
   write_run_file<D>(c.out, c, meta, points);
 
   RunSummary s;
@@ -226,6 +231,9 @@ RunSummary run_compression(const SimConfig& c) {
   validate(c);
   check_writable("out", c.out);
   if (!c.write_lammps_data.empty()) check_writable("write-lammps-data", c.write_lammps_data);
+  if (!c.write_final_lammps_data.empty()) {
+    check_writable("write-final-lammps-data", c.write_final_lammps_data);
+  }
   return c.dim == 2 ? run_dimension<2>(c) : run_dimension<3>(c);
 }
 

@@ -20,6 +20,21 @@ void require_finite_positive(const std::string& option, double v) {
 
 }  // namespace
 
+double SimConfig::resolved_relax_energy() const {
+  if (relax_energy == "auto") return 1e-4 * compression_rate * compression_rate;
+  double v = -1.0;
+  std::size_t used = 0;
+  try {
+    v = std::stod(relax_energy, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != relax_energy.size() || !std::isfinite(v) || v < 0.0) {
+    reject("relax-energy", relax_energy, "must be 'auto' or a number >= 0");
+  }
+  return v;
+}
+
 void validate(const SimConfig& c) {
   if (c.dim != 2 && c.dim != 3) reject("dim", std::to_string(c.dim), "must be 2 or 3");
   if (c.read_lammps_data.empty()) {
@@ -50,9 +65,7 @@ void validate(const SimConfig& c) {
   if (!std::isfinite(c.diameter_ratio) || c.diameter_ratio < 1.0 || c.diameter_ratio > 2.0) {
     reject("diameter-ratio", str(c.diameter_ratio), "must be in [1, 2]");
   }
-  if (!std::isfinite(c.relax_energy) || c.relax_energy < 0.0) {
-    reject("relax-energy", str(c.relax_energy), "must be >= 0");
-  }
+  c.resolved_relax_energy();
   if (!std::isfinite(c.relax_time_max) || c.relax_time_max < 0.0) {
     reject("relax-time-max", str(c.relax_time_max), "must be >= 0");
   }

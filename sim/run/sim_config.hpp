@@ -27,17 +27,24 @@ struct SimConfig {
   double skin = 0.3;
   double diameter_ratio = 1.4;
   bool relax = true;                    // relax the start at zero rate (paper's protocol)
-  double relax_energy = 1e-16;          // ... until energy per particle is below this
+  // ... until the energy per particle is at or below this; "auto" = 1e-4 rate^2, so that the
+  // residual pressure of the start (~ sqrt(E)) is ~1% of rate, well below the pressure the
+  // compression itself builds (zeta rate, with bulk viscosity zeta >= 1 at any phi).
+  std::string relax_energy = "auto";
   double relax_time_max = 1e4;          // ... or this much time has passed
   bool stress = false;
   bool rattlers = false;
   std::string out;
   std::string read_lammps_data;
   std::string write_lammps_data;
+  std::string write_final_lammps_data;
   bool quiet = false;
 
   bool phi_init_given = true;  // false when taken from --read-lammps-data
   bool n_given = true;
+
+  /// The relaxation target after resolving "auto" (throws ConfigError when malformed).
+  double resolved_relax_energy() const;
 
   /// The integrator after applying the dynamics-dependent default.
   std::string resolved_integrator() const {
