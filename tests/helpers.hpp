@@ -10,9 +10,9 @@ namespace jam::test {
 
 /// A system from physical positions (relative to the box centre) in a box of side L.
 template <int D>
-System<D> make_system(const std::vector<std::array<double, D>>& r,
-                      const std::vector<int>& type, double box_length, double rate = 0.0,
-                      double skin = 0.3, double diameter_ratio = 1.4) {
+System<D> make_system(const std::vector<std::array<double, D>>& r, const std::vector<int>& type,
+                      double box_length, double rate = 0.0, double skin = 0.3,
+                      double diameter_ratio = 1.4) {
   ParticleData<D> p;
   p.resize(r.size());
   for (std::size_t i = 0; i < r.size(); ++i) {

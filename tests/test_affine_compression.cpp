@@ -2,7 +2,6 @@
 // packing follows phi(t) = phi_init exp(D rate t).
 #define BOOST_TEST_MODULE affine_compression
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 
 #include "helpers.hpp"

@@ -1,10 +1,9 @@
 // Every bad input of `jam sim` is rejected with a one-line error naming the option and the
 // value, a non-zero exit status, and no output file.
 #define BOOST_TEST_MODULE bad_input
-#include <boost/test/unit_test.hpp>
-
 #include <unistd.h>
 
+#include <boost/test/unit_test.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -25,8 +24,8 @@ const fs::path kDir = fs::temp_directory_path() / ("jam-bad-input-" + std::to_st
 Outcome run_jam(const std::string& args) {
   fs::create_directories(kDir);
   const fs::path err = kDir / "stderr.txt";
-  const std::string cmd = std::string(JAM_EXECUTABLE) + " sim " + args + " > /dev/null 2> " +
-                          err.string();
+  const std::string cmd =
+      std::string(JAM_EXECUTABLE) + " sim " + args + " > /dev/null 2> " + err.string();
   const int raw = std::system(cmd.c_str());
   std::ifstream in(err);
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, {std::istreambuf_iterator<char>(in), {}}};
@@ -45,7 +44,9 @@ void expect_rejected(const std::string& args, const std::string& must_mention) {
   }
 }
 
-void write_file(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
 
 }  // namespace
 
@@ -73,7 +74,9 @@ BOOST_AUTO_TEST_CASE(box_too_small) {
   expect_rejected("--n 8 --dim 3 --phi-init 0.3 --phi-stop 0.6", "--n 8");
 }
 
-BOOST_AUTO_TEST_CASE(unknown_option) { expect_rejected("--bogus 3", "--bogus"); }
+BOOST_AUTO_TEST_CASE(unknown_option) {
+  expect_rejected("--bogus 3", "--bogus");
+}
 
 BOOST_AUTO_TEST_CASE(unwritable_output) {
   const Outcome o = run_jam("--n 64 --quiet --out /nonexistent-dir/run.h5");

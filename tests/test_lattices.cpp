@@ -4,7 +4,6 @@
 //   p = (1/(D V)) sum_pairs f r = (1/(D a^D N)) * (D N) * (delta/d) * a = delta / (d a^(D-1)).
 #define BOOST_TEST_MODULE lattices
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 
 #include "helpers.hpp"
@@ -58,16 +57,22 @@ void check_lattice(int m, double a, bool bidisperse) {
 
 }  // namespace
 
-BOOST_AUTO_TEST_CASE(square_lattice_2d) { check_lattice<2>(8, 0.9, false); }
+BOOST_AUTO_TEST_CASE(square_lattice_2d) {
+  check_lattice<2>(8, 0.9, false);
+}
 
 BOOST_AUTO_TEST_CASE(checkerboard_bidisperse_2d) {
   // Small-big spacing 1.1 < d_sb = 1.2; same species at 1.1 sqrt(2) = 1.56 > 1.4: no contact.
   check_lattice<2>(8, 1.1, true);
 }
 
-BOOST_AUTO_TEST_CASE(simple_cubic_3d) { check_lattice<3>(6, 0.9, false); }
+BOOST_AUTO_TEST_CASE(simple_cubic_3d) {
+  check_lattice<3>(6, 0.9, false);
+}
 
-BOOST_AUTO_TEST_CASE(rock_salt_bidisperse_3d) { check_lattice<3>(6, 1.1, true); }
+BOOST_AUTO_TEST_CASE(rock_salt_bidisperse_3d) {
+  check_lattice<3>(6, 1.1, true);
+}
 
 BOOST_AUTO_TEST_CASE(lattice_without_overlap_has_no_pressure) {
   System<2> sys = simple_lattice<2>(8, 1.0 + 1e-12, false);

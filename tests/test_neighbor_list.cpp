@@ -1,9 +1,8 @@
 // The cell-list Verlet list finds exactly the pairs an O(N^2) search finds, and never misses
 // a contact between rebuilds while the box shrinks.
 #define BOOST_TEST_MODULE neighbor_list
-#include <boost/test/unit_test.hpp>
-
 #include <algorithm>
+#include <boost/test/unit_test.hpp>
 #include <set>
 
 #include "helpers.hpp"
@@ -50,7 +49,8 @@ void compress_and_compare(std::size_t n, double phi, double skin, int steps) {
     const PairSet listed = listed_pairs(sys.neighbors);
     const PairSet contacts = oracle(sys, L, 0.0);
     contacts_checked += contacts.size();
-    BOOST_TEST_REQUIRE(std::includes(listed.begin(), listed.end(), contacts.begin(), contacts.end()));
+    BOOST_TEST_REQUIRE(
+        std::includes(listed.begin(), listed.end(), contacts.begin(), contacts.end()));
     stepper.step(sys, t, dt);
   }
   BOOST_TEST_MESSAGE(D << "D: " << builds_seen << " builds, " << contacts_checked << " contacts");

@@ -2,7 +2,6 @@
 // files written and read back.
 #define BOOST_TEST_MODULE run_files
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>

@@ -2,7 +2,6 @@
 // motion, and the integrators converge at their order in dt (measured slopes).
 #define BOOST_TEST_MODULE two_particle_relaxation
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 
 #include "helpers.hpp"
@@ -80,11 +79,13 @@ BOOST_AUTO_TEST_CASE(heun_matches_closed_form_at_small_dt) {
   for (auto [t1, t2] : {std::pair{0, 0}, std::pair{0, 1}, std::pair{1, 1}}) {
     const double d2 = paper_contact_distance<2>(t1, t2);
     const double got2 = separation_after<2, OverdampedHeun<2>>(0.8 * d2, t1, t2, 1.0, 1e-3);
-    const double want2 = exact_separation<2>(0.8 * d2, d2, paper_drag<2>(t1), paper_drag<2>(t2), 1.0);
+    const double want2 =
+        exact_separation<2>(0.8 * d2, d2, paper_drag<2>(t1), paper_drag<2>(t2), 1.0);
     BOOST_TEST(got2 == want2, boost::test_tools::tolerance(1e-6));
     const double d3 = paper_contact_distance<3>(t1, t2);
     const double got3 = separation_after<3, OverdampedHeun<3>>(0.8 * d3, t1, t2, 1.0, 1e-3);
-    const double want3 = exact_separation<3>(0.8 * d3, d3, paper_drag<3>(t1), paper_drag<3>(t2), 1.0);
+    const double want3 =
+        exact_separation<3>(0.8 * d3, d3, paper_drag<3>(t1), paper_drag<3>(t2), 1.0);
     BOOST_TEST(got3 == want3, boost::test_tools::tolerance(1e-6));
   }
 }

@@ -3,7 +3,6 @@
 // on random overlapping configurations in 2D and 3D.
 #define BOOST_TEST_MODULE virial_pressure
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 
 #include "helpers.hpp"

@@ -8,7 +8,8 @@
 
 namespace jam {
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(temporary_name(path_)) {
+AtomicFile::AtomicFile(std::string path)
+    : path_(std::move(path)), temporary_(temporary_name(path_)) {
   stream_ = std::fopen(temporary_.c_str(), "w");
   if (!stream_) {
     throw std::runtime_error(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));

@@ -108,7 +108,8 @@ LammpsData<D> read_lammps_data(const std::string& path) {
       natoms = r.integer(t[0], "atoms");
     } else if (t.size() == 3 && t[1] == "atom" && t[2] == "types") {
       ntypes = r.integer(t[0], "atom types");
-    } else if (t.size() == 4 && t[2].size() == 3 && t[2].substr(1) == "lo" && t[3].substr(1) == "hi") {
+    } else if (t.size() == 4 && t[2].size() == 3 && t[2].substr(1) == "lo" &&
+               t[3].substr(1) == "hi") {
       const int axis = t[2][0] - 'x';
       if (axis < 0 || axis > 2) r.fail(fmt::format("unknown box bound '{}'", t[2]));
       lo[axis] = r.number(t[0], t[2]);
@@ -154,7 +155,8 @@ LammpsData<D> read_lammps_data(const std::string& path) {
         ++r.line_no;
         const auto a = tokens(line);
         if (a.size() != 5 && a.size() != 8) {
-          r.fail(fmt::format("atom line has {} fields, expected 'id type x y z [ix iy iz]'", a.size()));
+          r.fail(fmt::format("atom line has {} fields, expected 'id type x y z [ix iy iz]'",
+                             a.size()));
         }
         const long long id = r.integer(a[0], "atom id");
         if (id < 1 || id > natoms || seen[static_cast<std::size_t>(id)]) {

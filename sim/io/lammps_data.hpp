@@ -18,9 +18,8 @@ struct LammpsData {
 
 /// Writes atomically (temporary name, then rename). Masses per type are written as given.
 template <int D>
-void write_lammps_data(const std::string& path, const ParticleData<D>& particles,
-                       double box_length, double mass_small, double mass_big,
-                       const std::string& title);
+void write_lammps_data(const std::string& path, const ParticleData<D>& particles, double box_length,
+                       double mass_small, double mass_big, const std::string& title);
 
 /// Reads a data file; errors name the file, the line and the field. The box must be square
 /// (cubic), orthogonal, and in 2D have z = 0 for every atom.

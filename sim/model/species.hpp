@@ -31,8 +31,8 @@ template <int D>
 struct Species {
   std::array<double, 2> diameter{};
   std::array<double, 2> volume{};
-  std::array<double, 2> drag{};      // gamma_i = k_d V_i, the drag coefficient of f_dis
-  std::array<double, 2> mobility{};  // 1 / gamma_i
+  std::array<double, 2> drag{};                  // gamma_i = k_d V_i, the drag coefficient of f_dis
+  std::array<double, 2> mobility{};              // 1 / gamma_i
   std::array<double, 3> contact_distance{};      // d_ij = (d_i + d_j) / 2
   std::array<double, 3> inv_contact_distance{};  // 1 / d_ij
   double max_contact_distance = 0.0;

@@ -12,8 +12,10 @@
 namespace jam {
 
 template <int D>
-std::vector<std::pair<std::uint32_t, std::uint32_t>> brute_force_pairs(
-    const ParticleData<D>& p, const Species<D>& species, double box_length, double extra) {
+std::vector<std::pair<std::uint32_t, std::uint32_t>> brute_force_pairs(const ParticleData<D>& p,
+                                                                       const Species<D>& species,
+                                                                       double box_length,
+                                                                       double extra) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   const std::size_t n = p.size();
   for (std::size_t i = 0; i < n; ++i) {

@@ -34,7 +34,8 @@ class CellList {
     }
     for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
     fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) members_[fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < n; ++i)
+      members_[fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   }
 
   int cells_per_side() const { return m_; }

@@ -16,9 +16,9 @@ struct RattlerAnalysis {
   std::vector<bool> is_rattler;
 };
 
-inline RattlerAnalysis find_rattlers(std::size_t n,
-                                     const std::vector<std::pair<std::uint32_t, std::uint32_t>>& contacts,
-                                     int min_contacts) {
+inline RattlerAnalysis find_rattlers(
+    std::size_t n, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& contacts,
+    int min_contacts) {
   std::vector<std::uint32_t> count(n, 0), start(n + 1, 0), adj(2 * contacts.size());
   for (const auto& [i, j] : contacts) {
     ++start[i + 1];

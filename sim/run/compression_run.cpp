@@ -117,8 +117,7 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
   };
   if (!c.write_lammps_data.empty()) write_configuration(c.write_lammps_data, 0.0, "initial");
 
-  const std::vector<double> targets =
-      output_times(sys.box, meta.phi_init, c.phi_stop, c.phi_step);
+  const std::vector<double> targets = output_times(sys.box, meta.phi_init, c.phi_stop, c.phi_step);
   const double t_stop = targets.back();
   std::vector<Observables<D>> points;
   points.reserve(targets.size() + 1);

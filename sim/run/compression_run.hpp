@@ -12,7 +12,7 @@ namespace jam {
 /// Everything `jam sim` prints after a run.
 struct RunSummary {
   std::size_t n = 0;
-  std::size_t steps = 0;          // compression steps
+  std::size_t steps = 0;  // compression steps
   std::size_t relax_steps = 0;
   bool relax_converged = true;
   std::size_t neighbor_builds = 0;

@@ -12,7 +12,9 @@ namespace {
   throw ConfigError(fmt::format("--{} {}: {}", option, value, why));
 }
 
-std::string str(double v) { return fmt::format("{:g}", v); }
+std::string str(double v) {
+  return fmt::format("{:g}", v);
+}
 
 void require_finite_positive(const std::string& option, double v) {
   if (!std::isfinite(v) || v <= 0.0) reject(option, str(v), "must be a finite number > 0");
@@ -49,7 +51,8 @@ void validate(const SimConfig& c) {
   } else {
     if (c.n_given) reject("n", std::to_string(c.n), "conflicts with --read-lammps-data");
     if (c.phi_init_given) {
-      reject("phi-init", str(c.phi_init), "conflicts with --read-lammps-data (taken from the file)");
+      reject("phi-init", str(c.phi_init),
+             "conflicts with --read-lammps-data (taken from the file)");
     }
   }
   if (!std::isfinite(c.phi_stop) || c.phi_stop <= 0.0 || c.phi_stop >= 1.5) {

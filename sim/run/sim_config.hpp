@@ -26,12 +26,12 @@ struct SimConfig {
   std::uint64_t seed = 1;
   double skin = 0.3;
   double diameter_ratio = 1.4;
-  bool relax = true;                    // relax the start at zero rate (paper's protocol)
+  bool relax = true;  // relax the start at zero rate (paper's protocol)
   // ... until the energy per particle is at or below this; "auto" = 1e-4 rate^2, so that the
   // residual pressure of the start (~ sqrt(E)) is ~1% of rate, well below the pressure the
   // compression itself builds (zeta rate, with bulk viscosity zeta >= 1 at any phi).
   std::string relax_energy = "auto";
-  double relax_time_max = 1e4;          // ... or this much time has passed
+  double relax_time_max = 1e4;  // ... or this much time has passed
   bool stress = false;
   bool rattlers = false;
   std::string out;
