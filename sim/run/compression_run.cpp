@@ -80,6 +80,7 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
   const std::size_t n = sys.size();
   const double rate = sys.box.compression_rate;
 
+  Progress progress(!c.quiet, c.phi_stop);
   // Relaxation at zero rate (paper's supplement, "Compression Protocol").
   if (c.relax) {
     const double target_energy = c.resolved_relax_energy();
@@ -94,6 +95,7 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
           throw std::runtime_error(fmt::format(
               "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt", c.dt));
         }
+        progress.update_relaxation(obs.energy_per_particle, target_energy, t);
         if (obs.energy_per_particle <= target_energy) {
           meta.relax_converged = true;
           break;
@@ -132,7 +134,6 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
   };
   record(0.0);
 
-  Progress progress(!c.quiet, meta.phi_init, c.phi_stop);
   const auto wall_start = Clock::now();
   const std::size_t builds_before = sys.neighbors.builds();
   std::size_t next = 0, step = 0;

@@ -3,14 +3,15 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
 namespace jam {
 
-Progress::Progress(bool enabled, double phi_init, double phi_stop)
+Progress::Progress(bool enabled, double phi_stop)
     : enabled_(enabled && isatty(STDERR_FILENO)),
-      phi_init_(phi_init),
       phi_stop_(phi_stop),
       start_(Clock::now()),
       last_(start_) {}
@@ -30,7 +31,25 @@ void Progress::update(double fraction, double phi, std::size_t steps, std::size_
              eta);
   std::fflush(stderr);
   printed_ = true;
-  (void)phi_init_;
+}
+
+void Progress::update_relaxation(double energy, double target, double t) {
+  if (!enabled_) return;
+  if (first_energy_ < 0.0) first_energy_ = energy;
+  const auto now = Clock::now();
+  if (now - last_ < std::chrono::milliseconds(250)) return;
+  last_ = now;
+  // Energy decays roughly exponentially: progress is measured in log(E).
+  double fraction = 0.0;
+  if (first_energy_ > target && energy > 0.0 && target > 0.0) {
+    fraction =
+        std::clamp(std::log(first_energy_ / energy) / std::log(first_energy_ / target), 0.0, 1.0);
+  }
+  fmt::print(stderr,
+             "\r  relaxing at zero rate: t {:.0f}, energy/particle {:.2e} -> {:.1e} ({:.0f}%)   ",
+             t, energy, target, 100.0 * fraction);
+  std::fflush(stderr);
+  printed_ = true;
 }
 
 void Progress::finish() {

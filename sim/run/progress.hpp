@@ -8,18 +8,21 @@ namespace jam {
 
 class Progress {
  public:
-  Progress(bool enabled, double phi_init, double phi_stop);
+  Progress(bool enabled, double phi_stop);
   /// fraction: completed share of the run's time span.
   void update(double fraction, double phi, std::size_t steps, std::size_t particles);
+  /// During the zero-rate relaxation: energy per particle against its target.
+  void update_relaxation(double energy, double target, double t);
   void finish();
   bool enabled() const { return enabled_; }
 
  private:
   using Clock = std::chrono::steady_clock;
   bool enabled_;
-  double phi_init_, phi_stop_;
+  double phi_stop_;
   Clock::time_point start_, last_;
   bool printed_ = false;
+  double first_energy_ = -1.0;
 };
 
 }  // namespace jam
