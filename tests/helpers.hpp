@@ -40,9 +40,7 @@ System<D> random_system(std::size_t n, double phi, std::uint64_t seed, double ra
 template <int D>
 std::array<double, D> separation(const System<D>& sys, std::size_t i, std::size_t j, double L) {
   std::array<double, D> dr;
-  for (int d = 0; d < D; ++d) {
-    dr[d] = L * minimum_image(sys.particles.s[d][i] - sys.particles.s[d][j]);
-  }
+  pair_separation(sys.particles, i, j, L, dr);
   return dr;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace jam {
@@ -45,6 +46,18 @@ inline double wrap_unit(double x) {
 /// Branch-free so that the force loop has no data-dependent branches.
 inline double minimum_image(double ds) {
   return ds - static_cast<double>(ds > 0.5) + static_cast<double>(ds < -0.5);
+}
+
+/// Physical minimum-image separation r_i - r_j at box length L into dr; returns |dr|^2.
+template <int D>
+double pair_separation(const ParticleData<D>& p, std::size_t i, std::size_t j, double box_length,
+                       std::type_identity_t<std::array<double, D>>& dr) {
+  double r2 = 0.0;
+  for (int d = 0; d < D; ++d) {
+    dr[d] = box_length * minimum_image(p.s[d][i] - p.s[d][j]);
+    r2 += dr[d] * dr[d];
+  }
+  return r2;
 }
 
 }  // namespace jam

@@ -20,11 +20,8 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> brute_force_pairs(const Par
   const std::size_t n = p.size();
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = i + 1; j < n; ++j) {
-      double r2 = 0.0;
-      for (int d = 0; d < D; ++d) {
-        const double dr = box_length * minimum_image(p.s[d][i] - p.s[d][j]);
-        r2 += dr * dr;
-      }
+      std::array<double, D> dr;
+      const double r2 = pair_separation(p, i, j, box_length, dr);
       const double cut = species.contact_distance[p.type[i] + p.type[j]] + extra;
       if (r2 < cut * cut) {
         pairs.emplace_back(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));

@@ -125,12 +125,8 @@ class NeighborList {
 
  private:
   static double distance2(const ParticleData<D>& p, std::size_t i, std::size_t j, double L) {
-    double r2 = 0.0;
-    for (int d = 0; d < D; ++d) {
-      const double dr = L * minimum_image(p.s[d][i] - p.s[d][j]);
-      r2 += dr * dr;
-    }
-    return r2;
+    std::array<double, D> dr;
+    return pair_separation(p, i, j, L, dr);
   }
 
   template <class F>

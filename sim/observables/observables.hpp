@@ -50,11 +50,7 @@ Observables<D> measure(System<D>& sys, double t, bool remove_rattlers) {
     for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
       const std::uint32_t j = nbr[k];
       std::array<double, D> dr;
-      double r2 = 0.0;
-      for (int d = 0; d < D; ++d) {
-        dr[d] = box_length * minimum_image(p.s[d][i] - p.s[d][j]);
-        r2 += dr[d] * dr[d];
-      }
+      const double r2 = pair_separation(p, i, j, box_length, dr);
       const int pair = p.type[i] + p.type[j];
       if (!contact.in_contact(r2, pair)) continue;
       ++contacts;
