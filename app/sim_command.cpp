@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
+#include <csignal>
+
 #include "sim/run/compression_run.hpp"
 
 namespace jam {
@@ -42,6 +45,9 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
                   "Write the configuration at phi-stop as a LAMMPS data file (a start for a "
                   "slower rate, as in the paper's protocol)");
   sim->add_flag("--quiet", c.quiet, "No progress display and no summary");
+  sim->add_option("--checkpoint-interval", c.checkpoint_interval,
+                  "Seconds of wall time between checkpoints (<out>.checkpoint); 0 = none. An "
+                  "interrupted run resumes from its checkpoint when run again");
   sim->callback([sim, read, &c]() {
     c.n_given = sim->count("--n") > 0;
     c.phi_init_given = sim->count("--phi-init") > 0;
@@ -51,9 +57,28 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
   });
 }
 
+namespace {
+std::atomic<bool> stop_requested{false};
+extern "C" void request_stop(int) {
+  stop_requested.store(true);
+}
+}  // namespace
+
 int run_sim_command(const SimConfig& c) {
-  const RunSummary s = run_compression(c);
+  // Ctrl-C or SIGTERM: write a checkpoint and stop; the same command resumes.
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  RunControl control;
+  control.checkpoint_interval_seconds = c.checkpoint_interval;
+  control.stop = &stop_requested;
+  const RunSummary s = run_compression(c, control);
+  if (s.interrupted) {
+    fmt::print(stderr, "jam: interrupted; state saved in {}; run the same command to resume\n",
+               c.out + ".checkpoint");
+    return 130;
+  }
   if (!c.quiet) {
+    if (s.resumed) fmt::print("jam sim: resumed from checkpoint\n");
     fmt::print("jam sim: {}D, N = {}, rate {:g}, {} dt {:g}\n", c.dim, s.n, c.compression_rate,
                c.resolved_integrator(), c.dt);
     fmt::print("  phi {:.6f} -> {:.6f} in {} steps ({} relaxation steps{}), {} output points\n",

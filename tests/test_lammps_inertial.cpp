@@ -2,16 +2,14 @@
 // reference/lammps/compress_inertial.in) step by step: after 200 steps of compression from
 // the same data file, every particle is where LAMMPS puts it, to near round-off.
 #define BOOST_TEST_MODULE lammps_inertial
-#include <boost/test/unit_test.hpp>
-
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
-
-#include <fmt/format.h>
 
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
@@ -50,7 +48,8 @@ void compare_with_lammps(double phi_init, std::size_t n) {
   // 2. jam: exactly `steps` steps of dt from that file (phi_stop from the file's own packing).
   const auto start = read_lammps_data<D>(a.write_lammps_data);
   const Species<D> species;
-  const double phi0 = total_particle_volume(start.particles, species) / std::pow(start.box_length, D);
+  const double phi0 =
+      total_particle_volume(start.particles, species) / std::pow(start.box_length, D);
   SimConfig b = a;
   b.read_lammps_data = a.write_lammps_data;
   b.write_lammps_data.clear();
@@ -97,6 +96,10 @@ void compare_with_lammps(double phi_init, std::size_t n) {
 
 }  // namespace
 
-BOOST_AUTO_TEST_CASE(inertial_2d_follows_lammps) { compare_with_lammps<2>(0.80, 256); }
+BOOST_AUTO_TEST_CASE(inertial_2d_follows_lammps) {
+  compare_with_lammps<2>(0.80, 256);
+}
 
-BOOST_AUTO_TEST_CASE(inertial_3d_follows_lammps) { compare_with_lammps<3>(0.60, 256); }
+BOOST_AUTO_TEST_CASE(inertial_3d_follows_lammps) {
+  compare_with_lammps<3>(0.60, 256);
+}

@@ -12,8 +12,10 @@
 // Stable for dt below about 2 m_s / gamma_s = 2 Q^2 (k_d V_s) in these units.
 #include <array>
 #include <cstddef>
+#include <string>
 #include <vector>
 
+#include "sim/dynamics/stepper_state.hpp"
 #include "sim/dynamics/system.hpp"
 
 namespace jam {
@@ -35,6 +37,26 @@ class InertialVerlet {
   void reset() { have_forces_ = false; }
 
   const std::array<std::vector<double>, D>& velocity() const { return velocity_; }
+
+  StepperState save_state() const {
+    StepperState state;
+    for (int d = 0; d < D; ++d) {
+      state.emplace_back("velocity_" + std::to_string(d), velocity_[d]);
+      state.emplace_back("total_force_" + std::to_string(d), total_force_[d]);
+    }
+    state.emplace_back("have_forces", std::vector<double>{have_forces_ ? 1.0 : 0.0});
+    return state;
+  }
+
+  void load_state(const StepperState& state) {
+    for (const auto& [name, values] : state) {
+      for (int d = 0; d < D; ++d) {
+        if (name == "velocity_" + std::to_string(d)) velocity_[d] = values;
+        if (name == "total_force_" + std::to_string(d)) total_force_[d] = values;
+      }
+      if (name == "have_forces") have_forces_ = !values.empty() && values[0] != 0.0;
+    }
+  }
 
   void step(System<D>& sys, double t, double dt) {
     const std::size_t n = sys.size();

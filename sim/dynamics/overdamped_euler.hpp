@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 
+#include "sim/dynamics/stepper_state.hpp"
 #include "sim/dynamics/system.hpp"
 
 namespace jam {
@@ -18,6 +19,8 @@ class OverdampedEuler {
 
   explicit OverdampedEuler(std::size_t /*n*/) {}
   void reset() {}
+  StepperState save_state() const { return {}; }
+  void load_state(const StepperState& /*state*/) {}
 
   /// Advances the system from time t to t + dt.
   void step(System<D>& sys, double t, double dt) {

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "sim/dynamics/stepper_state.hpp"
 #include "sim/dynamics/system.hpp"
 
 namespace jam {
@@ -23,6 +24,8 @@ class OverdampedHeun {
     }
   }
   void reset() {}
+  StepperState save_state() const { return {}; }
+  void load_state(const StepperState& /*state*/) {}
 
   void step(System<D>& sys, double t, double dt) {
     const std::size_t n = sys.size();

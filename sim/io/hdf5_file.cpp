@@ -76,18 +76,43 @@ void File::write_attribute(const std::string& name, const std::string& value) {
   write_scalar_attribute(id(), name, type.get(), value.c_str());
 }
 
-void File::write_dataset(const std::string& name, const std::vector<double>& data,
-                         const std::vector<hsize_t>& shape) {
-  std::vector<hsize_t> dims = shape.empty() ? std::vector<hsize_t>{data.size()} : shape;
+namespace {
+void write_array(hid_t file, const std::string& name, hid_t file_type, hid_t memory_type,
+                 const void* data, const std::vector<hsize_t>& dims) {
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_obj_track_times(dcpl.get(), false);
-  Handle set(check(H5Dcreate2(id(), name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
-                              dcpl.get(), H5P_DEFAULT),
+  Handle set(check(H5Dcreate2(file, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(),
+                              H5P_DEFAULT),
                    "cannot create dataset " + name),
              H5Dclose);
-  check_status(H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+  check_status(H5Dwrite(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
                "cannot write dataset " + name);
+}
+
+template <class T>
+std::vector<T> read_array(hid_t file, const std::string& path, const std::string& name,
+                          hid_t memory_type) {
+  Handle set(check(H5Dopen2(file, name.c_str(), H5P_DEFAULT),
+                   fmt::format("{}: missing dataset '{}'", path, name)),
+             H5Dclose);
+  Handle space(H5Dget_space(set.get()), H5Sclose);
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  std::vector<T> v(static_cast<std::size_t>(count < 0 ? 0 : count));
+  check_status(H5Dread(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+               path + ": cannot read " + name);
+  return v;
+}
+}  // namespace
+
+void File::write_dataset(const std::string& name, const std::vector<double>& data,
+                         const std::vector<hsize_t>& shape) {
+  write_array(id(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data.data(),
+              shape.empty() ? std::vector<hsize_t>{data.size()} : shape);
+}
+
+void File::write_dataset(const std::string& name, const std::vector<std::uint32_t>& data) {
+  write_array(id(), name, H5T_STD_U32LE, H5T_NATIVE_UINT32, data.data(), {data.size()});
 }
 
 bool File::has_attribute(const std::string& name) const {
@@ -131,15 +156,11 @@ std::string File::read_attribute_string(const std::string& name) const {
 }
 
 std::vector<double> File::read_dataset(const std::string& name) const {
-  Handle set(check(H5Dopen2(id(), name.c_str(), H5P_DEFAULT),
-                   fmt::format("{}: missing dataset '{}'", path_, name)),
-             H5Dclose);
-  Handle space(H5Dget_space(set.get()), H5Sclose);
-  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
-  std::vector<double> v(static_cast<std::size_t>(count < 0 ? 0 : count));
-  check_status(H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
-               path_ + ": cannot read " + name);
-  return v;
+  return read_array<double>(id(), path_, name, H5T_NATIVE_DOUBLE);
+}
+
+std::vector<std::uint32_t> File::read_dataset_u32(const std::string& name) const {
+  return read_array<std::uint32_t>(id(), path_, name, H5T_NATIVE_UINT32);
 }
 
 }  // namespace jam::h5

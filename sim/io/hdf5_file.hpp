@@ -41,12 +41,15 @@ class File {
   void write_dataset(const std::string& name, const std::vector<double>& data,
                      const std::vector<hsize_t>& shape = {});
 
+  void write_dataset(const std::string& name, const std::vector<std::uint32_t>& data);
+
   bool has_attribute(const std::string& name) const;
   bool has_dataset(const std::string& name) const;
   double read_attribute_double(const std::string& name) const;
   std::int64_t read_attribute_int(const std::string& name) const;
   std::string read_attribute_string(const std::string& name) const;
   std::vector<double> read_dataset(const std::string& name) const;
+  std::vector<std::uint32_t> read_dataset_u32(const std::string& name) const;
 
  private:
   File(Handle h, std::string path) : file_(std::move(h)), path_(std::move(path)) {}

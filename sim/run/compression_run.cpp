@@ -13,10 +13,12 @@
 #include "sim/dynamics/overdamped_heun.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/checkpoint.hpp"
 #include "sim/io/lammps_data.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/observables/observables.hpp"
 #include "sim/run/progress.hpp"
+#include "sim/run/run_state.hpp"
 
 namespace jam {
 namespace {
@@ -75,41 +77,50 @@ std::vector<double> output_times(const CompressingBox<D>& box, double phi_init, 
 }
 
 template <int D, class Stepper>
-RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMetadata meta) {
+RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& sys,
+                     Stepper& stepper, RunMetadata meta) {
   using Clock = std::chrono::steady_clock;
   const std::size_t n = sys.size();
   const double rate = sys.box.compression_rate;
+  const std::string checkpoint_file = checkpoint_path(c.out);
+  const std::string run_fingerprint = fingerprint(c);
+
+  RunState<D> st;
+  bool resumed = false;
+  if (auto saved = read_checkpoint<D>(checkpoint_file, run_fingerprint)) {
+    sys.particles = std::move(saved->particles);
+    sys.neighbors.invalidate();
+    stepper.load_state(saved->stepper);
+    st = std::move(saved->state);
+    resumed = true;
+  }
+
+  // Checkpoints are taken between steps, every 256 steps at most, when the wall-time interval
+  // has passed or a stop was requested. Returns true when the run must stop.
+  auto last_checkpoint = Clock::now();
+  const auto interval = std::chrono::duration<double>(control.checkpoint_interval_seconds);
+  auto checkpoint_if_due = [&]() {
+    const bool stop = control.stop && control.stop->load();
+    const bool due =
+        control.checkpoint_interval_seconds > 0 && Clock::now() - last_checkpoint >= interval;
+    if (stop || due) {
+      write_checkpoint(checkpoint_file, run_fingerprint, st, sys.particles, stepper.save_state());
+      last_checkpoint = Clock::now();
+    }
+    return stop;
+  };
+  auto count_steps = [&](std::size_t steps) {
+    if (control.particle_steps) control.particle_steps->fetch_add(steps * n);
+  };
+  RunSummary summary;
+  summary.n = n;
+  summary.resumed = resumed;
+  summary.phi_init = meta.phi_init;
+  summary.initial_box_length = meta.initial_box_length;
 
   Progress progress(!c.quiet, c.phi_stop);
-  // Relaxation at zero rate (paper's supplement, "Compression Protocol").
-  if (c.relax) {
-    const double target_energy = c.resolved_relax_energy();
-    sys.box.compression_rate = 0.0;
-    double t = 0.0;
-    std::size_t k = 0;
-    meta.relax_converged = false;
-    while (true) {
-      if (k % 100 == 0) {
-        const auto obs = measure(sys, 0.0, false);
-        if (!std::isfinite(obs.energy_per_particle)) {
-          throw std::runtime_error(fmt::format(
-              "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt", c.dt));
-        }
-        progress.update_relaxation(obs.energy_per_particle, target_energy, t);
-        if (obs.energy_per_particle <= target_energy) {
-          meta.relax_converged = true;
-          break;
-        }
-        if (t >= c.relax_time_max) break;
-      }
-      stepper.step(sys, t, c.dt);
-      ++k;
-      t = static_cast<double>(k) * c.dt;
-    }
-    meta.relax_steps = static_cast<std::int64_t>(k);
-    sys.box.compression_rate = rate;
-    stepper.reset();
-  }
+  const auto wall_start = Clock::now();
+  const std::size_t builds_before = sys.neighbors.builds();
 
   auto write_configuration = [&](const std::string& path, double t, const char* what) {
     const auto masses = sys.species.masses(c.q);
@@ -117,30 +128,74 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
                       fmt::format("jam {} configuration, dim {} n {} phi {:.17g} seed {}", what, D,
                                   n, sys.box.packing_fraction(t), c.seed));
   };
-  if (!c.write_lammps_data.empty()) write_configuration(c.write_lammps_data, 0.0, "initial");
-
-  const std::vector<double> targets = output_times(sys.box, meta.phi_init, c.phi_stop, c.phi_step);
-  const double t_stop = targets.back();
-  std::vector<Observables<D>> points;
-  points.reserve(targets.size() + 1);
   auto record = [&](double t) {
-    points.push_back(measure(sys, t, c.rattlers));
-    if (!std::isfinite(points.back().pressure)) {
+    st.points.push_back(measure(sys, t, c.rattlers));
+    if (!std::isfinite(st.points.back().pressure)) {
       throw std::runtime_error(fmt::format(
           "the dynamics became unstable (non-finite pressure at phi {:.5f}) with --dt {:g}; "
           "reduce --dt",
-          points.back().packing_fraction, c.dt));
+          st.points.back().packing_fraction, c.dt));
     }
   };
-  record(0.0);
 
-  const auto wall_start = Clock::now();
-  const std::size_t builds_before = sys.neighbors.builds();
-  std::size_t next = 0, step = 0;
-  double t = 0.0;
-  while (next < targets.size()) {
+  if (st.phase == RunState<D>::kRelaxing) {
+    // Relaxation at zero rate (paper's supplement, "Compression Protocol").
+    if (c.relax) {
+      const double target_energy = c.resolved_relax_energy();
+      sys.box.compression_rate = 0.0;
+      while (true) {
+        const auto k = st.relax_steps;
+        const double t = static_cast<double>(k) * c.dt;
+        if (k % 100 == 0) {
+          const auto obs = measure(sys, 0.0, false);
+          if (!std::isfinite(obs.energy_per_particle)) {
+            throw std::runtime_error(fmt::format(
+                "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt",
+                c.dt));
+          }
+          progress.update_relaxation(obs.energy_per_particle, target_energy, t);
+          if (obs.energy_per_particle <= target_energy) {
+            st.relax_converged = true;
+            break;
+          }
+          if (t >= c.relax_time_max) break;
+        }
+        if (k > 0 && (k & 255) == 0) {
+          count_steps(256);
+          if (checkpoint_if_due()) {
+            summary.interrupted = true;
+            return summary;
+          }
+        }
+        stepper.step(sys, t, c.dt);
+        ++st.relax_steps;
+      }
+      sys.box.compression_rate = rate;
+      stepper.reset();
+    }
+    st.phase = RunState<D>::kCompressing;
+    if (!c.write_lammps_data.empty()) write_configuration(c.write_lammps_data, 0.0, "initial");
+    record(0.0);
+  }
+
+  const std::vector<double> targets = output_times(sys.box, meta.phi_init, c.phi_stop, c.phi_step);
+  const double t_stop = targets.back();
+  const auto n_targets = static_cast<std::int64_t>(targets.size());
+  while (st.next_output < n_targets) {
+    const auto step = st.steps;
+    if (step > 0 && (step & 255) == 0) {
+      count_steps(256);
+      progress.update(static_cast<double>(step) * c.dt / t_stop,
+                      sys.box.packing_fraction(static_cast<double>(step) * c.dt),
+                      static_cast<std::size_t>(step), n);
+      if (checkpoint_if_due()) {
+        summary.interrupted = true;
+        return summary;
+      }
+    }
     // Fixed steps t_k = k dt (never accumulated); the last step is shortened to land on
     // t_stop exactly, and a sliver shorter than 1e-6 dt is folded into it.
+    const double t = static_cast<double>(step) * c.dt;
     double h = c.dt;
     double t_after = static_cast<double>(step + 1) * c.dt;
     if (t_stop - t_after < 1e-6 * c.dt) {
@@ -148,47 +203,44 @@ RunSummary integrate(const SimConfig& c, System<D>& sys, Stepper& stepper, RunMe
       t_after = t_stop;
     }
     stepper.step(sys, t, h);
-    ++step;
-    t = t_after;
+    ++st.steps;
     bool due = false;
-    while (next < targets.size() && t >= targets[next]) {
+    while (st.next_output < n_targets && t_after >= targets[st.next_output]) {
       due = true;
-      ++next;
+      ++st.next_output;
     }
-    if (due) record(t);
-    if ((step & 255) == 0) {
-      progress.update(t / t_stop, sys.box.packing_fraction(t), step, n);
-    }
+    if (due) record(t_after);
   }
+  count_steps(static_cast<std::size_t>(st.steps % 256));
   progress.finish();
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
-  meta.steps = static_cast<std::int64_t>(step);
+  meta.steps = st.steps;
+  meta.relax_steps = st.relax_steps;
+  meta.relax_converged = !c.relax || st.relax_converged;
   if (!c.write_final_lammps_data.empty()) {
     write_configuration(c.write_final_lammps_data, t_stop, "final");
   }
-  write_run_file<D>(c.out, c, meta, points);
+  write_run_file<D>(c.out, c, meta, st.points);
+  std::remove(checkpoint_file.c_str());
 
-  RunSummary s;
-  s.n = n;
-  s.steps = step;
-  s.relax_steps = static_cast<std::size_t>(meta.relax_steps);
-  s.relax_converged = meta.relax_converged;
-  s.neighbor_builds = sys.neighbors.builds() - builds_before;
-  s.output_points = points.size();
-  s.initial_box_length = meta.initial_box_length;
-  s.phi_init = meta.phi_init;
-  s.final_packing_fraction = points.back().packing_fraction;
-  s.final_pressure = points.back().pressure;
-  s.final_contacts_per_particle = points.back().contacts_per_particle;
-  s.final_energy_per_particle = points.back().energy_per_particle;
-  s.wall_seconds = wall;
-  s.particle_steps_per_second = wall > 0 ? static_cast<double>(step * n) / wall : 0.0;
-  return s;
+  summary.steps = static_cast<std::size_t>(st.steps);
+  summary.relax_steps = static_cast<std::size_t>(st.relax_steps);
+  summary.relax_converged = meta.relax_converged;
+  summary.neighbor_builds = sys.neighbors.builds() - builds_before;
+  summary.output_points = st.points.size();
+  const auto& last = st.points.back();
+  summary.final_packing_fraction = last.packing_fraction;
+  summary.final_pressure = last.pressure;
+  summary.final_contacts_per_particle = last.contacts_per_particle;
+  summary.final_energy_per_particle = last.energy_per_particle;
+  summary.wall_seconds = wall;
+  summary.particle_steps_per_second = wall > 0 ? static_cast<double>(st.steps * n) / wall : 0.0;
+  return summary;
 }
 
 template <int D>
-RunSummary run_dimension(const SimConfig& c) {
+RunSummary run_dimension(const SimConfig& c, const RunControl& control) {
   const Species<D> species(c.diameter_ratio);
   Start<D> start = make_start<D>(c, species);
   CompressingBox<D> box;
@@ -215,26 +267,26 @@ RunSummary run_dimension(const SimConfig& c) {
   const std::size_t n = sys.size();
   if (meta.integrator == "euler") {
     OverdampedEuler<D> stepper(n);
-    return integrate(c, sys, stepper, meta);
+    return integrate(c, control, sys, stepper, meta);
   }
   if (meta.integrator == "heun") {
     OverdampedHeun<D> stepper(n);
-    return integrate(c, sys, stepper, meta);
+    return integrate(c, control, sys, stepper, meta);
   }
   InertialVerlet<D> stepper(n, c.q);
-  return integrate(c, sys, stepper, meta);
+  return integrate(c, control, sys, stepper, meta);
 }
 
 }  // namespace
 
-RunSummary run_compression(const SimConfig& c) {
+RunSummary run_compression(const SimConfig& c, const RunControl& control) {
   validate(c);
   check_writable("out", c.out);
   if (!c.write_lammps_data.empty()) check_writable("write-lammps-data", c.write_lammps_data);
   if (!c.write_final_lammps_data.empty()) {
     check_writable("write-final-lammps-data", c.write_final_lammps_data);
   }
-  return c.dim == 2 ? run_dimension<2>(c) : run_dimension<3>(c);
+  return c.dim == 2 ? run_dimension<2>(c, control) : run_dimension<3>(c, control);
 }
 
 }  // namespace jam

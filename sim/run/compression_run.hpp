@@ -2,7 +2,9 @@
 // One compression run, from configuration to run file:
 //   configuration (generated or read) -> relaxation at zero rate -> compression at the rate,
 //   observables at output points -> HDF5 run file (atomic).
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "sim/run/sim_config.hpp"
@@ -25,9 +27,23 @@ struct RunSummary {
   double final_energy_per_particle = 0.0;
   double wall_seconds = 0.0;
   double particle_steps_per_second = 0.0;  // compression phase, force evaluations counted once
+  bool resumed = false;                    // continued from a checkpoint
+  bool interrupted = false;                // stopped on request; a checkpoint holds the state
 };
 
-/// Runs the compression described by the validated config and writes config.out.
-RunSummary run_compression(const SimConfig& config);
+/// How a run is driven from outside: checkpoints, stop requests, progress accounting.
+struct RunControl {
+  /// Wall time between checkpoints ("<out>.checkpoint"); 0 disables them.
+  double checkpoint_interval_seconds = 300.0;
+  /// When it becomes true the run writes a checkpoint and returns with interrupted = true.
+  const std::atomic<bool>* stop = nullptr;
+  /// Incremented by the particle-steps done, for a campaign's progress display.
+  std::atomic<std::uint64_t>* particle_steps = nullptr;
+};
+
+/// Runs the compression described by the config and writes config.out. A checkpoint of the
+/// same run left by an earlier, interrupted invocation is resumed; the result is bitwise
+/// identical to an uninterrupted run.
+RunSummary run_compression(const SimConfig& config, const RunControl& control = {});
 
 }  // namespace jam

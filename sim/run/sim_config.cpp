@@ -92,7 +92,21 @@ void validate(const SimConfig& c) {
                          c.q, bound));
     }
   }
+  if (!std::isfinite(c.checkpoint_interval) || c.checkpoint_interval < 0.0) {
+    reject("checkpoint-interval", str(c.checkpoint_interval), "must be >= 0 seconds");
+  }
   if (c.out.empty()) throw ConfigError("--out: a run file name is required");
+}
+
+std::string fingerprint(const SimConfig& c) {
+  return fmt::format(
+      "dim={} n={} phi_init={:.17g} phi_stop={:.17g} phi_step={:.17g} rate={:.17g} dt={:.17g} "
+      "dynamics={} integrator={} q={:.17g} seed={} skin={:.17g} diameter_ratio={:.17g} relax={} "
+      "relax_energy={:.17g} relax_time_max={:.17g} rattlers={} stress={} read={}",
+      c.dim, c.read_lammps_data.empty() ? c.n : 0, c.read_lammps_data.empty() ? c.phi_init : 0.0,
+      c.phi_stop, c.phi_step, c.compression_rate, c.dt, c.dynamics, c.resolved_integrator(),
+      c.dynamics == "inertial" ? c.q : 0.0, c.seed, c.skin, c.diameter_ratio, c.relax,
+      c.resolved_relax_energy(), c.relax_time_max, c.rattlers, c.stress, c.read_lammps_data);
 }
 
 void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance) {

@@ -39,6 +39,7 @@ struct SimConfig {
   std::string write_lammps_data;
   std::string write_final_lammps_data;
   bool quiet = false;
+  double checkpoint_interval = 300.0;  // seconds of wall time; 0: none (not part of the physics)
 
   bool phi_init_given = true;  // false when taken from --read-lammps-data
   bool n_given = true;
@@ -55,6 +56,10 @@ struct SimConfig {
 
 /// Checks every parameter that does not need the configuration; throws ConfigError.
 void validate(const SimConfig& c);
+
+/// Every parameter that changes the numbers of a run, as text: runs (and checkpoints) with
+/// equal fingerprints produce identical results.
+std::string fingerprint(const SimConfig& c);
 
 /// Checks that the box at phi_stop is at least twice the interaction range (contact distance
 /// plus neighbor skin), so that the minimum image convention holds; throws ConfigError.

@@ -1,0 +1,137 @@
+#include "sim/io/checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "sim/io/atomic_file.hpp"
+#include "sim/io/hdf5_file.hpp"
+
+namespace jam {
+namespace {
+
+constexpr const char* kObservableFields[] = {"time",
+                                             "packing_fraction",
+                                             "pressure",
+                                             "contacts_per_particle",
+                                             "energy_per_particle",
+                                             "contacts_per_particle_no_rattlers",
+                                             "rattler_fraction"};
+
+template <int D>
+double field(const Observables<D>& o, int k) {
+  const double fields[] = {o.time,
+                           o.packing_fraction,
+                           o.pressure,
+                           o.contacts_per_particle,
+                           o.energy_per_particle,
+                           o.contacts_per_particle_no_rattlers,
+                           o.rattler_fraction};
+  return fields[k];
+}
+
+template <int D>
+double& field(Observables<D>& o, int k) {
+  double* fields[] = {&o.time,
+                      &o.packing_fraction,
+                      &o.pressure,
+                      &o.contacts_per_particle,
+                      &o.energy_per_particle,
+                      &o.contacts_per_particle_no_rattlers,
+                      &o.rattler_fraction};
+  return *fields[k];
+}
+
+}  // namespace
+
+template <int D>
+void write_checkpoint(const std::string& path, const std::string& fingerprint,
+                      const RunState<D>& state, const ParticleData<D>& particles,
+                      const StepperState& stepper) {
+  const std::string temporary = AtomicFile::temporary_name(path);
+  try {
+    h5::File f = h5::File::create(temporary);
+    f.write_attribute("fingerprint", fingerprint);
+    f.write_attribute("phase", state.phase);
+    f.write_attribute("relax_steps", state.relax_steps);
+    f.write_attribute("relax_converged", std::int64_t{state.relax_converged});
+    f.write_attribute("steps", state.steps);
+    f.write_attribute("next_output", state.next_output);
+    for (int d = 0; d < D; ++d) f.write_dataset(fmt::format("s_{}", d), particles.s[d]);
+    f.write_dataset("id", particles.id);
+    f.write_dataset("type",
+                    std::vector<std::uint32_t>(particles.type.begin(), particles.type.end()));
+    std::vector<double> column(state.points.size());
+    for (int k = 0; k < 7; ++k) {
+      for (std::size_t m = 0; m < state.points.size(); ++m) {
+        column[m] = field(state.points[m], k);
+      }
+      f.write_dataset(std::string("points_") + kObservableFields[k], column);
+    }
+    std::vector<double> stress;
+    for (const auto& pt : state.points)
+      for (const auto& row : pt.stress) stress.insert(stress.end(), row.begin(), row.end());
+    f.write_dataset("points_stress", stress);
+    for (const auto& [name, values] : stepper) f.write_dataset("stepper_" + name, values);
+    f.write_attribute("stepper_fields", std::int64_t(stepper.size()));
+    for (std::size_t k = 0; k < stepper.size(); ++k) {
+      f.write_attribute(fmt::format("stepper_field_{}", k), stepper[k].first);
+    }
+    f.close();
+    AtomicFile::publish(path);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
+}
+
+template <int D>
+std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
+                                             const std::string& fingerprint) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  const h5::File f = h5::File::open_read(path);
+  if (f.read_attribute_string("fingerprint") != fingerprint) {
+    throw std::runtime_error(fmt::format(
+        "checkpoint '{}' belongs to a run with other parameters; remove it to start afresh", path));
+  }
+  Checkpoint<D> c;
+  c.state.phase = f.read_attribute_int("phase");
+  c.state.relax_steps = f.read_attribute_int("relax_steps");
+  c.state.relax_converged = f.read_attribute_int("relax_converged") != 0;
+  c.state.steps = f.read_attribute_int("steps");
+  c.state.next_output = f.read_attribute_int("next_output");
+  c.particles.id = f.read_dataset_u32("id");
+  c.particles.resize(c.particles.id.size());
+  const auto type = f.read_dataset_u32("type");
+  for (std::size_t i = 0; i < type.size(); ++i)
+    c.particles.type[i] = static_cast<std::uint8_t>(type[i]);
+  for (int d = 0; d < D; ++d) c.particles.s[d] = f.read_dataset(fmt::format("s_{}", d));
+  const auto time = f.read_dataset("points_time");
+  c.state.points.resize(time.size());
+  for (int k = 0; k < 7; ++k) {
+    const auto column = f.read_dataset(std::string("points_") + kObservableFields[k]);
+    for (std::size_t m = 0; m < column.size(); ++m) field(c.state.points[m], k) = column[m];
+  }
+  const auto stress = f.read_dataset("points_stress");
+  std::size_t at = 0;
+  for (auto& pt : c.state.points)
+    for (auto& row : pt.stress)
+      for (auto& x : row) x = stress.at(at++);
+  const auto fields = f.read_attribute_int("stepper_fields");
+  for (std::int64_t k = 0; k < fields; ++k) {
+    const std::string name = f.read_attribute_string(fmt::format("stepper_field_{}", k));
+    c.stepper.emplace_back(name, f.read_dataset("stepper_" + name));
+  }
+  return c;
+}
+
+template void write_checkpoint<2>(const std::string&, const std::string&, const RunState<2>&,
+                                  const ParticleData<2>&, const StepperState&);
+template void write_checkpoint<3>(const std::string&, const std::string&, const RunState<3>&,
+                                  const ParticleData<3>&, const StepperState&);
+template std::optional<Checkpoint<2>> read_checkpoint<2>(const std::string&, const std::string&);
+template std::optional<Checkpoint<3>> read_checkpoint<3>(const std::string&, const std::string&);
+
+}  // namespace jam

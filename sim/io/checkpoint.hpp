@@ -1,0 +1,37 @@
+#pragma once
+// Checkpoints of a running compression: "<run file>.checkpoint", HDF5, written atomically
+// (temporary name, then rename), so a kill at any moment leaves either the previous or the
+// new checkpoint. A checkpoint carries the run's fingerprint (every parameter that changes
+// its numbers) and is only ever resumed by the run with the same fingerprint.
+#include <optional>
+#include <string>
+
+#include "sim/dynamics/stepper_state.hpp"
+#include "sim/model/particles.hpp"
+#include "sim/run/run_state.hpp"
+
+namespace jam {
+
+template <int D>
+struct Checkpoint {
+  RunState<D> state;
+  ParticleData<D> particles;
+  StepperState stepper;
+};
+
+inline std::string checkpoint_path(const std::string& run_file) {
+  return run_file + ".checkpoint";
+}
+
+template <int D>
+void write_checkpoint(const std::string& path, const std::string& fingerprint,
+                      const RunState<D>& state, const ParticleData<D>& particles,
+                      const StepperState& stepper);
+
+/// The checkpoint at path, or nothing if there is none. Throws if it exists but belongs to
+/// another run (different fingerprint) or cannot be read.
+template <int D>
+std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
+                                             const std::string& fingerprint);
+
+}  // namespace jam

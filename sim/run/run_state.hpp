@@ -1,0 +1,23 @@
+#pragma once
+// Where a compression run is: the phase, the step counters and the output points recorded so
+// far. Together with the particles and the integrator's StepperState it is everything a
+// checkpoint holds; nothing else influences the numbers a run produces.
+#include <cstdint>
+#include <vector>
+
+#include "sim/observables/observables.hpp"
+
+namespace jam {
+
+template <int D>
+struct RunState {
+  enum Phase : std::int64_t { kRelaxing = 0, kCompressing = 1 };
+  std::int64_t phase = kRelaxing;
+  std::int64_t relax_steps = 0;
+  bool relax_converged = false;
+  std::int64_t steps = 0;        // compression steps done
+  std::int64_t next_output = 0;  // index of the next output time
+  std::vector<Observables<D>> points;
+};
+
+}  // namespace jam

@@ -1,0 +1,112 @@
+// A run killed (SIGKILL) at random moments and restarted, again and again, ends with a run
+// file bitwise identical to an uninterrupted run, having resumed from checkpoints rather than
+// from the start; SIGINT stops a run cleanly with a checkpoint (exit 130).
+#define BOOST_TEST_MODULE checkpoint_resume
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/test/unit_test.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-resume-" + std::to_string(::getpid()));
+
+pid_t spawn_jam(const std::string& args) {
+  std::vector<std::string> words = {JAM_EXECUTABLE, "sim"};
+  std::istringstream in(args);
+  for (std::string w; in >> w;) words.push_back(w);
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  BOOST_TEST_REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+int wait_for(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Runs `args` once uninterrupted and once killed `kills` times at random moments (checkpoints
+// every 20 ms), then compares the two run files byte for byte.
+void check_resume(const std::string& args, int kills, int signal_number, unsigned seed) {
+  fs::create_directories(kDir);
+  const fs::path ref = kDir / "ref.h5", resumed = kDir / "resumed.h5";
+  fs::remove(ref);
+  fs::remove(resumed);
+  BOOST_TEST_REQUIRE(wait_for(spawn_jam(args + " --checkpoint-interval 0 --out " + ref.string())) ==
+                     0);
+
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> delay_ms(150, 700);
+  const std::string interrupted = args + " --checkpoint-interval 0.02 --out " + resumed.string();
+  int checkpoints_seen = 0, finished_early = 0;
+  for (int k = 0; k < kills; ++k) {
+    const pid_t pid = spawn_jam(interrupted);
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    kill(pid, signal_number);
+    const int status = wait_for(pid);
+    if (status == 0) {
+      ++finished_early;  // the run beat the signal: nothing to resume
+      break;
+    }
+    if (signal_number == SIGINT) BOOST_TEST(status == 130);
+    BOOST_TEST(!fs::exists(resumed));  // an interrupted run never leaves a run file
+    checkpoints_seen += fs::exists(resumed.string() + ".checkpoint");
+  }
+  if (!finished_early) BOOST_TEST_REQUIRE(wait_for(spawn_jam(interrupted)) == 0);
+  BOOST_TEST(checkpoints_seen >= 1);  // the run really continued from checkpoints
+  BOOST_TEST(!fs::exists(resumed.string() + ".checkpoint"));
+  BOOST_TEST((slurp(ref) == slurp(resumed)), "resumed run differs from the uninterrupted one");
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(euler_2d_killed_during_relaxation_and_compression) {
+  check_resume("--dim 2 --n 2048 --phi-init 0.6 --phi-stop 0.86 --rate 1e-3 --quiet --rattlers", 4,
+               SIGKILL, 1);
+}
+
+BOOST_AUTO_TEST_CASE(heun_3d_killed) {
+  check_resume(
+      "--dim 3 --n 1024 --phi-init 0.55 --phi-stop 0.68 --rate 2e-3 --integrator heun --quiet", 3,
+      SIGKILL, 2);
+}
+
+BOOST_AUTO_TEST_CASE(inertial_2d_killed_keeps_velocities) {
+  check_resume(
+      "--dim 2 --n 1024 --phi-init 0.7 --phi-stop 0.86 --rate 2e-3 --dynamics inertial "
+      "--q 0.1 --dt 0.01 --relax-energy 1e-6 --quiet",
+      3, SIGKILL, 3);
+}
+
+BOOST_AUTO_TEST_CASE(sigint_stops_cleanly_and_resumes) {
+  check_resume("--dim 2 --n 2048 --phi-init 0.7 --phi-stop 0.86 --rate 1e-3 --quiet", 2, SIGINT, 4);
+  fs::remove_all(kDir);
+}
