@@ -1,18 +1,26 @@
 // jam: compression-driven jamming of bidisperse soft spheres. One executable, subcommands.
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include <CLI/CLI.hpp>
 #include <exception>
 
+#include "app/campaign_command.hpp"
 #include "app/sim_command.hpp"
 #include "sim/version.hpp"
 
 int main(int argc, char** argv) {
+  const jam::Ranks ranks = jam::start_ranks(&argc, &argv);
+  struct StopRanks {
+    ~StopRanks() { jam::stop_ranks(); }
+  } stop_ranks_at_exit;
+
   CLI::App app{"jam: compression-driven jamming of bidisperse soft spheres"};
   app.set_version_flag("--version", std::string(jam::kVersion));
   app.require_subcommand(1);
   jam::SimConfig sim_config;
   jam::add_sim_command(app, sim_config);
+  jam::CampaignArgs campaign_args;
+  jam::add_campaign_command(app, campaign_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -28,6 +36,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (app.got_subcommand("sim")) return jam::run_sim_command(sim_config);
+    if (app.got_subcommand("campaign")) return jam::run_campaign_command(app, campaign_args, ranks);
   } catch (const std::exception& e) {
     fmt::print(stderr, "jam: error: {}\n", e.what());
     return 1;

@@ -2,10 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <atomic>
-#include <csignal>
 
 #include "sim/run/compression_run.hpp"
+#include "sim/run/stop_signal.hpp"
 
 namespace jam {
 
@@ -66,11 +65,9 @@ extern "C" void request_stop(int) {
 
 int run_sim_command(const SimConfig& c) {
   // Ctrl-C or SIGTERM: write a checkpoint and stop; the same command resumes.
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
   RunControl control;
   control.checkpoint_interval_seconds = c.checkpoint_interval;
-  control.stop = &stop_requested;
+  control.stop = &install_stop_handlers();
   const RunSummary s = run_compression(c, control);
   if (s.interrupted) {
     fmt::print(stderr, "jam: interrupted; state saved in {}; run the same command to resume\n",

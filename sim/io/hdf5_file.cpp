@@ -39,16 +39,25 @@ void Handle::reset() {
   id_ = -1;
 }
 
+std::mutex& library_mutex() {
+  static std::mutex m;
+  return m;
+}
+
 File File::create(const std::string& path) {
+  std::unique_lock lock(library_mutex());
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   H5Pset_obj_track_times(fcpl.get(), false);
   const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT);
-  return File(Handle(check(id, fmt::format("cannot create HDF5 file '{}'", path)), H5Fclose), path);
+  return File(std::move(lock),
+              Handle(check(id, fmt::format("cannot create HDF5 file '{}'", path)), H5Fclose), path);
 }
 
 File File::open_read(const std::string& path) {
+  std::unique_lock lock(library_mutex());
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  return File(Handle(check(id, fmt::format("cannot open HDF5 file '{}'", path)), H5Fclose), path);
+  return File(std::move(lock),
+              Handle(check(id, fmt::format("cannot open HDF5 file '{}'", path)), H5Fclose), path);
 }
 
 namespace {

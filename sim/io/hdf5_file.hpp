@@ -5,6 +5,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -27,13 +28,20 @@ class Handle {
   herr_t (*close_)(hid_t) = nullptr;
 };
 
+/// The Debian HDF5 library is built without thread safety: every File holds this lock for
+/// its lifetime, so runs on several threads of a campaign never call HDF5 concurrently.
+std::mutex& library_mutex();
+
 class File {
  public:
   static File create(const std::string& path);  // truncates
   static File open_read(const std::string& path);
   hid_t id() const { return file_.get(); }
   const std::string& path() const { return path_; }
-  void close() { file_.reset(); }
+  void close() {
+    file_.reset();
+    if (lock_.owns_lock()) lock_.unlock();
+  }
 
   void write_attribute(const std::string& name, double value);
   void write_attribute(const std::string& name, std::int64_t value);
@@ -52,7 +60,9 @@ class File {
   std::vector<std::uint32_t> read_dataset_u32(const std::string& name) const;
 
  private:
-  File(Handle h, std::string path) : file_(std::move(h)), path_(std::move(path)) {}
+  File(std::unique_lock<std::mutex> lock, Handle h, std::string path)
+      : lock_(std::move(lock)), file_(std::move(h)), path_(std::move(path)) {}
+  std::unique_lock<std::mutex> lock_;  // declared first: released after the file is closed
   Handle file_;
   std::string path_;
 };

@@ -1,0 +1,30 @@
+#include "app/campaign_command.hpp"
+
+namespace jam {
+
+void add_campaign_command(CLI::App& app, CampaignArgs& a) {
+  CLI::App* campaign = app.add_subcommand(
+      "campaign", "Run, inspect and cost ensembles of compression runs described by a TOML file");
+  campaign->require_subcommand(1);
+  CLI::App* run = campaign->add_subcommand(
+      "run", "Run every missing run (resumes partial ones); under mpirun the ranks share them");
+  run->option_defaults()->always_capture_default();
+  run->add_option("file", a.file, "Campaign file (TOML, see reference/campaigns/)")->required();
+  run->add_option("--jobs", a.run.jobs, "Runs at once per process (0 = all cores)");
+  run->add_flag("--retry-failed", a.run.retry_failed, "Also redo runs whose last attempt failed");
+  run->add_flag("--quiet", a.run.quiet, "No progress display and no summary");
+  CLI::App* status = campaign->add_subcommand("status", "Print what is done, partial, missing, failed");
+  status->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();
+  CLI::App* plan = campaign->add_subcommand(
+      "plan", "Print the number of runs, particle-steps and estimated core-hours");
+  plan->add_option("file", a.file, "Campaign file (TOML)")->required();
+}
+
+int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks& ranks) {
+  const CLI::App* campaign = app.get_subcommand("campaign");
+  if (campaign->got_subcommand("run")) return run_campaign(read_campaign(a.file), a.run, ranks);
+  if (campaign->got_subcommand("status")) return print_campaign_status(a.directory);
+  return print_campaign_plan(read_campaign(a.file));
+}
+
+}  // namespace jam

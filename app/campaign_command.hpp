@@ -1,0 +1,20 @@
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include "campaign/campaign_runner.hpp"
+
+namespace jam {
+
+struct CampaignArgs {
+  std::string file;       // campaign TOML (run, plan)
+  std::string directory;  // campaign directory (status)
+  CampaignRunOptions run;
+};
+
+/// Registers `jam campaign run|status|plan`.
+void add_campaign_command(CLI::App& app, CampaignArgs& args);
+
+/// Runs whichever campaign subcommand was parsed. Returns the exit status.
+int run_campaign_command(const CLI::App& app, const CampaignArgs& args, const Ranks& ranks);
+
+}  // namespace jam

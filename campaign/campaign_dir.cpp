@@ -1,0 +1,149 @@
+#include "campaign/campaign_dir.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "sim/io/atomic_file.hpp"
+#include "sim/io/checkpoint.hpp"
+#include "sim/io/hdf5_file.hpp"
+#include "sim/version.hpp"
+
+namespace jam {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string record_path(const PlannedRun& run) {
+  return fs::path(run.config.out).replace_extension(".record").string();
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  AtomicFile out(path);
+  std::fputs(text.c_str(), out.stream());
+  out.commit();
+}
+
+}  // namespace
+
+const char* to_string(RunStatus s) {
+  switch (s) {
+    case RunStatus::kDone: return "done";
+    case RunStatus::kPartial: return "partial";
+    case RunStatus::kFailed: return "failed";
+    case RunStatus::kCorrupt: return "corrupt";
+    case RunStatus::kMissing: return "missing";
+  }
+  return "?";
+}
+
+Campaign stored_campaign(const std::string& directory) {
+  return read_campaign((fs::path(directory) / "campaign.toml").string());
+}
+
+void prepare_campaign_directory(const Campaign& c) {
+  const fs::path dir(c.output);
+  const fs::path stored = dir / "campaign.toml";
+  if (fs::exists(stored)) {
+    const Campaign old = stored_campaign(dir.string());
+    const auto before = identity_keys(old), after = identity_keys(c);
+    std::string differences;
+    for (std::size_t k = 0; k < before.size(); ++k) {
+      if (before[k].second != after[k].second) {
+        differences += fmt::format("{}{} {} -> {}", differences.empty() ? "" : ", ",
+                                   before[k].first, before[k].second, after[k].second);
+      }
+    }
+    if (!differences.empty()) {
+      throw CampaignError(fmt::format(
+          "{}: refusing to mix runs: {} was run with a campaign that differs in {} (only sizes, "
+          "phi_init, log10_rates and samples may change)",
+          c.source_path, dir.string(), differences));
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(dir / "runs", ec);
+  if (ec) {
+    throw CampaignError(fmt::format("{}: output: cannot create '{}': {}", c.source_path,
+                                    (dir / "runs").string(), ec.message()));
+  }
+  write_text(stored.string(), c.source_text);
+}
+
+RunStatus run_status(const PlannedRun& run, std::string* detail) {
+  const std::string& file = run.config.out;
+  if (fs::exists(file)) {
+    try {
+      const h5::File f = h5::File::open_read(file);
+      if (f.read_attribute_int("complete") == 1 &&
+          f.read_attribute_int("seed") == static_cast<std::int64_t>(run.config.seed) &&
+          f.read_dataset("pressure").size() == f.read_dataset("packing_fraction").size()) {
+        return RunStatus::kDone;
+      }
+      if (detail) *detail = "run file is incomplete or belongs to another run";
+    } catch (const std::exception& e) {
+      if (detail) *detail = e.what();
+    }
+    return RunStatus::kCorrupt;
+  }
+  if (fs::exists(checkpoint_path(file))) return RunStatus::kPartial;
+  const std::string record = record_path(run);
+  if (fs::exists(record)) {
+    try {
+      const toml::table t = toml::parse_file(record);
+      if (t["status"].value_or(std::string()) == "failed") {
+        if (detail) *detail = t["error"].value_or(std::string());
+        return RunStatus::kFailed;
+      }
+    } catch (const std::exception&) {
+    }
+  }
+  return RunStatus::kMissing;
+}
+
+void write_run_record(const PlannedRun& run, const RunRecord& r) {
+  char host[256] = "";
+  gethostname(host, sizeof host - 1);
+  toml::table t{{"status", r.status},
+                {"wall_seconds", r.wall_seconds},
+                {"steps", r.steps},
+                {"version", std::string(kVersion)},
+                {"host", std::string(host)}};
+  if (!r.error.empty()) t.insert("error", r.error);
+  std::ostringstream text;
+  text << t << "\n";
+  write_text(record_path(run), text.str());
+}
+
+void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
+  toml::table runs;
+  for (const auto& run : plan) {
+    std::string detail;
+    const RunStatus s = run_status(run, &detail);
+    toml::table entry{{"status", to_string(s)}};
+    const std::string record = record_path(run);
+    if (fs::exists(record)) {
+      try {
+        const toml::table t = toml::parse_file(record);
+        if (auto w = t["wall_seconds"].value<double>()) entry.insert("wall_seconds", *w);
+        if (auto v = t["version"].value<std::string>()) entry.insert("version", *v);
+      } catch (const std::exception&) {
+      }
+    }
+    if (!detail.empty()) entry.insert("detail", detail);
+    runs.insert(run.name, std::move(entry));
+  }
+  toml::table manifest{{"campaign_file", c.source_path},
+                       {"campaign", c.source_text},
+                       {"code_version", std::string(kVersion)},
+                       {"runs", std::move(runs)}};
+  std::ostringstream text;
+  text << manifest << "\n";
+  write_text((fs::path(c.output) / "manifest.toml").string(), text.str());
+}
+
+}  // namespace jam

@@ -1,0 +1,44 @@
+#pragma once
+// A campaign directory:
+//   <output>/campaign.toml        the campaign file the directory was last run with
+//   <output>/manifest.toml        campaign, code version, and per-run status and wall time
+//   <output>/runs/<name>.h5       one run file per finished run (sim schema)
+//   <output>/runs/<name>.h5.checkpoint   state of an unfinished run
+//   <output>/runs/<name>.record   status of the last attempt (TOML: status, wall time, ...)
+// Every file is written atomically, so the directory is consistent after any interruption.
+#include <string>
+#include <vector>
+
+#include "campaign/campaign_file.hpp"
+#include "campaign/run_plan.hpp"
+
+namespace jam {
+
+enum class RunStatus { kDone, kPartial, kFailed, kCorrupt, kMissing };
+
+const char* to_string(RunStatus s);
+
+/// Creates the directory, or checks that the campaign is compatible with the one it was run
+/// with (only sizes, phi_init, log10_rates and samples may change), then stores the campaign.
+void prepare_campaign_directory(const Campaign& campaign);
+
+/// The campaign a directory was last run with.
+Campaign stored_campaign(const std::string& directory);
+
+/// Classifies one run from the files present. A run file that cannot be read or is not
+/// marked complete is kCorrupt and is never taken for a result.
+RunStatus run_status(const PlannedRun& run, std::string* detail = nullptr);
+
+struct RunRecord {
+  std::string status;  // "done" or "failed"
+  double wall_seconds = 0.0;
+  std::int64_t steps = 0;
+  std::string error;
+};
+
+void write_run_record(const PlannedRun& run, const RunRecord& record);
+
+/// Rewrites <output>/manifest.toml from the run files and records.
+void write_manifest(const Campaign& campaign, const std::vector<PlannedRun>& plan);
+
+}  // namespace jam

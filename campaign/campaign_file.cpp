@@ -1,0 +1,228 @@
+#include "campaign/campaign_file.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "sim/run/sim_config.hpp"
+
+namespace jam {
+namespace {
+
+class Reader {
+ public:
+  Reader(const toml::table& table, std::string path) : table_(table), path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    const toml::node* node = table_.get(key);
+    const auto line = node ? node->source().begin.line : 0u;
+    if (line > 0) throw CampaignError(fmt::format("{}:{}: {}: {}", path_, line, key, what));
+    throw CampaignError(fmt::format("{}: {}: {}", path_, key, what));
+  }
+
+  const toml::node* find(const std::string& key, bool required) {
+    seen_.insert(key);
+    const toml::node* node = table_.get(key);
+    if (!node && required) fail(key, "missing (required)");
+    return node;
+  }
+
+  double number(const std::string& key, bool required, double fallback) {
+    const toml::node* node = find(key, required);
+    if (!node) return fallback;
+    if (!node->is_number()) fail(key, "must be a number");
+    const double v = node->value<double>().value();
+    if (!std::isfinite(v)) fail(key, "must be finite");
+    return v;
+  }
+
+  std::int64_t integer(const std::string& key, bool required, std::int64_t fallback) {
+    const toml::node* node = find(key, required);
+    if (!node) return fallback;
+    if (!node->is_integer()) fail(key, "must be an integer");
+    return node->value<std::int64_t>().value();
+  }
+
+  std::string string(const std::string& key, bool required, const std::string& fallback) {
+    const toml::node* node = find(key, required);
+    if (!node) return fallback;
+    if (!node->is_string()) fail(key, "must be a string");
+    return node->value<std::string>().value();
+  }
+
+  bool boolean(const std::string& key, bool fallback) {
+    const toml::node* node = find(key, false);
+    if (!node) return fallback;
+    if (!node->is_boolean()) fail(key, "must be true or false");
+    return node->value<bool>().value();
+  }
+
+  std::vector<double> numbers(const std::string& key) {
+    const toml::node* node = find(key, true);
+    const toml::array* array = node->as_array();
+    if (!array || array->empty()) fail(key, "must be a non-empty array of numbers");
+    std::vector<double> v;
+    for (const auto& element : *array) {
+      if (!element.is_number()) fail(key, "must be a non-empty array of numbers");
+      v.push_back(element.value<double>().value());
+      if (!std::isfinite(v.back())) fail(key, "values must be finite");
+    }
+    if (std::set<double>(v.begin(), v.end()).size() != v.size()) fail(key, "repeated value");
+    return v;
+  }
+
+  std::vector<std::int64_t> integers(const std::string& key) {
+    const toml::node* node = find(key, true);
+    const toml::array* array = node->as_array();
+    if (!array || array->empty()) fail(key, "must be a non-empty array of integers");
+    std::vector<std::int64_t> v;
+    for (const auto& element : *array) {
+      if (!element.is_integer()) fail(key, "must be a non-empty array of integers");
+      v.push_back(element.value<std::int64_t>().value());
+    }
+    if (std::set<std::int64_t>(v.begin(), v.end()).size() != v.size()) fail(key, "repeated value");
+    return v;
+  }
+
+  void reject_unknown_keys() const {
+    for (const auto& [key, node] : table_) {
+      if (!seen_.count(std::string(key.str()))) {
+        throw CampaignError(fmt::format("{}:{}: {}: unknown key", path_, node.source().begin.line,
+                                        key.str()));
+      }
+    }
+  }
+
+ private:
+  const toml::table& table_;
+  std::string path_;
+  std::set<std::string> seen_;
+};
+
+}  // namespace
+
+Campaign parse_campaign(const std::string& text, const std::string& path) {
+  toml::table table;
+  try {
+    table = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw CampaignError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
+  }
+  Reader r(table, path);
+  Campaign c;
+  c.source_path = path;
+  c.source_text = text;
+  c.name = r.string("name", true, "");
+  c.dim = static_cast<int>(r.integer("dim", true, 2));
+  c.sizes = r.integers("sizes");
+  c.phi_init = r.numbers("phi_init");
+  c.log10_rates = r.numbers("log10_rates");
+  c.samples = r.integer("samples", true, 0);
+  c.phi_stop = r.number("phi_stop", true, 0.0);
+  c.phi_step = r.number("phi_step", false, c.phi_step);
+  c.dynamics = r.string("dynamics", false, c.dynamics);
+  c.integrator = r.string("integrator", false, c.integrator);
+  c.dt = r.number("dt", false, c.dt);
+  c.q = r.number("q", false, c.q);
+  const std::int64_t seed = r.integer("seed", true, 0);
+  c.output = r.string("output", true, "");
+  c.skin = r.number("skin", false, c.skin);
+  c.diameter_ratio = r.number("diameter_ratio", false, c.diameter_ratio);
+  c.relax = r.boolean("relax", c.relax);
+  c.relax_energy = r.string("relax_energy", false, c.relax_energy);
+  c.relax_time_max = r.number("relax_time_max", false, c.relax_time_max);
+  c.rattlers = r.boolean("rattlers", c.rattlers);
+  c.stress = r.boolean("stress", c.stress);
+  c.checkpoint_interval = r.number("checkpoint_interval", false, c.checkpoint_interval);
+  r.reject_unknown_keys();
+
+  if (c.name.empty() || c.name.find_first_of("/ \t") != std::string::npos) {
+    r.fail("name", "must be a non-empty word (it names the report)");
+  }
+  if (c.dim != 2 && c.dim != 3) r.fail("dim", fmt::format("{} (must be 2 or 3)", c.dim));
+  for (auto n : c.sizes) {
+    if (n < 2 || n % 2 != 0) r.fail("sizes", fmt::format("{} (each must be even and >= 2)", n));
+  }
+  for (double phi : c.phi_init) {
+    if (!(phi > 0.0 && phi < c.phi_stop)) {
+      r.fail("phi_init", fmt::format("{:g} (each must be in (0, phi_stop = {:g}))", phi, c.phi_stop));
+    }
+  }
+  for (double lr : c.log10_rates) {
+    if (lr > 0.0 || lr < -12.0) r.fail("log10_rates", fmt::format("{:g} (must be in [-12, 0])", lr));
+  }
+  if (c.samples < 1) r.fail("samples", fmt::format("{} (must be >= 1)", c.samples));
+  if (seed < 0) r.fail("seed", fmt::format("{} (must be >= 0)", seed));
+  c.seed = static_cast<std::uint64_t>(seed);
+  if (c.output.empty()) r.fail("output", "must name a directory");
+  if (c.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
+
+  // Everything a single run checks, with the campaign's key names in the message.
+  const std::map<std::string, std::string> option_to_key = {
+      {"--phi-stop", "phi_stop"},     {"--phi-step", "phi_step"},
+      {"--dt", "dt"},                 {"--dynamics", "dynamics"},
+      {"--integrator", "integrator"}, {"--q", "q"},
+      {"--skin", "skin"},             {"--diameter-ratio", "diameter_ratio"},
+      {"--relax-energy", "relax_energy"}, {"--relax-time-max", "relax_time_max"}};
+  SimConfig probe;
+  probe.dim = c.dim;
+  probe.n = c.sizes.front();
+  probe.phi_init = c.phi_init.front();
+  probe.phi_stop = c.phi_stop;
+  probe.phi_step = c.phi_step;
+  probe.compression_rate = std::pow(10.0, c.log10_rates.front());
+  probe.dt = c.dt;
+  probe.dynamics = c.dynamics;
+  probe.integrator = c.integrator;
+  probe.q = c.q;
+  probe.skin = c.skin;
+  probe.diameter_ratio = c.diameter_ratio;
+  probe.relax_energy = c.relax_energy;
+  probe.relax_time_max = c.relax_time_max;
+  probe.out = "probe";
+  try {
+    validate(probe);
+  } catch (const ConfigError& e) {
+    const std::string message = e.what();
+    for (const auto& [option, key] : option_to_key) {
+      if (message.rfind(option + " ", 0) == 0) r.fail(key, message.substr(option.size() + 1));
+    }
+    throw CampaignError(fmt::format("{}: {}", path, message));
+  }
+  return c;
+}
+
+Campaign read_campaign(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw CampaignError(fmt::format("{}: cannot read campaign file", path));
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_campaign(text.str(), path);
+}
+
+std::vector<std::pair<std::string, std::string>> identity_keys(const Campaign& c) {
+  auto g = [](double v) { return fmt::format("{:.17g}", v); };
+  return {{"dim", std::to_string(c.dim)},
+          {"phi_stop", g(c.phi_stop)},
+          {"phi_step", g(c.phi_step)},
+          {"dynamics", c.dynamics},
+          {"integrator", c.integrator},
+          {"dt", g(c.dt)},
+          {"q", c.dynamics == "inertial" ? g(c.q) : "-"},
+          {"seed", std::to_string(c.seed)},
+          {"skin", g(c.skin)},
+          {"diameter_ratio", g(c.diameter_ratio)},
+          {"relax", c.relax ? "true" : "false"},
+          {"relax_energy", c.relax_energy},
+          {"relax_time_max", g(c.relax_time_max)},
+          {"rattlers", c.rattlers ? "true" : "false"},
+          {"stress", c.stress ? "true" : "false"}};
+}
+
+}  // namespace jam

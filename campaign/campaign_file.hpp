@@ -1,0 +1,53 @@
+#pragma once
+// A campaign: every run of a finite-size study, described by one TOML file
+// (reference/campaigns/*.toml documents every key). Parsing is strict: unknown keys, wrong
+// types, missing fields and impossible values are errors naming the file, the line and the key.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace jam {
+
+struct CampaignError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Campaign {
+  std::string name;
+  int dim = 2;
+  std::vector<std::int64_t> sizes;
+  std::vector<double> phi_init;
+  std::vector<double> log10_rates;
+  std::int64_t samples = 0;
+  double phi_stop = 0.0;
+  double phi_step = 0.001;
+  std::string dynamics = "overdamped";
+  std::string integrator;  // empty: euler (overdamped) or verlet (inertial)
+  double dt = 0.01;
+  double q = 0.03;
+  std::uint64_t seed = 0;
+  std::string output;  // campaign directory
+  double skin = 0.3;
+  double diameter_ratio = 1.4;
+  bool relax = true;
+  std::string relax_energy = "auto";
+  double relax_time_max = 1e4;
+  bool rattlers = false;
+  bool stress = false;
+  double checkpoint_interval = 300.0;  // seconds
+
+  std::string source_path;  // the file it was read from
+  std::string source_text;  // its text, stored with the results
+};
+
+/// Reads and validates a campaign file.
+Campaign read_campaign(const std::string& path);
+
+/// Parses campaign text (path is used in messages and to resolve nothing else).
+Campaign parse_campaign(const std::string& text, const std::string& path);
+
+/// Keys whose change would mix incompatible runs in one directory, with their values as text.
+std::vector<std::pair<std::string, std::string>> identity_keys(const Campaign& c);
+
+}  // namespace jam

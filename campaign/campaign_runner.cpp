@@ -1,0 +1,226 @@
+#include "campaign/campaign_runner.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "campaign/campaign_dir.hpp"
+#include "campaign/run_plan.hpp"
+#include "campaign/throughput.hpp"
+#include "sim/run/compression_run.hpp"
+#include "sim/run/stop_signal.hpp"
+
+namespace jam {
+namespace {
+
+std::string duration(double seconds) {
+  if (seconds < 120) return fmt::format("{:.0f} s", seconds);
+  if (seconds < 7200) return fmt::format("{:.1f} min", seconds / 60);
+  if (seconds < 172800) return fmt::format("{:.1f} h", seconds / 3600);
+  return fmt::format("{:.1f} days", seconds / 86400);
+}
+
+/// Longest-processing-time assignment of the pending runs to ranks: deterministic, and
+/// within a few percent of the best balance for many runs.
+std::vector<std::size_t> share_of_rank(const std::vector<PlannedRun>& plan,
+                                       const std::vector<std::int64_t>& pending, const Ranks& r) {
+  std::vector<double> load(static_cast<std::size_t>(r.size), 0.0);
+  std::vector<std::size_t> mine;
+  for (auto index : pending) {
+    const auto k = static_cast<std::size_t>(
+        std::min_element(load.begin(), load.end()) - load.begin());
+    load[k] += plan[static_cast<std::size_t>(index)].estimated_particle_steps;
+    if (static_cast<int>(k) == r.rank) mine.push_back(static_cast<std::size_t>(index));
+  }
+  return mine;
+}
+
+}  // namespace
+
+int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ranks& ranks) {
+  const std::vector<PlannedRun> plan = plan_runs(c);
+  if (ranks.rank == 0) prepare_campaign_directory(c);
+  barrier();
+
+  // Rank 0 decides what is pending and everybody works from that one list, so no run is done
+  // twice even while other ranks already start writing checkpoints.
+  std::vector<std::int64_t> pending;
+  std::size_t already_done = 0;
+  if (ranks.rank == 0) {
+    for (std::size_t k = 0; k < plan.size(); ++k) {
+      const RunStatus s = run_status(plan[k]);
+      if (s == RunStatus::kDone) {
+        ++already_done;
+      } else if (s != RunStatus::kFailed || options.retry_failed) {
+        if (s == RunStatus::kCorrupt) std::filesystem::remove(plan[k].config.out);
+        pending.push_back(static_cast<std::int64_t>(k));
+      }
+    }
+  }
+  pending = broadcast_from_root(std::move(pending));
+  const std::vector<std::size_t> mine = share_of_rank(plan, pending, ranks);
+
+  const std::atomic<bool>& stop_requested = install_stop_handlers();
+  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+  const int jobs = options.jobs > 0 ? options.jobs : static_cast<int>(hardware);
+  const bool show = !options.quiet && ranks.rank == 0;
+  const bool tty = show && isatty(STDERR_FILENO);
+  if (show) {
+    fmt::print("campaign {}: {} runs, {} done, {} to run", c.name, plan.size(), already_done,
+               pending.size());
+    if (ranks.size > 1) fmt::print(" on {} ranks", ranks.size);
+    fmt::print(" ({} threads per process)\n", jobs);
+    std::fflush(stdout);
+  }
+
+  double remaining_estimate = 0.0;
+  for (auto k : mine) remaining_estimate += plan[k].estimated_particle_steps;
+  std::atomic<std::size_t> next{0}, finished{0}, failed{0}, interrupted{0};
+  std::atomic<int> active{0};
+  std::atomic<std::uint64_t> particle_steps{0};
+  std::mutex print_mutex;
+  auto worker = [&]() {
+    struct Active {
+      std::atomic<int>& count;
+      ~Active() { --count; }
+    } active_guard{active};
+    while (!stop_requested.load()) {
+      const std::size_t slot = next.fetch_add(1);
+      if (slot >= mine.size()) return;
+      const PlannedRun& run = plan[mine[slot]];
+      RunControl control;
+      control.checkpoint_interval_seconds = run.config.checkpoint_interval;
+      control.stop = &stop_requested;
+      control.particle_steps = &particle_steps;
+      RunRecord record;
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        const RunSummary s = run_compression(run.config, control);
+        if (s.interrupted) {
+          ++interrupted;
+          continue;
+        }
+        record.status = "done";
+        record.steps = static_cast<std::int64_t>(s.steps);
+      } catch (const std::exception& e) {
+        record.status = "failed";
+        record.error = e.what();
+        ++failed;
+        std::lock_guard lock(print_mutex);
+        fmt::print(stderr, "{}jam: run {} failed: {}\n", tty ? "\n" : "", run.name, e.what());
+      }
+      record.wall_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      write_run_record(run, record);
+      ++finished;
+    }
+  };
+
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::thread> threads;
+  for (int k = 0; k < std::min<int>(jobs, static_cast<int>(mine.size())); ++k) {
+    ++active;
+    threads.emplace_back(worker);
+  }
+  while (tty && active.load() > 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double done_steps = static_cast<double>(particle_steps.load());
+    const double speed = elapsed > 0 ? done_steps / elapsed : 0.0;
+    const double eta = speed > 0 ? std::max(0.0, remaining_estimate - done_steps) / speed : 0.0;
+    std::lock_guard lock(print_mutex);
+    fmt::print(stderr, "\r  runs {}/{} done, {:.3g} particle-steps/s, ETA {}      ",
+               already_done + finished.load(), plan.size(), speed, duration(eta));
+    std::fflush(stderr);
+  }
+  for (auto& t : threads) t.join();
+  if (tty) fmt::print(stderr, "\r{:80}\r", "");
+
+  int status = interrupted.load() > 0 || stop_requested.load() ? 130 : (failed.load() > 0 ? 1 : 0);
+  status = max_over_ranks(status);
+  barrier();
+  if (ranks.rank == 0) write_manifest(c, plan);
+  if (show) {
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fmt::print("campaign {}: {} runs finished here in {}, {} failed{}; manifest {}/manifest.toml\n",
+               c.name, finished.load(), duration(wall), failed.load(),
+               status == 130 ? ", interrupted (run again to resume)" : "", c.output);
+  }
+  return status;
+}
+
+int print_campaign_status(const std::string& directory) {
+  const Campaign c = stored_campaign(directory);
+  const std::vector<PlannedRun> plan = plan_runs(c);
+  std::map<RunStatus, std::size_t> totals;
+  std::map<std::pair<std::int64_t, double>, std::map<double, std::map<RunStatus, int>>> table;
+  std::vector<std::string> problems;
+  for (const auto& run : plan) {
+    std::string detail;
+    const RunStatus s = run_status(run, &detail);
+    ++totals[s];
+    ++table[{run.n, run.phi_init}][run.log10_rate][s];
+    if (s == RunStatus::kFailed || s == RunStatus::kCorrupt) {
+      problems.push_back(fmt::format("  {} {}: {}", to_string(s), run.name, detail));
+    }
+  }
+  fmt::print("campaign {} in {}: {} runs\n", c.name, directory, plan.size());
+  for (RunStatus s : {RunStatus::kDone, RunStatus::kPartial, RunStatus::kMissing,
+                      RunStatus::kFailed, RunStatus::kCorrupt}) {
+    fmt::print("  {:8} {}\n", to_string(s), totals[s]);
+  }
+  fmt::print("\n{:>8} {:>9}", "N", "phi_init");
+  for (double lr : c.log10_rates) fmt::print(" {:>10}", fmt::format("rate 1e{:g}", lr));
+  fmt::print("   (done/samples)\n");
+  for (const auto& [key, by_rate] : table) {
+    fmt::print("{:>8} {:>9.4f}", key.first, key.second);
+    for (double lr : c.log10_rates) {
+      auto it = by_rate.find(lr);
+      const int done = it == by_rate.end() ? 0 : (it->second.count(RunStatus::kDone) ? it->second.at(RunStatus::kDone) : 0);
+      fmt::print(" {:>10}", fmt::format("{}/{}", done, c.samples));
+    }
+    fmt::print("\n");
+  }
+  if (!problems.empty()) fmt::print("\n{}\n", fmt::join(problems, "\n"));
+  return 0;
+}
+
+int print_campaign_plan(const Campaign& c) {
+  const std::vector<PlannedRun> plan = plan_runs(c);
+  double total = 0.0;
+  std::map<std::int64_t, double> by_size;
+  for (const auto& run : plan) {
+    total += run.estimated_particle_steps;
+    by_size[run.n] += run.estimated_particle_steps;
+  }
+  const double speed = measure_throughput(c.dim);
+  const double core_hours = total / speed / 3600.0;
+  fmt::print("campaign {}: {}D, {} runs ({} sizes x {} phi_init x {} rates x {} samples)\n",
+             c.name, c.dim, plan.size(), c.sizes.size(), c.phi_init.size(), c.log10_rates.size(),
+             c.samples);
+  fmt::print("  particle-steps (force evaluations x particles, relaxation included): {:.3g}\n",
+             total);
+  for (const auto& [n, steps] : by_size) {
+    fmt::print("    N = {:>7}: {:.3g} ({:.1f}%)\n", n, steps, 100.0 * steps / total);
+  }
+  fmt::print("  measured throughput of this build: {:.3g} particle-steps/s per core ({}D)\n", speed,
+             c.dim);
+  fmt::print("  estimated cost: {:.3g} core-hours; {} on {} cores of this machine\n", core_hours,
+             duration(total / speed / std::max(1u, std::thread::hardware_concurrency())),
+             std::max(1u, std::thread::hardware_concurrency()));
+  fmt::print("  longest run: {} ({:.3g} core-hours)\n", plan.front().name,
+             plan.front().estimated_particle_steps / speed / 3600.0);
+  return 0;
+}
+
+}  // namespace jam

@@ -1,0 +1,25 @@
+#pragma once
+// The processes sharing a campaign: MPI ranks when jam was started by mpirun (or srun) and
+// built with MPI, otherwise a single process. MPI is initialised only when a launcher's
+// environment is present, so a plain `jam` never pays for (or depends on) an MPI runtime.
+#include <cstdint>
+#include <vector>
+
+namespace jam {
+
+struct Ranks {
+  int rank = 0;
+  int size = 1;
+};
+
+/// Starts MPI when launched under an MPI launcher; returns this process's rank and the size.
+Ranks start_ranks(int* argc, char*** argv);
+void stop_ranks();
+
+/// Rank 0's values on every rank (identity with one rank).
+std::vector<std::int64_t> broadcast_from_root(std::vector<std::int64_t> values);
+/// Largest value over the ranks.
+int max_over_ranks(int value);
+void barrier();
+
+}  // namespace jam

@@ -1,0 +1,39 @@
+#pragma once
+// The runs of a campaign: one per (size, phi_init, rate, sample), each with its seed, file
+// name, simulator configuration and estimated cost.
+//
+// Seeds derive from (base seed, size, phi_init, sample) only, never from the rate or the
+// number of samples: sample k of a size starts from the same configuration at every rate (as
+// in the paper), and adding rates, samples or phi_init values never changes an existing run.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "campaign/campaign_file.hpp"
+#include "sim/run/sim_config.hpp"
+
+namespace jam {
+
+struct PlannedRun {
+  std::int64_t n = 0;
+  double phi_init = 0.0;
+  double log10_rate = 0.0;
+  std::int64_t sample = 0;
+  std::string name;  // file stem, e.g. n1024_phi0.8000_r-4.50_s003
+  SimConfig config;  // config.out = <output>/runs/<name>.h5
+  double estimated_particle_steps = 0.0;
+};
+
+/// splitmix64 of the tuple, a documented, platform-independent mixing.
+std::uint64_t derive_seed(std::uint64_t base_seed, std::int64_t n, double phi_init,
+                          std::int64_t sample);
+
+std::string run_name(std::int64_t n, double phi_init, double log10_rate, std::int64_t sample);
+
+/// Every run of the campaign, longest (most particle-steps) first.
+std::vector<PlannedRun> plan_runs(const Campaign& campaign);
+
+/// Directory holding the run files of a campaign.
+std::string runs_directory(const Campaign& campaign);
+
+}  // namespace jam

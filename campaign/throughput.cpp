@@ -1,0 +1,37 @@
+#include "campaign/throughput.hpp"
+
+#include <chrono>
+
+#include "sim/dynamics/overdamped_euler.hpp"
+#include "sim/initial_state.hpp"
+
+namespace jam {
+namespace {
+
+template <int D>
+double measure(double phi) {
+  const std::size_t n = 4096;
+  ParticleData<D> p = random_configuration<D>(n, 1);
+  const Species<D> species;
+  const double volume = total_particle_volume(p, species);
+  const double length = CompressingBox<D>::length_for_packing(volume, phi);
+  sort_spatially(p, species, length);
+  System<D> sys(std::move(p), species, CompressingBox<D>{length, 1e-4, volume}, 0.3);
+  OverdampedEuler<D> stepper(n);
+  // Warm up (removes the worst overlaps of the random start), then time.
+  for (int k = 0; k < 200; ++k) stepper.step(sys, k * 0.01, 0.01);
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  std::size_t steps = 0;
+  while (Clock::now() - start < std::chrono::milliseconds(300)) {
+    for (int k = 0; k < 20; ++k, ++steps) stepper.step(sys, (200 + steps) * 0.01, 0.01);
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return static_cast<double>(steps * n) / seconds;
+}
+
+}  // namespace
+
+double measure_throughput(int dim) { return dim == 2 ? measure<2>(0.84) : measure<3>(0.64); }
+
+}  // namespace jam
