@@ -152,7 +152,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   if (show) {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    fmt::print("campaign {}: {} runs finished here in {}, {} failed{}; manifest {}/manifest.toml\n",
+    fmt::print("campaign {}: {} runs finished by this process in {}, {} failed{}; manifest {}/manifest.toml\n",
                c.name, finished.load(), duration(wall), failed.load(),
                status == 130 ? ", interrupted (run again to resume)" : "", c.output);
   }

@@ -1,0 +1,213 @@
+// `jam campaign` end to end through the executable: a campaign runs, reruns do nothing,
+// incompatible changes are refused, corrupt run files are detected and redone, a campaign
+// killed (SIGKILL) at random moments finishes with run files identical to an uninterrupted
+// one without redoing finished runs, and an MPI campaign equals the local one.
+#define BOOST_TEST_MODULE campaign_end_to_end
+#include <boost/test/unit_test.hpp>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <random>
+#include <sstream>
+#include <thread>
+
+extern char** environ;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-campaign-" + std::to_string(::getpid()));
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+struct Outcome {
+  int status;
+  std::string output;
+};
+
+Outcome jam(const std::string& args) {
+  const fs::path log = kDir / "output.txt";
+  const std::string cmd = std::string(JAM_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1";
+  const int raw = std::system(cmd.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(log)};
+}
+
+fs::path write_campaign(const std::string& name, const std::string& body) {
+  const fs::path file = kDir / (name + ".toml");
+  std::ofstream(file) << body << "output = \"" << (kDir / name).string() << "\"\n";
+  return file;
+}
+
+// Run files of a campaign directory, by name.
+std::map<std::string, std::string> run_files(const std::string& name) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(kDir / name / "runs")) {
+    if (e.path().extension() == ".h5") files[e.path().filename().string()] = slurp(e.path());
+  }
+  return files;
+}
+
+const std::string kSmall = R"(name = "small"
+dim = 2
+sizes = [128, 256]
+phi_init = [0.70, 0.80]
+log10_rates = [-2.5, -3.0]
+samples = 2
+phi_stop = 0.86
+phi_step = 0.002
+dt = 0.02
+seed = 11
+)";
+
+struct Fixture {
+  Fixture() { fs::create_directories(kDir); }
+  ~Fixture() { fs::remove_all(kDir); }
+};
+
+}  // namespace
+
+BOOST_FIXTURE_TEST_SUITE(campaign, Fixture)
+
+BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
+  const fs::path file = write_campaign("a", kSmall);
+  Outcome o = jam("campaign run --quiet " + file.string());
+  BOOST_TEST_REQUIRE(o.status == 0, o.output);
+  const auto first = run_files("a");
+  BOOST_TEST(first.size() == 16u);
+  BOOST_TEST(fs::exists(kDir / "a" / "manifest.toml"));
+  BOOST_TEST(slurp(kDir / "a" / "manifest.toml").find("status = 'done'") != std::string::npos);
+
+  o = jam("campaign status " + (kDir / "a").string());
+  BOOST_TEST(o.output.find("done     16") != std::string::npos, o.output);
+
+  // Rerun: nothing to do, nothing touched.
+  o = jam("campaign run " + file.string());
+  BOOST_TEST(o.status == 0);
+  BOOST_TEST(o.output.find("16 done, 0 to run") != std::string::npos, o.output);
+  BOOST_TEST((run_files("a") == first));
+
+  // An incompatible change is refused, naming what differs.
+  std::string text = slurp(file);
+  const fs::path changed = kDir / "changed.toml";
+  std::ofstream(changed) << text.replace(text.find("dt = 0.02"), 9, "dt = 0.01");
+  o = jam("campaign run " + changed.string());
+  BOOST_TEST(o.status != 0);
+  BOOST_TEST(o.output.find("differs in dt 0.02 -> 0.01") != std::string::npos, o.output);
+  BOOST_TEST((run_files("a") == first));
+
+  // A truncated run file is detected, never taken for a result, and redone identically.
+  const fs::path victim = kDir / "a" / "runs" / "n256_phi0.7000_r-3.00_s001.h5";
+  fs::resize_file(victim, fs::file_size(victim) / 2);
+  o = jam("campaign status " + (kDir / "a").string());
+  BOOST_TEST(o.output.find("corrupt  1") != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("n256_phi0.7000_r-3.00_s001") != std::string::npos, o.output);
+  o = jam("campaign run --quiet " + file.string());
+  BOOST_TEST(o.status == 0);
+  BOOST_TEST((run_files("a") == first));
+
+  // Adding a rate only adds runs.
+  std::string more = kSmall;
+  more.replace(more.find("[-2.5, -3.0]"), 12, "[-2.5, -3.0, -2.0]");
+  o = jam("campaign run --quiet " + write_campaign("a", more).string());
+  BOOST_TEST(o.status == 0);
+  const auto grown = run_files("a");
+  BOOST_TEST(grown.size() == 24u);
+  for (const auto& [name, bytes] : first) BOOST_TEST((grown.at(name) == bytes), name);
+}
+
+BOOST_AUTO_TEST_CASE(killed_campaign_resumes_to_identical_files) {
+  const std::string body = R"(name = "kill"
+dim = 2
+sizes = [512, 1024]
+phi_init = [0.75]
+log10_rates = [-2.5, -3.0]
+samples = 2
+phi_stop = 0.86
+dt = 0.02
+seed = 3
+checkpoint_interval = 0.02
+)";
+  const fs::path reference = write_campaign("reference", body);
+  BOOST_TEST_REQUIRE(jam("campaign run --quiet " + reference.string()).status == 0);
+  const auto expected = run_files("reference");
+
+  const fs::path file = write_campaign("killed", body);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> delay_ms(200, 900);
+  std::map<std::string, fs::file_time_type> finished;  // run file -> time it was written
+  int kills = 0;
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    std::string path = JAM_EXECUTABLE;
+    std::vector<std::string> words = {path, "campaign", "run", "--quiet", file.string()};
+    std::vector<char*> argv;
+    for (auto& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid = -1;
+    BOOST_TEST_REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
+    posix_spawn_file_actions_destroy(&actions);
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (WIFEXITED(status)) break;  // finished before the kill
+    ++kills;
+    // Finished runs are never redone: their files keep the time they were first written.
+    for (const auto& e : fs::directory_iterator(kDir / "killed" / "runs")) {
+      if (e.path().extension() != ".h5") continue;
+      const auto name = e.path().filename().string();
+      const auto written = fs::last_write_time(e.path());
+      if (finished.count(name)) BOOST_TEST((finished[name] == written), name << " was redone");
+      finished[name] = written;
+    }
+  }
+  BOOST_TEST(kills >= 2);
+  const Outcome o = jam("campaign run --quiet " + file.string());
+  BOOST_TEST_REQUIRE(o.status == 0, o.output);
+  const auto got = run_files("killed");
+  BOOST_TEST(got.size() == expected.size());
+  for (const auto& [name, bytes] : expected) {
+    BOOST_TEST((got.count(name) && got.at(name) == bytes), name << " differs");
+  }
+  for (const auto& e : fs::directory_iterator(kDir / "killed" / "runs")) {
+    BOOST_TEST(e.path().extension() != ".checkpoint", "stale " << e.path());
+    BOOST_TEST(e.path().extension() != ".partial", "stale " << e.path());
+  }
+}
+
+BOOST_AUTO_TEST_CASE(mpi_campaign_equals_local) {
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) {
+    BOOST_TEST_MESSAGE("mpirun not installed: skipped");
+    return;
+  }
+  const fs::path local = write_campaign("local", kSmall);
+  BOOST_TEST_REQUIRE(jam("campaign run --quiet --jobs 2 " + local.string()).status == 0);
+  const fs::path distributed = write_campaign("mpi", kSmall);
+  const fs::path log = kDir / "mpi.txt";
+  // As root OpenMPI also needs these two variables.
+  const std::string cmd =
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -n 2 --oversubscribe " +
+      std::string(JAM_EXECUTABLE) + " campaign run --jobs 1 " + distributed.string() + " > " +
+      log.string() + " 2>&1";
+  BOOST_TEST_REQUIRE(std::system(cmd.c_str()) == 0, slurp(log));
+  BOOST_TEST(slurp(log).find("on 2 ranks") != std::string::npos, slurp(log));
+  BOOST_TEST((run_files("mpi") == run_files("local")));
+}
+
+BOOST_AUTO_TEST_SUITE_END()

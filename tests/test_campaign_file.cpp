@@ -1,0 +1,113 @@
+// Campaign files: every kind of bad input is rejected with the file, line and key; seeds
+// derive from (base seed, size, phi_init, sample) only; the plan is complete and ordered.
+#define BOOST_TEST_MODULE campaign_file
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "campaign/campaign_file.hpp"
+#include "campaign/run_plan.hpp"
+
+using namespace jam;
+
+namespace {
+
+const std::string kGood = R"(name = "t"
+dim = 2
+sizes = [64, 128]
+phi_init = [0.7, 0.8]
+log10_rates = [-3, -3.5]
+samples = 3
+phi_stop = 0.86
+seed = 5
+output = "out"
+)";
+
+std::string rejection(const std::string& text) {
+  try {
+    parse_campaign(text, "c.toml");
+  } catch (const CampaignError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  BOOST_TEST_REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(good_file_parses) {
+  const Campaign c = parse_campaign(kGood, "c.toml");
+  BOOST_TEST(c.name == "t");
+  BOOST_TEST(c.sizes.size() == 2u);
+  BOOST_TEST(c.log10_rates[1] == -3.5);
+  BOOST_TEST(c.dt == 0.01);  // default
+  BOOST_TEST(c.samples == 3);
+}
+
+BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
+  BOOST_TEST(rejection(kGood + "colour = 3\n") == "c.toml:10: colour: unknown key");
+  BOOST_TEST(rejection(replace(kGood, "samples = 3", "samples = \"3\"")) ==
+             "c.toml:6: samples: must be an integer");
+  BOOST_TEST(rejection(replace(kGood, "dim = 2", "dim = 4")) == "c.toml:2: dim: 4 (must be 2 or 3)");
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 127]")) ==
+             "c.toml:3: sizes: 127 (each must be even and >= 2)");
+  BOOST_TEST(rejection(replace(kGood, "phi_init = [0.7, 0.8]", "phi_init = [0.7, 0.9]")) ==
+             "c.toml:4: phi_init: 0.9 (each must be in (0, phi_stop = 0.86))");
+  BOOST_TEST(rejection(replace(kGood, "log10_rates = [-3, -3.5]", "log10_rates = [-3, 1]")) ==
+             "c.toml:5: log10_rates: 1 (must be in [-12, 0])");
+  BOOST_TEST(rejection(replace(kGood, "seed = 5\n", "")) == "c.toml: seed: missing (required)");
+  BOOST_TEST(rejection(kGood + "dt = -0.01\n") ==
+             "c.toml:10: dt: -0.01: must be a finite number > 0");
+  BOOST_TEST(rejection(kGood + "integrator = \"rk4\"\n") ==
+             "c.toml:10: integrator: rk4: overdamped dynamics takes euler or heun");
+  BOOST_TEST(rejection(kGood + "dt = nan\n") == "c.toml:10: dt: must be finite");
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 64]")) ==
+             "c.toml:3: sizes: repeated value");
+  BOOST_TEST(rejection(replace(kGood, "samples = 3", "samples = 0")) ==
+             "c.toml:6: samples: 0 (must be >= 1)");
+  // Syntax errors carry the line of the parser.
+  BOOST_TEST(rejection(kGood + "dt = = 3\n").rfind("c.toml:10: ", 0) == 0u);
+}
+
+BOOST_AUTO_TEST_CASE(seeds_do_not_depend_on_rate_or_sample_count) {
+  const Campaign a = parse_campaign(kGood, "a.toml");
+  const Campaign b = parse_campaign(
+      replace(replace(kGood, "samples = 3", "samples = 5"), "[-3, -3.5]", "[-2, -3, -3.5]"),
+      "b.toml");
+  std::map<std::string, std::uint64_t> seeds_a;
+  std::set<std::uint64_t> distinct;
+  for (const auto& r : plan_runs(a)) {
+    seeds_a[r.name] = r.config.seed;
+    distinct.insert(r.config.seed);
+    // Same (size, phi_init, sample) at another rate: the same start.
+    BOOST_TEST(r.config.seed == derive_seed(5, r.n, r.phi_init, r.sample));
+  }
+  BOOST_TEST(distinct.size() == 2u * 2u * 3u);  // one seed per (size, phi_init, sample)
+  for (const auto& r : plan_runs(b)) {
+    if (seeds_a.count(r.name)) BOOST_TEST(seeds_a[r.name] == r.config.seed);  // unchanged
+  }
+}
+
+BOOST_AUTO_TEST_CASE(plan_is_complete_and_longest_first) {
+  const Campaign c = parse_campaign(kGood, "c.toml");
+  const auto plan = plan_runs(c);
+  BOOST_TEST(plan.size() == 2u * 2u * 2u * 3u);
+  for (std::size_t k = 1; k < plan.size(); ++k) {
+    BOOST_TEST(plan[k - 1].estimated_particle_steps >= plan[k].estimated_particle_steps);
+  }
+  // The longest is the largest size, lowest phi_init, slowest rate: its compression alone is
+  // N ln(phi_stop/phi_init) / (D rate dt) particle-steps.
+  BOOST_TEST(plan.front().n == 128);
+  BOOST_TEST(plan.front().phi_init == 0.7);
+  BOOST_TEST(plan.front().log10_rate == -3.5);
+  const double compression = 128 * std::log(0.86 / 0.7) / (2 * std::pow(10.0, -3.5) * 0.01);
+  BOOST_TEST(plan.front().estimated_particle_steps > compression);
+  BOOST_TEST(plan.front().config.out == "out/runs/n128_phi0.7000_r-3.50_s000.h5");
+}
