@@ -13,7 +13,8 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   run->add_option("--jobs", a.run.jobs, "Runs at once per process (0 = all cores)");
   run->add_flag("--retry-failed", a.run.retry_failed, "Also redo runs whose last attempt failed");
   run->add_flag("--quiet", a.run.quiet, "No progress display and no summary");
-  CLI::App* status = campaign->add_subcommand("status", "Print what is done, partial, missing, failed");
+  CLI::App* status =
+      campaign->add_subcommand("status", "Print what is done, partial, missing, failed");
   status->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");

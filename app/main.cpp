@@ -1,7 +1,7 @@
 // jam: compression-driven jamming of bidisperse soft spheres. One executable, subcommands.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <exception>
 
 #include "app/campaign_command.hpp"

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-
 #include "sim/run/compression_run.hpp"
 #include "sim/run/stop_signal.hpp"
 

@@ -1,12 +1,12 @@
 #include "campaign/campaign_dir.hpp"
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
@@ -32,11 +32,16 @@ void write_text(const std::string& path, const std::string& text) {
 
 const char* to_string(RunStatus s) {
   switch (s) {
-    case RunStatus::kDone: return "done";
-    case RunStatus::kPartial: return "partial";
-    case RunStatus::kFailed: return "failed";
-    case RunStatus::kCorrupt: return "corrupt";
-    case RunStatus::kMissing: return "missing";
+    case RunStatus::kDone:
+      return "done";
+    case RunStatus::kPartial:
+      return "partial";
+    case RunStatus::kFailed:
+      return "failed";
+    case RunStatus::kCorrupt:
+      return "corrupt";
+    case RunStatus::kMissing:
+      return "missing";
   }
   return "?";
 }
@@ -67,6 +72,7 @@ void prepare_campaign_directory(const Campaign& c) {
   }
   std::error_code ec;
   fs::create_directories(dir / "runs", ec);
+  if (!ec) fs::create_directories(dir / "starts", ec);
   if (ec) {
     throw CampaignError(fmt::format("{}: output: cannot create '{}': {}", c.source_path,
                                     (dir / "runs").string(), ec.message()));

@@ -5,6 +5,7 @@
 //   <output>/runs/<name>.h5       one run file per finished run (sim schema)
 //   <output>/runs/<name>.h5.checkpoint   state of an unfinished run
 //   <output>/runs/<name>.record   status of the last attempt (TOML: status, wall time, ...)
+//   <output>/starts/n<N>_phi<phi>_s<k>.h5   relaxed start shared by every rate of a sample
 // Every file is written atomically, so the directory is consistent after any interruption.
 #include <string>
 #include <vector>

@@ -1,6 +1,7 @@
 #include "campaign/campaign_file.hpp"
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <cmath>
 #include <fstream>
@@ -8,7 +9,6 @@
 #include <map>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "sim/run/sim_config.hpp"
 
@@ -93,8 +93,8 @@ class Reader {
   void reject_unknown_keys() const {
     for (const auto& [key, node] : table_) {
       if (!seen_.count(std::string(key.str()))) {
-        throw CampaignError(fmt::format("{}:{}: {}: unknown key", path_, node.source().begin.line,
-                                        key.str()));
+        throw CampaignError(
+            fmt::format("{}:{}: {}: unknown key", path_, node.source().begin.line, key.str()));
       }
     }
   }
@@ -151,11 +151,13 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   }
   for (double phi : c.phi_init) {
     if (!(phi > 0.0 && phi < c.phi_stop)) {
-      r.fail("phi_init", fmt::format("{:g} (each must be in (0, phi_stop = {:g}))", phi, c.phi_stop));
+      r.fail("phi_init",
+             fmt::format("{:g} (each must be in (0, phi_stop = {:g}))", phi, c.phi_stop));
     }
   }
   for (double lr : c.log10_rates) {
-    if (lr > 0.0 || lr < -12.0) r.fail("log10_rates", fmt::format("{:g} (must be in [-12, 0])", lr));
+    if (lr > 0.0 || lr < -12.0)
+      r.fail("log10_rates", fmt::format("{:g} (must be in [-12, 0])", lr));
   }
   if (c.samples < 1) r.fail("samples", fmt::format("{} (must be >= 1)", c.samples));
   if (seed < 0) r.fail("seed", fmt::format("{} (must be >= 0)", seed));
@@ -164,12 +166,16 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   if (c.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
 
   // Everything a single run checks, with the campaign's key names in the message.
-  const std::map<std::string, std::string> option_to_key = {
-      {"--phi-stop", "phi_stop"},     {"--phi-step", "phi_step"},
-      {"--dt", "dt"},                 {"--dynamics", "dynamics"},
-      {"--integrator", "integrator"}, {"--q", "q"},
-      {"--skin", "skin"},             {"--diameter-ratio", "diameter_ratio"},
-      {"--relax-energy", "relax_energy"}, {"--relax-time-max", "relax_time_max"}};
+  const std::map<std::string, std::string> option_to_key = {{"--phi-stop", "phi_stop"},
+                                                            {"--phi-step", "phi_step"},
+                                                            {"--dt", "dt"},
+                                                            {"--dynamics", "dynamics"},
+                                                            {"--integrator", "integrator"},
+                                                            {"--q", "q"},
+                                                            {"--skin", "skin"},
+                                                            {"--diameter-ratio", "diameter_ratio"},
+                                                            {"--relax-energy", "relax_energy"},
+                                                            {"--relax-time-max", "relax_time_max"}};
   SimConfig probe;
   probe.dim = c.dim;
   probe.n = c.sizes.front();

@@ -31,7 +31,9 @@ struct Campaign {
   double skin = 0.3;
   double diameter_ratio = 1.4;
   bool relax = true;
-  std::string relax_energy = "auto";
+  // Fixed (not "auto", which depends on the rate) so that every rate of a sample shares one
+  // relaxed start, cached in <output>/starts/.
+  std::string relax_energy = "1e-14";
   double relax_time_max = 1e4;
   bool rattlers = false;
   bool stress = false;

@@ -35,8 +35,8 @@ std::vector<std::size_t> share_of_rank(const std::vector<PlannedRun>& plan,
   std::vector<double> load(static_cast<std::size_t>(r.size), 0.0);
   std::vector<std::size_t> mine;
   for (auto index : pending) {
-    const auto k = static_cast<std::size_t>(
-        std::min_element(load.begin(), load.end()) - load.begin());
+    const auto k =
+        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
     load[k] += plan[static_cast<std::size_t>(index)].estimated_particle_steps;
     if (static_cast<int>(k) == r.rank) mine.push_back(static_cast<std::size_t>(index));
   }
@@ -152,9 +152,11 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   if (show) {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    fmt::print("campaign {}: {} runs finished by this process in {}, {} failed{}; manifest {}/manifest.toml\n",
-               c.name, finished.load(), duration(wall), failed.load(),
-               status == 130 ? ", interrupted (run again to resume)" : "", c.output);
+    fmt::print(
+        "campaign {}: {} runs finished by this process in {}, {} failed{}; manifest "
+        "{}/manifest.toml\n",
+        c.name, finished.load(), duration(wall), failed.load(),
+        status == 130 ? ", interrupted (run again to resume)" : "", c.output);
   }
   return status;
 }
@@ -186,7 +188,10 @@ int print_campaign_status(const std::string& directory) {
     fmt::print("{:>8} {:>9.4f}", key.first, key.second);
     for (double lr : c.log10_rates) {
       auto it = by_rate.find(lr);
-      const int done = it == by_rate.end() ? 0 : (it->second.count(RunStatus::kDone) ? it->second.at(RunStatus::kDone) : 0);
+      const int done =
+          it == by_rate.end()
+              ? 0
+              : (it->second.count(RunStatus::kDone) ? it->second.at(RunStatus::kDone) : 0);
       fmt::print(" {:>10}", fmt::format("{}/{}", done, c.samples));
     }
     fmt::print("\n");
@@ -205,8 +210,8 @@ int print_campaign_plan(const Campaign& c) {
   }
   const double speed = measure_throughput(c.dim);
   const double core_hours = total / speed / 3600.0;
-  fmt::print("campaign {}: {}D, {} runs ({} sizes x {} phi_init x {} rates x {} samples)\n",
-             c.name, c.dim, plan.size(), c.sizes.size(), c.phi_init.size(), c.log10_rates.size(),
+  fmt::print("campaign {}: {}D, {} runs ({} sizes x {} phi_init x {} rates x {} samples)\n", c.name,
+             c.dim, plan.size(), c.sizes.size(), c.phi_init.size(), c.log10_rates.size(),
              c.samples);
   fmt::print("  particle-steps (force evaluations x particles, relaxation included): {:.3g}\n",
              total);

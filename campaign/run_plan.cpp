@@ -41,6 +41,10 @@ std::string runs_directory(const Campaign& campaign) {
   return (std::filesystem::path(campaign.output) / "runs").string();
 }
 
+std::string starts_directory(const Campaign& campaign) {
+  return (std::filesystem::path(campaign.output) / "starts").string();
+}
+
 std::vector<PlannedRun> plan_runs(const Campaign& c) {
   std::vector<PlannedRun> runs;
   std::set<std::string> names;
@@ -56,10 +60,10 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
           r.sample = k;
           r.name = run_name(n, phi, lr, k);
           if (!names.insert(r.name).second) {
-            throw CampaignError(fmt::format(
-                "{}: phi_init or log10_rates values closer than the run names resolve "
-                "(4 and 2 decimals): {}",
-                c.source_path, r.name));
+            throw CampaignError(
+                fmt::format("{}: phi_init or log10_rates values closer than the run names resolve "
+                            "(4 and 2 decimals): {}",
+                            c.source_path, r.name));
           }
           SimConfig& s = r.config;
           s.dim = c.dim;
@@ -83,6 +87,11 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
           s.quiet = true;
           s.checkpoint_interval = c.checkpoint_interval;
           s.out = (std::filesystem::path(dir) / (r.name + ".h5")).string();
+          if (c.relax && c.relax_energy != "auto") {
+            s.start_cache = (std::filesystem::path(starts_directory(c)) /
+                             fmt::format("n{}_phi{:.4f}_s{:03d}.h5", n, phi, k))
+                                .string();
+          }
           const double compression_time = std::log(c.phi_stop / phi) / (c.dim * s.compression_rate);
           const double evaluations = s.resolved_integrator() == "heun" ? 2.0 : 1.0;
           const double relax_time = c.relax ? kRelaxTimeEstimate : 0.0;

@@ -36,4 +36,7 @@ std::vector<PlannedRun> plan_runs(const Campaign& campaign);
 /// Directory holding the run files of a campaign.
 std::string runs_directory(const Campaign& campaign);
 
+/// Directory holding the relaxed starts shared by the rates of a sample.
+std::string starts_directory(const Campaign& campaign);
+
 }  // namespace jam

@@ -32,6 +32,8 @@ double measure(double phi) {
 
 }  // namespace
 
-double measure_throughput(int dim) { return dim == 2 ? measure<2>(0.84) : measure<3>(0.64); }
+double measure_throughput(int dim) {
+  return dim == 2 ? measure<2>(0.84) : measure<3>(0.64);
+}
 
 }  // namespace jam

@@ -3,14 +3,13 @@
 // killed (SIGKILL) at random moments finishes with run files identical to an uninterrupted
 // one without redoing finished runs, and an MPI campaign equals the local one.
 #define BOOST_TEST_MODULE campaign_end_to_end
-#include <boost/test/unit_test.hpp>
-
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <boost/test/unit_test.hpp>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +19,9 @@
 #include <random>
 #include <sstream>
 #include <thread>
+
+#include "sim/io/hdf5_file.hpp"
+#include "sim/run/compression_run.hpp"
 
 extern char** environ;
 namespace fs = std::filesystem;
@@ -38,7 +40,7 @@ struct Outcome {
   std::string output;
 };
 
-Outcome jam(const std::string& args) {
+Outcome run_jam(const std::string& args) {
   const fs::path log = kDir / "output.txt";
   const std::string cmd = std::string(JAM_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1";
   const int raw = std::system(cmd.c_str());
@@ -83,18 +85,18 @@ BOOST_FIXTURE_TEST_SUITE(campaign, Fixture)
 
 BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
   const fs::path file = write_campaign("a", kSmall);
-  Outcome o = jam("campaign run --quiet " + file.string());
+  Outcome o = run_jam("campaign run --quiet " + file.string());
   BOOST_TEST_REQUIRE(o.status == 0, o.output);
   const auto first = run_files("a");
   BOOST_TEST(first.size() == 16u);
   BOOST_TEST(fs::exists(kDir / "a" / "manifest.toml"));
   BOOST_TEST(slurp(kDir / "a" / "manifest.toml").find("status = 'done'") != std::string::npos);
 
-  o = jam("campaign status " + (kDir / "a").string());
+  o = run_jam("campaign status " + (kDir / "a").string());
   BOOST_TEST(o.output.find("done     16") != std::string::npos, o.output);
 
   // Rerun: nothing to do, nothing touched.
-  o = jam("campaign run " + file.string());
+  o = run_jam("campaign run " + file.string());
   BOOST_TEST(o.status == 0);
   BOOST_TEST(o.output.find("16 done, 0 to run") != std::string::npos, o.output);
   BOOST_TEST((run_files("a") == first));
@@ -103,7 +105,7 @@ BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
   std::string text = slurp(file);
   const fs::path changed = kDir / "changed.toml";
   std::ofstream(changed) << text.replace(text.find("dt = 0.02"), 9, "dt = 0.01");
-  o = jam("campaign run " + changed.string());
+  o = run_jam("campaign run " + changed.string());
   BOOST_TEST(o.status != 0);
   BOOST_TEST(o.output.find("differs in dt 0.02 -> 0.01") != std::string::npos, o.output);
   BOOST_TEST((run_files("a") == first));
@@ -111,17 +113,42 @@ BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
   // A truncated run file is detected, never taken for a result, and redone identically.
   const fs::path victim = kDir / "a" / "runs" / "n256_phi0.7000_r-3.00_s001.h5";
   fs::resize_file(victim, fs::file_size(victim) / 2);
-  o = jam("campaign status " + (kDir / "a").string());
+  o = run_jam("campaign status " + (kDir / "a").string());
   BOOST_TEST(o.output.find("corrupt  1") != std::string::npos, o.output);
   BOOST_TEST(o.output.find("n256_phi0.7000_r-3.00_s001") != std::string::npos, o.output);
-  o = jam("campaign run --quiet " + file.string());
+  o = run_jam("campaign run --quiet " + file.string());
   BOOST_TEST(o.status == 0);
   BOOST_TEST((run_files("a") == first));
+
+  // Each run file is exactly what a single `jam sim` run (no shared start) gives for its seed,
+  // whether its relaxed start came from the cache or not.
+  BOOST_TEST(fs::exists(kDir / "a" / "starts" / "n128_phi0.8000_s001.h5"));
+  for (auto [name, phi_init] : {std::pair{"n128_phi0.8000_r-2.50_s001", 0.80},
+                                std::pair{"n256_phi0.7000_r-3.00_s000", 0.70}}) {
+    const fs::path run = kDir / "a" / "runs" / (std::string(name) + ".h5");
+    jam::SimConfig c;
+    c.phi_init = phi_init;  // as in the campaign file (the stored one is the packing reached)
+    {
+      const jam::h5::File f = jam::h5::File::open_read(run.string());
+      c.n = f.read_attribute_int("n");
+      c.compression_rate = f.read_attribute_double("compression_rate");
+      c.seed = static_cast<std::uint64_t>(f.read_attribute_int("seed"));
+    }
+    c.phi_stop = 0.86;
+    c.phi_step = 0.002;
+    c.dt = 0.02;
+    c.relax_energy = "1e-14";
+    c.quiet = true;
+    c.checkpoint_interval = 0;
+    c.out = (kDir / "single.h5").string();
+    jam::run_compression(c);
+    BOOST_TEST((slurp(c.out) == slurp(run)), name);
+  }
 
   // Adding a rate only adds runs.
   std::string more = kSmall;
   more.replace(more.find("[-2.5, -3.0]"), 12, "[-2.5, -3.0, -2.0]");
-  o = jam("campaign run --quiet " + write_campaign("a", more).string());
+  o = run_jam("campaign run --quiet " + write_campaign("a", more).string());
   BOOST_TEST(o.status == 0);
   const auto grown = run_files("a");
   BOOST_TEST(grown.size() == 24u);
@@ -141,7 +168,7 @@ seed = 3
 checkpoint_interval = 0.02
 )";
   const fs::path reference = write_campaign("reference", body);
-  BOOST_TEST_REQUIRE(jam("campaign run --quiet " + reference.string()).status == 0);
+  BOOST_TEST_REQUIRE(run_jam("campaign run --quiet " + reference.string()).status == 0);
   const auto expected = run_files("reference");
 
   const fs::path file = write_campaign("killed", body);
@@ -178,7 +205,7 @@ checkpoint_interval = 0.02
     }
   }
   BOOST_TEST(kills >= 2);
-  const Outcome o = jam("campaign run --quiet " + file.string());
+  const Outcome o = run_jam("campaign run --quiet " + file.string());
   BOOST_TEST_REQUIRE(o.status == 0, o.output);
   const auto got = run_files("killed");
   BOOST_TEST(got.size() == expected.size());
@@ -197,7 +224,7 @@ BOOST_AUTO_TEST_CASE(mpi_campaign_equals_local) {
     return;
   }
   const fs::path local = write_campaign("local", kSmall);
-  BOOST_TEST_REQUIRE(jam("campaign run --quiet --jobs 2 " + local.string()).status == 0);
+  BOOST_TEST_REQUIRE(run_jam("campaign run --quiet --jobs 2 " + local.string()).status == 0);
   const fs::path distributed = write_campaign("mpi", kSmall);
   const fs::path log = kDir / "mpi.txt";
   // As root OpenMPI also needs these two variables.
@@ -208,6 +235,15 @@ BOOST_AUTO_TEST_CASE(mpi_campaign_equals_local) {
   BOOST_TEST_REQUIRE(std::system(cmd.c_str()) == 0, slurp(log));
   BOOST_TEST(slurp(log).find("on 2 ranks") != std::string::npos, slurp(log));
   BOOST_TEST((run_files("mpi") == run_files("local")));
+}
+
+BOOST_AUTO_TEST_CASE(shipped_campaigns_parse_and_cost) {
+  for (const char* name : {"ci", "default", "paper-2d", "paper-3d"}) {
+    const std::string file = std::string(JAM_SOURCE_DIR) + "/reference/campaigns/" + name + ".toml";
+    const Outcome o = run_jam("campaign plan " + file);
+    BOOST_TEST(o.status == 0, name << ": " << o.output);
+    BOOST_TEST(o.output.find("core-hours") != std::string::npos, o.output);
+  }
 }
 
 BOOST_AUTO_TEST_SUITE_END()

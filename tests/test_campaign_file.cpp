@@ -2,7 +2,6 @@
 // derive from (base seed, size, phi_init, sample) only; the plan is complete and ordered.
 #define BOOST_TEST_MODULE campaign_file
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 #include <set>
 #include <string>
@@ -55,7 +54,8 @@ BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
   BOOST_TEST(rejection(kGood + "colour = 3\n") == "c.toml:10: colour: unknown key");
   BOOST_TEST(rejection(replace(kGood, "samples = 3", "samples = \"3\"")) ==
              "c.toml:6: samples: must be an integer");
-  BOOST_TEST(rejection(replace(kGood, "dim = 2", "dim = 4")) == "c.toml:2: dim: 4 (must be 2 or 3)");
+  BOOST_TEST(rejection(replace(kGood, "dim = 2", "dim = 4")) ==
+             "c.toml:2: dim: 4 (must be 2 or 3)");
   BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 127]")) ==
              "c.toml:3: sizes: 127 (each must be even and >= 2)");
   BOOST_TEST(rejection(replace(kGood, "phi_init = [0.7, 0.8]", "phi_init = [0.7, 0.9]")) ==

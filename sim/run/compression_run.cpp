@@ -139,8 +139,20 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
   };
 
   if (st.phase == RunState<D>::kRelaxing) {
+    // A start relaxed by another run of the same sample (another rate) is taken as it is.
+    bool from_cache = false;
+    if (c.relax && !c.start_cache.empty()) {
+      if (auto cached = read_checkpoint<D>(c.start_cache, relaxation_fingerprint(c))) {
+        sys.particles = std::move(cached->particles);
+        sys.neighbors.invalidate();
+        stepper.load_state(cached->stepper);
+        st.relax_steps = cached->state.relax_steps;
+        st.relax_converged = cached->state.relax_converged;
+        from_cache = true;
+      }
+    }
     // Relaxation at zero rate (paper's supplement, "Compression Protocol").
-    if (c.relax) {
+    if (c.relax && !from_cache) {
       const double target_energy = c.resolved_relax_energy();
       sys.box.compression_rate = 0.0;
       while (true) {
@@ -172,6 +184,10 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
       }
       sys.box.compression_rate = rate;
       stepper.reset();
+      if (!c.start_cache.empty()) {
+        write_checkpoint(c.start_cache, relaxation_fingerprint(c), st, sys.particles,
+                         stepper.save_state());
+      }
     }
     st.phase = RunState<D>::kCompressing;
     if (!c.write_lammps_data.empty()) write_configuration(c.write_lammps_data, 0.0, "initial");

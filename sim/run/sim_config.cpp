@@ -109,6 +109,16 @@ std::string fingerprint(const SimConfig& c) {
       c.resolved_relax_energy(), c.relax_time_max, c.rattlers, c.stress, c.read_lammps_data);
 }
 
+std::string relaxation_fingerprint(const SimConfig& c) {
+  return fmt::format(
+      "relaxation dim={} n={} phi_init={:.17g} seed={} dt={:.17g} dynamics={} integrator={} "
+      "q={:.17g} skin={:.17g} diameter_ratio={:.17g} relax_energy={:.17g} relax_time_max={:.17g} "
+      "read={}",
+      c.dim, c.read_lammps_data.empty() ? c.n : 0, c.read_lammps_data.empty() ? c.phi_init : 0.0,
+      c.seed, c.dt, c.dynamics, c.resolved_integrator(), c.dynamics == "inertial" ? c.q : 0.0,
+      c.skin, c.diameter_ratio, c.resolved_relax_energy(), c.relax_time_max, c.read_lammps_data);
+}
+
 void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance) {
   const double range = max_contact_distance + c.skin;
   if (!(box_length_at_stop > 2.0 * range)) {

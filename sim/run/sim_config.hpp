@@ -40,6 +40,10 @@ struct SimConfig {
   std::string write_final_lammps_data;
   bool quiet = false;
   double checkpoint_interval = 300.0;  // seconds of wall time; 0: none (not part of the physics)
+  // Relaxed-start cache (campaigns): the state right after relaxation, shared by every rate of
+  // a sample. Read when it exists, written when this run relaxes. Results are bitwise the same
+  // with or without it; it only saves repeating the relaxation.
+  std::string start_cache;
 
   bool phi_init_given = true;  // false when taken from --read-lammps-data
   bool n_given = true;
@@ -60,6 +64,9 @@ void validate(const SimConfig& c);
 /// Every parameter that changes the numbers of a run, as text: runs (and checkpoints) with
 /// equal fingerprints produce identical results.
 std::string fingerprint(const SimConfig& c);
+
+/// Every parameter that changes the relaxed start (the key of a start cache).
+std::string relaxation_fingerprint(const SimConfig& c);
 
 /// Checks that the box at phi_stop is at least twice the interaction range (contact distance
 /// plus neighbor skin), so that the minimum image convention holds; throws ConfigError.

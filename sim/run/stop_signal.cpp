@@ -5,7 +5,9 @@
 namespace jam {
 namespace {
 std::atomic<bool> stop_requested{false};
-extern "C" void jam_request_stop(int) { stop_requested.store(true); }
+extern "C" void jam_request_stop(int) {
+  stop_requested.store(true);
+}
 }  // namespace
 
 const std::atomic<bool>& install_stop_handlers() {
