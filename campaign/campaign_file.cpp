@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "campaign/run_plan.hpp"
 #include "sim/run/sim_config.hpp"
 
 namespace jam {
@@ -176,21 +177,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
                                                             {"--diameter-ratio", "diameter_ratio"},
                                                             {"--relax-energy", "relax_energy"},
                                                             {"--relax-time-max", "relax_time_max"}};
-  SimConfig probe;
-  probe.dim = c.dim;
-  probe.n = c.sizes.front();
-  probe.phi_init = c.phi_init.front();
-  probe.phi_stop = c.phi_stop;
-  probe.phi_step = c.phi_step;
-  probe.compression_rate = std::pow(10.0, c.log10_rates.front());
-  probe.dt = c.dt;
-  probe.dynamics = c.dynamics;
-  probe.integrator = c.integrator;
-  probe.q = c.q;
-  probe.skin = c.skin;
-  probe.diameter_ratio = c.diameter_ratio;
-  probe.relax_energy = c.relax_energy;
-  probe.relax_time_max = c.relax_time_max;
+  SimConfig probe = run_config(c, c.sizes.front(), c.phi_init.front(), c.log10_rates.front(), 0);
   probe.out = "probe";
   try {
     validate(probe);

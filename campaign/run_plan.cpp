@@ -41,6 +41,32 @@ std::string runs_directory(const Campaign& campaign) {
   return (std::filesystem::path(campaign.output) / "runs").string();
 }
 
+SimConfig run_config(const Campaign& c, std::int64_t n, double phi_init, double log10_rate,
+                     std::int64_t sample) {
+  SimConfig s;
+  s.dim = c.dim;
+  s.n = n;
+  s.phi_init = phi_init;
+  s.phi_stop = c.phi_stop;
+  s.phi_step = c.phi_step;
+  s.compression_rate = std::pow(10.0, log10_rate);
+  s.dt = c.dt;
+  s.dynamics = c.dynamics;
+  s.integrator = c.integrator;
+  s.q = c.q;
+  s.seed = derive_seed(c.seed, n, phi_init, sample);
+  s.skin = c.skin;
+  s.diameter_ratio = c.diameter_ratio;
+  s.relax = c.relax;
+  s.relax_energy = c.relax_energy;
+  s.relax_time_max = c.relax_time_max;
+  s.rattlers = c.rattlers;
+  s.stress = c.stress;
+  s.quiet = true;
+  s.checkpoint_interval = c.checkpoint_interval;
+  return s;
+}
+
 std::string starts_directory(const Campaign& campaign) {
   return (std::filesystem::path(campaign.output) / "starts").string();
 }
@@ -65,27 +91,8 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
                             "(4 and 2 decimals): {}",
                             c.source_path, r.name));
           }
+          r.config = run_config(c, n, phi, lr, k);
           SimConfig& s = r.config;
-          s.dim = c.dim;
-          s.n = n;
-          s.phi_init = phi;
-          s.phi_stop = c.phi_stop;
-          s.phi_step = c.phi_step;
-          s.compression_rate = std::pow(10.0, lr);
-          s.dt = c.dt;
-          s.dynamics = c.dynamics;
-          s.integrator = c.integrator;
-          s.q = c.q;
-          s.seed = derive_seed(c.seed, n, phi, k);
-          s.skin = c.skin;
-          s.diameter_ratio = c.diameter_ratio;
-          s.relax = c.relax;
-          s.relax_energy = c.relax_energy;
-          s.relax_time_max = c.relax_time_max;
-          s.rattlers = c.rattlers;
-          s.stress = c.stress;
-          s.quiet = true;
-          s.checkpoint_interval = c.checkpoint_interval;
           s.out = (std::filesystem::path(dir) / (r.name + ".h5")).string();
           if (c.relax && c.relax_energy != "auto") {
             s.start_cache = (std::filesystem::path(starts_directory(c)) /

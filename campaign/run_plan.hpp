@@ -30,6 +30,10 @@ std::uint64_t derive_seed(std::uint64_t base_seed, std::int64_t n, double phi_in
 
 std::string run_name(std::int64_t n, double phi_init, double log10_rate, std::int64_t sample);
 
+/// The simulator configuration of one run (out and start_cache are left empty).
+SimConfig run_config(const Campaign& campaign, std::int64_t n, double phi_init, double log10_rate,
+                     std::int64_t sample);
+
 /// Every run of the campaign, longest (most particle-steps) first.
 std::vector<PlannedRun> plan_runs(const Campaign& campaign);
 

@@ -3,11 +3,8 @@
 // killed (SIGKILL) at random moments finishes with run files identical to an uninterrupted
 // one without redoing finished runs, and an MPI campaign equals the local one.
 #define BOOST_TEST_MODULE campaign_end_to_end
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
 #include <chrono>
@@ -20,20 +17,17 @@
 #include <sstream>
 #include <thread>
 
+#include "process.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/run/compression_run.hpp"
 
-extern char** environ;
 namespace fs = std::filesystem;
 
 namespace {
 
 const fs::path kDir = fs::temp_directory_path() / ("jam-campaign-" + std::to_string(::getpid()));
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using jam::test::slurp;
 
 struct Outcome {
   int status;
@@ -177,23 +171,10 @@ checkpoint_interval = 0.02
   std::map<std::string, fs::file_time_type> finished;  // run file -> time it was written
   int kills = 0;
   for (int attempt = 0; attempt < 6; ++attempt) {
-    std::string path = JAM_EXECUTABLE;
-    std::vector<std::string> words = {path, "campaign", "run", "--quiet", file.string()};
-    std::vector<char*> argv;
-    for (auto& w : words) argv.push_back(w.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-    pid_t pid = -1;
-    BOOST_TEST_REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
-    posix_spawn_file_actions_destroy(&actions);
+    const pid_t pid = jam::test::spawn_jam("campaign run --quiet " + file.string());
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
     kill(pid, SIGKILL);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    if (WIFEXITED(status)) break;  // finished before the kill
+    if (jam::test::wait_for(pid) >= 0) break;  // finished before the kill
     ++kills;
     // Finished runs are never redone: their files keep the time they were first written.
     for (const auto& e : fs::directory_iterator(kDir / "killed" / "runs")) {

@@ -2,11 +2,7 @@
 // file bitwise identical to an uninterrupted run, having resumed from checkpoints rather than
 // from the start; SIGINT stops a run cleanly with a checkpoint (exit 130).
 #define BOOST_TEST_MODULE checkpoint_resume
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
 #include <chrono>
@@ -18,40 +14,16 @@
 #include <thread>
 #include <vector>
 
-extern char** environ;
+#include "process.hpp"
+
 namespace fs = std::filesystem;
+using jam::test::slurp;
+using jam::test::spawn_jam;
+using jam::test::wait_for;
 
 namespace {
 
 const fs::path kDir = fs::temp_directory_path() / ("jam-resume-" + std::to_string(::getpid()));
-
-pid_t spawn_jam(const std::string& args) {
-  std::vector<std::string> words = {JAM_EXECUTABLE, "sim"};
-  std::istringstream in(args);
-  for (std::string w; in >> w;) words.push_back(w);
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  BOOST_TEST_REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
-  posix_spawn_file_actions_destroy(&actions);
-  return pid;
-}
-
-int wait_for(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-}
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 // Runs `args` once uninterrupted and once killed `kills` times at random moments (checkpoints
 // every 20 ms), then compares the two run files byte for byte.
@@ -60,15 +32,15 @@ void check_resume(const std::string& args, int kills, int signal_number, unsigne
   const fs::path ref = kDir / "ref.h5", resumed = kDir / "resumed.h5";
   fs::remove(ref);
   fs::remove(resumed);
-  BOOST_TEST_REQUIRE(wait_for(spawn_jam(args + " --checkpoint-interval 0 --out " + ref.string())) ==
-                     0);
+  BOOST_TEST_REQUIRE(
+      wait_for(spawn_jam("sim " + args + " --checkpoint-interval 0 --out " + ref.string())) == 0);
 
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> delay_ms(150, 700);
   const std::string interrupted = args + " --checkpoint-interval 0.02 --out " + resumed.string();
   int checkpoints_seen = 0, finished_early = 0;
   for (int k = 0; k < kills; ++k) {
-    const pid_t pid = spawn_jam(interrupted);
+    const pid_t pid = spawn_jam("sim " + interrupted);
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
     kill(pid, signal_number);
     const int status = wait_for(pid);
