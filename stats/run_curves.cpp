@@ -1,0 +1,50 @@
+#include "stats/run_curves.hpp"
+
+#include <fmt/format.h>
+
+#include "campaign/campaign_dir.hpp"
+#include "campaign/run_plan.hpp"
+#include "sim/io/hdf5_file.hpp"
+
+namespace jam::stats {
+
+CampaignData read_campaign_runs(const std::string& directory) {
+  const Campaign campaign = stored_campaign(directory);
+  CampaignData data;
+  data.name = campaign.name;
+  data.dim = campaign.dim;
+  data.phi_step = campaign.phi_step;
+  Campaign located = campaign;
+  located.output = directory;  // the directory may have moved since it was run
+  for (const PlannedRun& run : plan_runs(located)) {
+    const RunStatus status = run_status(run);
+    if (status != RunStatus::kDone) {
+      data.skipped.push_back(fmt::format("{} ({})", run.name, to_string(status)));
+      continue;
+    }
+    const h5::File f = h5::File::open_read(run.config.out);
+    RunCurves c;
+    c.n = run.n;
+    c.phi_init = run.phi_init;
+    c.log10_rate = run.log10_rate;
+    c.sample = run.sample;
+    c.phi = f.read_dataset("packing_fraction");
+    c.pressure = f.read_dataset("pressure");
+    c.contacts = f.read_dataset("contacts_per_particle");
+    if (f.has_dataset("contacts_per_particle_no_rattlers")) {
+      c.contacts_no_rattlers = f.read_dataset("contacts_per_particle_no_rattlers");
+    }
+    data.runs.push_back(std::move(c));
+  }
+  return data;
+}
+
+Ensembles group_runs(const std::vector<RunCurves>& runs, bool pool_sizes) {
+  Ensembles e;
+  for (const RunCurves& r : runs) {
+    e[EnsembleKey{pool_sizes ? 0 : r.n, r.phi_init, r.log10_rate}].push_back(r);
+  }
+  return e;
+}
+
+}  // namespace jam::stats

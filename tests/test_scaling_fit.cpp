@@ -1,0 +1,155 @@
+// The critical scaling fit on synthetic data drawn from a known scaling function, with
+// sample-to-sample noise that is correlated along each run: it recovers phi_J, beta and y
+// within their errors, about 68% of its 1-sigma intervals cover the truth (measured over many
+// data sets), and impossible fits fail with a message.
+#define BOOST_TEST_MODULE scaling_fit
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "stats/scaling_fit.hpp"
+
+using namespace jam::stats;
+
+namespace {
+
+struct Truth {
+  double phi_j = 0.8415, q = 0.30, inv_znu = 0.27;
+  std::vector<double> c = {0.0, 1.5, -0.3, 0.05};  // ln f(x), cubic
+  double beta() const { return (1 - q) / inv_znu; }
+  double y() const { return q / inv_znu; }
+  double pressure(double phi, double rate) const {
+    const double x = (phi - phi_j) / std::pow(rate, inv_znu);
+    double ln_f = 0.0;
+    for (std::size_t n = c.size(); n-- > 0;) ln_f = ln_f * x + c[n];
+    return std::pow(rate, q) * std::exp(ln_f);
+  }
+};
+
+// Rates 1e-5 .. 10^-6.5, 10 samples sharing ids across rates, packings every 0.001. Each
+// sample's pressure is the truth times exp(eps), eps an AR(1) process along phi with
+// neighbour correlation 0.95 and 10% amplitude (the scatter seen at these sizes).
+std::vector<FitEnsemble> synthetic(const Truth& t, std::uint64_t seed, int samples = 10) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const double rho = 0.95, sigma = 0.10;
+  std::vector<FitEnsemble> ens;
+  for (double lr : {-5.0, -5.5, -6.0, -6.5}) {
+    FitEnsemble e;
+    e.rate = std::pow(10.0, lr);
+    for (double phi = 0.78; phi <= 0.90 + 1e-9; phi += 0.001) e.phi.push_back(phi);
+    for (int s = 0; s < samples; ++s) {
+      e.sample_ids.push_back(s);
+      std::vector<double> row;
+      double eps = sigma * g(rng);
+      for (double phi : e.phi) {
+        row.push_back(t.pressure(phi, e.rate) * std::exp(eps));
+        eps = rho * eps + sigma * std::sqrt(1 - rho * rho) * g(rng);
+      }
+      e.pressure.push_back(std::move(row));
+    }
+    ens.push_back(std::move(e));
+  }
+  return ens;
+}
+
+ScalingFitOptions cubic_options() {
+  ScalingFitOptions o;
+  o.order = 3;
+  o.phi_min = 0.80;
+  o.phi_max = 0.88;
+  o.rate_max = 1e-5;
+  o.start_phi_j = 0.845;  // deliberately off the truth
+  return o;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(recovers_the_truth_within_errors) {
+  const Truth t;
+  const ScalingFitResult r = fit_scaling(synthetic(t, 1), cubic_options());
+  BOOST_TEST_MESSAGE("phi_J " << r.phi_j << " +- " << r.phi_j_err << ", beta " << r.beta << " +- "
+                              << r.beta_err << ", y " << r.y << " +- " << r.y_err << ", chi2/dof "
+                              << r.chi2_diag_per_dof << " (diag) " << r.chi2_cov_per_dof
+                              << " (cov), cond " << r.condition_number << ", points " << r.points);
+  // Three standard errors: a single data set misses by more than that 0.3% of the time.
+  BOOST_TEST(std::abs(r.phi_j - t.phi_j) < 3 * r.phi_j_err);
+  BOOST_TEST(std::abs(r.beta - t.beta()) < 3 * r.beta_err);
+  BOOST_TEST(std::abs(r.y - t.y()) < 3 * r.y_err);
+  BOOST_TEST(r.phi_j_err < 0.006);  // and informative: the window is +-0.045 wide
+  BOOST_TEST(r.samples == 10u);
+  BOOST_TEST(r.fixed.empty());
+  BOOST_TEST(r.condition_number > 1.0);
+  // Every point of the window satisfies |x| <= 1 at the fitted parameters.
+  for (const auto& p : r.collapse) {
+    if (p.in_fit) BOOST_TEST(std::abs(p.x) <= 1.0 + 1e-9);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(one_sigma_intervals_cover_the_truth_about_68_percent) {
+  const Truth t;
+  const int sets = 120;
+  int phi_hits = 0, beta_hits = 0, y_hits = 0;
+  for (int k = 0; k < sets; ++k) {
+    const ScalingFitResult r = fit_scaling(synthetic(t, 100 + k), cubic_options());
+    phi_hits += std::abs(r.phi_j - t.phi_j) <= r.phi_j_err;
+    beta_hits += std::abs(r.beta - t.beta()) <= r.beta_err;
+    y_hits += std::abs(r.y - t.y()) <= r.y_err;
+  }
+  const double f_phi = double(phi_hits) / sets, f_beta = double(beta_hits) / sets,
+               f_y = double(y_hits) / sets;
+  BOOST_TEST_MESSAGE("coverage of 1-sigma intervals: phi_J " << f_phi << ", beta " << f_beta
+                                                             << ", y " << f_y);
+  // Nominal 0.68 (0.656 for a t distribution with 9 degrees of freedom, the 10 samples);
+  // with 120 sets the binomial standard deviation is 0.043: accept 0.52 .. 0.82.
+  for (double f : {f_phi, f_beta, f_y}) {
+    BOOST_TEST(f > 0.52);
+    BOOST_TEST(f < 0.82);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(fixed_exponents_are_reported_and_held) {
+  const Truth t;
+  ScalingFitOptions o = cubic_options();
+  o.fixed_q = t.q;
+  o.fixed_inv_znu = t.inv_znu;
+  const ScalingFitResult r = fit_scaling(synthetic(t, 2), o);
+  BOOST_TEST(r.fixed == "q, 1/(z nu)");
+  BOOST_TEST(r.q == t.q);
+  BOOST_TEST(r.inv_znu == t.inv_znu);
+  BOOST_TEST(r.q_err == 0.0);
+  BOOST_TEST(std::abs(r.phi_j - t.phi_j) < 3 * r.phi_j_err);
+  BOOST_TEST(r.free_parameters == 5u);  // phi_J and c_0 .. c_3
+}
+
+BOOST_AUTO_TEST_CASE(chi2_with_the_sample_covariance_is_near_one_on_the_true_model) {
+  // Neighbouring points share their noise, so the diagonal chi^2 says little; with the
+  // (shrunk) sample covariance chi^2/dof of the true model is near 1. Measured over five data
+  // sets of 40 samples: each within 0.6 .. 1.5.
+  const Truth t;
+  for (std::uint64_t seed = 10; seed < 15; ++seed) {
+    const ScalingFitResult r = fit_scaling(synthetic(t, seed, 40), cubic_options());
+    BOOST_TEST_MESSAGE("chi2/dof: diagonal " << r.chi2_diag_per_dof << ", covariance "
+                                             << r.chi2_cov_per_dof << " (lambda " << r.shrinkage << ")");
+    BOOST_TEST(r.chi2_cov_per_dof > 0.6);
+    BOOST_TEST(r.chi2_cov_per_dof < 1.5);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(impossible_fits_fail_with_a_message) {
+  const Truth t;
+  ScalingFitOptions o = cubic_options();
+  o.phi_min = 0.95;
+  o.phi_max = 0.99;
+  BOOST_CHECK_EXCEPTION(fit_scaling(synthetic(t, 4), o), FitError, [](const FitError& e) {
+    return std::string(e.what()).find("no data in the window") != std::string::npos;
+  });
+  o = cubic_options();
+  o.phi_min = 0.8410;
+  o.phi_max = 0.8420;
+  o.rate_max = 1e-6;
+  BOOST_CHECK_EXCEPTION(fit_scaling(synthetic(t, 4), o), FitError, [](const FitError& e) {
+    return std::string(e.what()).find("free parameters") != std::string::npos;
+  });
+}
