@@ -6,6 +6,7 @@
 
 #include "app/campaign_command.hpp"
 #include "app/sim_command.hpp"
+#include "app/stats_command.hpp"
 #include "sim/version.hpp"
 
 int main(int argc, char** argv) {
@@ -21,6 +22,8 @@ int main(int argc, char** argv) {
   jam::add_sim_command(app, sim_config);
   jam::CampaignArgs campaign_args;
   jam::add_campaign_command(app, campaign_args);
+  jam::StatsArgs stats_args;
+  jam::add_stats_command(app, stats_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -37,6 +40,7 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("sim")) return jam::run_sim_command(sim_config);
     if (app.got_subcommand("campaign")) return jam::run_campaign_command(app, campaign_args, ranks);
+    if (app.got_subcommand("stats")) return jam::run_stats_command(stats_args);
   } catch (const std::exception& e) {
     fmt::print(stderr, "jam: error: {}\n", e.what());
     return 1;

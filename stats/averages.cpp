@@ -29,7 +29,10 @@ std::vector<double> grid_between(double lo, double hi, double step) {
   std::vector<double> g;
   const auto first = static_cast<long long>(std::ceil(lo / step - 1e-9));
   const auto last = static_cast<long long>(std::floor(hi / step + 1e-9));
-  for (long long k = first; k <= last; ++k) g.push_back(static_cast<double>(k) * step);
+  for (long long k = first; k <= last; ++k) {
+    // k * step can land an ulp outside [lo, hi] (0.86 = 430 * 0.002 + 1e-16): pull it in.
+    g.push_back(std::clamp(static_cast<double>(k) * step, lo, hi));
+  }
   return g;
 }
 
@@ -68,8 +71,9 @@ GridAverage average_at_constant_phi(const std::vector<RunCurves>& samples, doubl
   a.grid_name = "packing_fraction";
   a.grid = grid_between(lo, hi, phi_step);
   a.names = {"pressure", "contacts_per_particle"};
-  const bool with_nr = std::all_of(samples.begin(), samples.end(),
-                                   [](const RunCurves& r) { return !r.contacts_no_rattlers.empty(); });
+  const bool with_nr = std::all_of(samples.begin(), samples.end(), [](const RunCurves& r) {
+    return !r.contacts_no_rattlers.empty();
+  });
   if (with_nr) a.names.push_back("contacts_per_particle_no_rattlers");
   a.tables.assign(a.names.size(), {});
   for (const auto& r : samples) {
@@ -78,7 +82,8 @@ GridAverage average_at_constant_phi(const std::vector<RunCurves>& samples, doubl
     if (with_nr) ys.push_back(&r.contacts_no_rattlers);
     for (std::size_t o = 0; o < ys.size(); ++o) {
       std::vector<double> row(a.grid.size());
-      for (std::size_t k = 0; k < a.grid.size(); ++k) row[k] = interpolate(r.phi, *ys[o], a.grid[k]);
+      for (std::size_t k = 0; k < a.grid.size(); ++k)
+        row[k] = interpolate(r.phi, *ys[o], a.grid[k]);
       a.tables[o].push_back(std::move(row));
     }
   }

@@ -1,7 +1,6 @@
 #include "stats/covariance.hpp"
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -14,7 +13,8 @@ ShrunkCovariance shrunk_covariance_of_mean(const std::vector<std::vector<double>
   const std::size_t m = deviations.front().size();
   Eigen::MatrixXd x(static_cast<Eigen::Index>(s), static_cast<Eigen::Index>(m));
   for (std::size_t a = 0; a < s; ++a)
-    for (std::size_t i = 0; i < m; ++i) x(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(i)) = deviations[a][i];
+    for (std::size_t i = 0; i < m; ++i)
+      x(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(i)) = deviations[a][i];
   const double n = static_cast<double>(s);
   const Eigen::MatrixXd sample = x.transpose() * x / (n - 1.0);
   // Standardised data for the shrinkage intensity (Schaefer & Strimmer, target D).
@@ -52,7 +52,8 @@ double chi2_with_covariance(const std::vector<double>& residual, const ShrunkCov
   Eigen::VectorXd r(m);
   for (Eigen::Index i = 0; i < m; ++i) {
     r(i) = residual[static_cast<std::size_t>(i)];
-    for (Eigen::Index j = 0; j < m; ++j) cov(i, j) = c.matrix[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+    for (Eigen::Index j = 0; j < m; ++j)
+      cov(i, j) = c.matrix[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
   }
   const Eigen::LLT<Eigen::MatrixXd> llt(cov);
   if (llt.info() != Eigen::Success) throw std::runtime_error("covariance is not positive definite");

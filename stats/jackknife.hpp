@@ -16,7 +16,7 @@ namespace jam::stats {
 struct JackknifeResult {
   std::vector<double> estimate;  // bias-corrected
   std::vector<double> error;
-  std::vector<double> plain;     // f(all samples), not corrected
+  std::vector<double> plain;  // f(all samples), not corrected
   static constexpr const char* kMethod = "jackknife over samples (leave one out)";
 };
 
@@ -40,7 +40,8 @@ inline JackknifeResult jackknife(std::size_t samples,
   r.error.resize(m);
   for (std::size_t k = 0; k < m; ++k) {
     double sum2 = 0.0;
-    for (std::size_t i = 0; i < samples; ++i) sum2 += (leave_out[i][k] - mean[k]) * (leave_out[i][k] - mean[k]);
+    for (std::size_t i = 0; i < samples; ++i)
+      sum2 += (leave_out[i][k] - mean[k]) * (leave_out[i][k] - mean[k]);
     r.estimate[k] = s * r.plain[k] - (s - 1.0) * mean[k];
     r.error[k] = std::sqrt((s - 1.0) / s * sum2);
   }

@@ -28,8 +28,8 @@ struct Point {
 
 struct Problem {
   std::vector<Point> points;
-  std::vector<double> full;        // current full parameter vector (fixed entries stay)
-  std::vector<std::size_t> free;   // indices of the free parameters in full
+  std::vector<double> full;       // current full parameter vector (fixed entries stay)
+  std::vector<std::size_t> free;  // indices of the free parameters in full
 };
 
 double scaling_variable(const std::vector<double>& par, double phi, double ln_rate) {
@@ -68,7 +68,8 @@ int jacobian(const gsl_vector* v, void* data, gsl_matrix* j) {
     const double scale = std::exp(-par[kA] * p.ln_rate);
     const double x = (p.phi - par[kPhiJ]) * scale;
     double dlnf_dx = 0.0;  // d ln f / dx
-    for (std::size_t n = order; n >= 1; --n) dlnf_dx = dlnf_dx * x + static_cast<double>(n) * par[kC0 + n];
+    for (std::size_t n = order; n >= 1; --n)
+      dlnf_dx = dlnf_dx * x + static_cast<double>(n) * par[kC0 + n];
     std::vector<double> d(par.size());
     d[kPhiJ] = -dlnf_dx * scale;
     d[kQ] = p.ln_rate;
@@ -106,7 +107,8 @@ Solution solve(Problem& pr) {
   for (std::size_t k = 0; k < p; ++k) gsl_vector_set(x0, k, pr.full[pr.free[k]]);
   gsl_multifit_nlinear_init(x0, &fdf, w);
   int info = 0;
-  const int status = gsl_multifit_nlinear_driver(500, 1e-12, 1e-12, 1e-12, nullptr, nullptr, &info, w);
+  const int status =
+      gsl_multifit_nlinear_driver(500, 1e-12, 1e-12, 1e-12, nullptr, nullptr, &info, w);
   Solution s;
   s.par = expand(pr, gsl_multifit_nlinear_position(w));
   gsl_blas_ddot(gsl_multifit_nlinear_residual(w), gsl_multifit_nlinear_residual(w), &s.chi2);
@@ -132,7 +134,8 @@ void linear_start(Problem& pr) {
     const Point& p = pr.points[static_cast<std::size_t>(i)];
     const double x = scaling_variable(pr.full, p.phi, p.ln_rate);
     double rhs = p.ln_p;
-    if (std::find(linear.begin(), linear.end(), std::size_t{kQ}) == linear.end()) rhs -= pr.full[kQ] * p.ln_rate;
+    if (std::find(linear.begin(), linear.end(), std::size_t{kQ}) == linear.end())
+      rhs -= pr.full[kQ] * p.ln_rate;
     for (std::size_t c = 0; c < linear.size(); ++c) {
       const std::size_t k = linear[c];
       a(i, static_cast<Eigen::Index>(c)) =
@@ -141,7 +144,8 @@ void linear_start(Problem& pr) {
     b(i) = rhs / p.sigma;
   }
   const Eigen::VectorXd sol = a.colPivHouseholderQr().solve(b);
-  for (std::size_t c = 0; c < linear.size(); ++c) pr.full[linear[c]] = sol(static_cast<Eigen::Index>(c));
+  for (std::size_t c = 0; c < linear.size(); ++c)
+    pr.full[linear[c]] = sol(static_cast<Eigen::Index>(c));
 }
 
 struct Means {
@@ -164,8 +168,9 @@ Means ensemble_means(const std::vector<FitEnsemble>& ens, std::int64_t excluded_
     }
     std::vector<double> err(e.phi.size());
     for (std::size_t k = 0; k < e.phi.size(); ++k) {
-      err[k] = used > 1 ? std::sqrt(m2[k] / static_cast<double>(used - 1) / static_cast<double>(used))
-                        : std::numeric_limits<double>::quiet_NaN();
+      err[k] = used > 1
+                   ? std::sqrt(m2[k] / static_cast<double>(used - 1) / static_cast<double>(used))
+                   : std::numeric_limits<double>::quiet_NaN();
     }
     m.mean.push_back(std::move(mean));
     m.error.push_back(std::move(err));
@@ -206,10 +211,11 @@ Solution fit_with_window(const std::vector<Point>& all, std::vector<double> star
   for (int iteration = 0; iteration < 20; ++iteration) {
     s = solve(pr);
     std::vector<Point> next = in_window(all, s.par, x_max);
-    const bool same = next.size() == pr.points.size() &&
-                      std::equal(next.begin(), next.end(), pr.points.begin(), [](const Point& a, const Point& b) {
-                        return a.ensemble == b.ensemble && a.index == b.index;
-                      });
+    const bool same =
+        next.size() == pr.points.size() &&
+        std::equal(next.begin(), next.end(), pr.points.begin(), [](const Point& a, const Point& b) {
+          return a.ensemble == b.ensemble && a.index == b.index;
+        });
     if (same) break;
     pr.points = std::move(next);
     pr.full = s.par;
@@ -221,7 +227,8 @@ Solution fit_with_window(const std::vector<Point>& all, std::vector<double> star
 }  // namespace
 
 ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingFitOptions& o) {
-  if (o.order < 0 || o.order > 9) throw FitError(fmt::format("fit: polynomial order {} (0..9)", o.order));
+  if (o.order < 0 || o.order > 9)
+    throw FitError(fmt::format("fit: polynomial order {} (0..9)", o.order));
   gsl_set_error_handler_off();
   const Means full_means = ensemble_means(ens, std::numeric_limits<std::int64_t>::min());
   const std::vector<Point> all = candidates(ens, full_means, o);
@@ -235,14 +242,25 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
   start[kA] = o.fixed_inv_znu.value_or(o.start_inv_znu);
   std::vector<std::size_t> free;
   std::vector<std::string> fixed;
-  if (!o.fixed_phi_j) free.push_back(kPhiJ); else fixed.push_back("phi_J");
-  if (!o.fixed_q) free.push_back(kQ); else fixed.push_back("q");
-  if (!o.fixed_inv_znu) free.push_back(kA); else fixed.push_back("1/(z nu)");
+  if (!o.fixed_phi_j)
+    free.push_back(kPhiJ);
+  else
+    fixed.push_back("phi_J");
+  if (!o.fixed_q)
+    free.push_back(kQ);
+  else
+    fixed.push_back("q");
+  if (!o.fixed_inv_znu)
+    free.push_back(kA);
+  else
+    fixed.push_back("1/(z nu)");
   for (std::size_t k = kC0; k < start.size(); ++k) free.push_back(k);
 
   // Multi-start around the starting values; the best converged fit wins.
   std::vector<double> phi_starts = {start[kPhiJ]}, a_starts = {start[kA]};
-  if (!o.fixed_phi_j) phi_starts = {start[kPhiJ], start[kPhiJ] - 0.005, start[kPhiJ] + 0.005, start[kPhiJ] - 0.01, start[kPhiJ] + 0.01};
+  if (!o.fixed_phi_j)
+    phi_starts = {start[kPhiJ], start[kPhiJ] - 0.005, start[kPhiJ] + 0.005, start[kPhiJ] - 0.01,
+                  start[kPhiJ] + 0.01};
   if (!o.fixed_inv_znu) a_starts = {start[kA], 0.8 * start[kA], 1.25 * start[kA]};
   Solution best;
   std::vector<Point> best_points;
@@ -294,18 +312,29 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
         const auto& e = ens[p.ensemble];
         const auto it = std::find(e.sample_ids.begin(), e.sample_ids.end(), id);
         const double mean = full_means.mean[p.ensemble][p.index];
-        row.push_back(it == e.sample_ids.end()
-                          ? 0.0
-                          : (e.pressure[static_cast<std::size_t>(it - e.sample_ids.begin())][p.index] - mean) / mean);
+        row.push_back(
+            it == e.sample_ids.end()
+                ? 0.0
+                : (e.pressure[static_cast<std::size_t>(it - e.sample_ids.begin())][p.index] -
+                   mean) /
+                      mean);
       }
       deviations.push_back(std::move(row));
     }
     std::vector<double> residual;
-    for (const Point& p : best_points) residual.push_back(p.ln_p - model(best.par, p.phi, p.ln_rate));
-    if (deviations.size() >= 2) {
+    for (const Point& p : best_points)
+      residual.push_back(p.ln_p - model(best.par, p.phi, p.ln_rate));
+    // With fewer than 3 samples a covariance cannot be estimated at all; if the shrunk
+    // estimate is still singular the chi^2 is reported as not available (NaN).
+    r.chi2_cov_per_dof = std::numeric_limits<double>::quiet_NaN();
+    r.shrinkage = std::numeric_limits<double>::quiet_NaN();
+    if (deviations.size() >= 3) {
       const ShrunkCovariance c = shrunk_covariance_of_mean(deviations);
       r.shrinkage = c.lambda;
-      r.chi2_cov_per_dof = chi2_with_covariance(residual, c) / dof;
+      try {
+        r.chi2_cov_per_dof = chi2_with_covariance(residual, c) / dof;
+      } catch (const std::runtime_error&) {
+      }
     }
   }
 
@@ -360,8 +389,9 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
       if (!(p > 0)) continue;
       const double ln_rate = std::log(ens[e].rate);
       const double scale = std::exp(-best.par[kQ] * ln_rate);
-      r.collapse.push_back({ens[e].rate, ens[e].phi[k], scaling_variable(best.par, ens[e].phi[k], ln_rate),
-                            p * scale, dp * scale, used.count({e, k}) > 0});
+      r.collapse.push_back({ens[e].rate, ens[e].phi[k],
+                            scaling_variable(best.par, ens[e].phi[k], ln_rate), p * scale,
+                            dp * scale, used.count({e, k}) > 0});
     }
   }
   return r;

@@ -46,11 +46,11 @@ struct ScalingFitResult {
   double phi_j_plain = 0, q_plain = 0, inv_znu_plain = 0;
   std::vector<double> coefficients;  // c_0 .. c_K of the plain fit
   std::size_t points = 0, free_parameters = 0, samples = 0;
-  double chi2_diag_per_dof = 0;      // diagonal errors (standard errors of the means)
-  double chi2_cov_per_dof = 0;       // covariance of the means from the samples, shrunk
-  double shrinkage = 0;              // its shrinkage intensity lambda
-  double condition_number = 0;       // of the weighted Jacobian at the solution
-  std::string fixed;                 // which of phi_J, q, 1/(z nu) were held fixed
+  double chi2_diag_per_dof = 0;  // diagonal errors (standard errors of the means)
+  double chi2_cov_per_dof = 0;   // covariance of the means from the samples, shrunk
+  double shrinkage = 0;          // its shrinkage intensity lambda
+  double condition_number = 0;   // of the weighted Jacobian at the solution
+  std::string fixed;             // which of phi_J, q, 1/(z nu) were held fixed
   std::string error_method;
   std::vector<CollapsePoint> collapse;
 };

@@ -2,7 +2,6 @@
 // constant Z on runs whose curves are known exactly; the shrunk covariance.
 #define BOOST_TEST_MODULE jackknife_and_averages
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -105,7 +104,8 @@ BOOST_AUTO_TEST_CASE(constant_z_average_recovers_phi_of_z_and_p_of_z) {
     BOOST_TEST(phi[k].mean == expected_phi, boost::test_tools::tolerance(1e-12));
     BOOST_TEST(phi[k].error == (0.2 / 20.0) / std::sqrt(3.0), boost::test_tools::tolerance(1e-9));
     double expected_p = 0.0;
-    for (double z0 : {3.0, 3.2, 3.4}) expected_p += std::exp(40.0 * (0.80 + (a.grid[k] - z0) / 20.0 - 0.84)) / 3.0;
+    for (double z0 : {3.0, 3.2, 3.4})
+      expected_p += std::exp(40.0 * (0.80 + (a.grid[k] - z0) / 20.0 - 0.84)) / 3.0;
     BOOST_TEST(std::abs(p[k].mean - expected_p) <= 1.2e-3 * expected_p);
   }
   BOOST_CHECK_THROW(average_at_constant_z(runs, 0.01, true), std::invalid_argument);
@@ -118,7 +118,8 @@ BOOST_AUTO_TEST_CASE(first_crossing_when_z_is_not_monotonic) {
   r.pressure = {1.0, 2.0, 3.0, 4.0, 5.0};
   const GridAverage a = average_at_constant_z({r, r}, 0.5, false);
   BOOST_TEST_REQUIRE(a.grid.size() == 2u);  // 3.5 and 4.0
-  BOOST_TEST(a.mean("packing_fraction")[0].mean == 0.80 + 0.01 * (0.5 / 0.6), boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(a.mean("packing_fraction")[0].mean == 0.80 + 0.01 * (0.5 / 0.6),
+             boost::test_tools::tolerance(1e-12));
   BOOST_TEST(a.mean("packing_fraction")[1].mean == 0.84, boost::test_tools::tolerance(1e-12));
 }
 

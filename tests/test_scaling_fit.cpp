@@ -4,7 +4,6 @@
 // data sets), and impossible fits fail with a message.
 #define BOOST_TEST_MODULE scaling_fit
 #include <boost/test/unit_test.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -131,7 +130,8 @@ BOOST_AUTO_TEST_CASE(chi2_with_the_sample_covariance_is_near_one_on_the_true_mod
   for (std::uint64_t seed = 10; seed < 15; ++seed) {
     const ScalingFitResult r = fit_scaling(synthetic(t, seed, 40), cubic_options());
     BOOST_TEST_MESSAGE("chi2/dof: diagonal " << r.chi2_diag_per_dof << ", covariance "
-                                             << r.chi2_cov_per_dof << " (lambda " << r.shrinkage << ")");
+                                             << r.chi2_cov_per_dof << " (lambda " << r.shrinkage
+                                             << ")");
     BOOST_TEST(r.chi2_cov_per_dof > 0.6);
     BOOST_TEST(r.chi2_cov_per_dof < 1.5);
   }

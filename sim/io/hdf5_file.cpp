@@ -61,28 +61,41 @@ File File::open_read(const std::string& path) {
 }
 
 namespace {
-void write_scalar_attribute(hid_t file, const std::string& name, hid_t type, const void* value) {
+void write_scalar_attribute(hid_t file, const std::string& object, const std::string& name,
+                            hid_t type, const void* value) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(check(H5Acreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+  Handle attr(check(H5Acreate_by_name(file, object.c_str(), name.c_str(), type, space.get(),
+                                      H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                     "cannot create attribute " + name),
               H5Aclose);
   check_status(H5Awrite(attr.get(), type, value), "cannot write attribute " + name);
 }
 }  // namespace
 
-void File::write_attribute(const std::string& name, double value) {
-  write_scalar_attribute(id(), name, H5T_NATIVE_DOUBLE, &value);
+void File::write_attribute(const std::string& name, double value, const std::string& object) {
+  write_scalar_attribute(id(), object, name, H5T_NATIVE_DOUBLE, &value);
 }
 
-void File::write_attribute(const std::string& name, std::int64_t value) {
-  write_scalar_attribute(id(), name, H5T_NATIVE_INT64, &value);
+void File::write_attribute(const std::string& name, std::int64_t value, const std::string& object) {
+  write_scalar_attribute(id(), object, name, H5T_NATIVE_INT64, &value);
 }
 
-void File::write_attribute(const std::string& name, const std::string& value) {
+void File::write_attribute(const std::string& name, const std::string& value,
+                           const std::string& object) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type.get(), value.empty() ? 1 : value.size());
   H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
-  write_scalar_attribute(id(), name, type.get(), value.c_str());
+  write_scalar_attribute(id(), object, name, type.get(), value.c_str());
+}
+
+void File::create_group(const std::string& path) {
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  Handle gcpl(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+  H5Pset_obj_track_times(gcpl.get(), false);
+  Handle group(check(H5Gcreate2(id(), path.c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT),
+                     "cannot create group " + path),
+               H5Gclose);
 }
 
 namespace {
@@ -91,7 +104,9 @@ void write_array(hid_t file, const std::string& name, hid_t file_type, hid_t mem
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_obj_track_times(dcpl.get(), false);
-  Handle set(check(H5Dcreate2(file, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(),
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  Handle set(check(H5Dcreate2(file, name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(),
                               H5P_DEFAULT),
                    "cannot create dataset " + name),
              H5Dclose);
@@ -133,29 +148,30 @@ bool File::has_dataset(const std::string& name) const {
 }
 
 namespace {
-Handle open_attribute(hid_t file, const std::string& path, const std::string& name) {
-  return Handle(check(H5Aopen(file, name.c_str(), H5P_DEFAULT),
+Handle open_attribute(hid_t file, const std::string& path, const std::string& name,
+                      const std::string& object) {
+  return Handle(check(H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
                       fmt::format("{}: missing attribute '{}'", path, name)),
                 H5Aclose);
 }
 }  // namespace
 
-double File::read_attribute_double(const std::string& name) const {
-  Handle attr = open_attribute(id(), path_, name);
+double File::read_attribute_double(const std::string& name, const std::string& object) const {
+  Handle attr = open_attribute(id(), path_, name, object);
   double v = 0.0;
   check_status(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &v), path_ + ": cannot read " + name);
   return v;
 }
 
-std::int64_t File::read_attribute_int(const std::string& name) const {
-  Handle attr = open_attribute(id(), path_, name);
+std::int64_t File::read_attribute_int(const std::string& name, const std::string& object) const {
+  Handle attr = open_attribute(id(), path_, name, object);
   std::int64_t v = 0;
   check_status(H5Aread(attr.get(), H5T_NATIVE_INT64, &v), path_ + ": cannot read " + name);
   return v;
 }
 
-std::string File::read_attribute_string(const std::string& name) const {
-  Handle attr = open_attribute(id(), path_, name);
+std::string File::read_attribute_string(const std::string& name, const std::string& object) const {
+  Handle attr = open_attribute(id(), path_, name, object);
   Handle type(H5Aget_type(attr.get()), H5Tclose);
   const std::size_t size = H5Tget_size(type.get());
   std::string v(size, '\0');

@@ -43,9 +43,13 @@ class File {
     if (lock_.owns_lock()) lock_.unlock();
   }
 
-  void write_attribute(const std::string& name, double value);
-  void write_attribute(const std::string& name, std::int64_t value);
-  void write_attribute(const std::string& name, const std::string& value);
+  // Attributes of the object at `object` (a group or dataset path; "." is the root).
+  void write_attribute(const std::string& name, double value, const std::string& object = ".");
+  void write_attribute(const std::string& name, std::int64_t value, const std::string& object = ".");
+  void write_attribute(const std::string& name, const std::string& value,
+                       const std::string& object = ".");
+  /// Creates a group and any missing parents.
+  void create_group(const std::string& path);
   void write_dataset(const std::string& name, const std::vector<double>& data,
                      const std::vector<hsize_t>& shape = {});
 
@@ -53,9 +57,9 @@ class File {
 
   bool has_attribute(const std::string& name) const;
   bool has_dataset(const std::string& name) const;
-  double read_attribute_double(const std::string& name) const;
-  std::int64_t read_attribute_int(const std::string& name) const;
-  std::string read_attribute_string(const std::string& name) const;
+  double read_attribute_double(const std::string& name, const std::string& object = ".") const;
+  std::int64_t read_attribute_int(const std::string& name, const std::string& object = ".") const;
+  std::string read_attribute_string(const std::string& name, const std::string& object = ".") const;
   std::vector<double> read_dataset(const std::string& name) const;
   std::vector<std::uint32_t> read_dataset_u32(const std::string& name) const;
 

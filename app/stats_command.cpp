@@ -1,0 +1,58 @@
+#include "app/stats_command.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace jam {
+
+void add_stats_command(CLI::App& app, StatsArgs& a) {
+  CLI::App* s = app.add_subcommand(
+      "stats",
+      "Average a campaign at constant phi and Z, fit the critical scaling, write DIR/stats.h5");
+  s->option_defaults()->always_capture_default();
+  s->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();
+  s->add_option("--z-step", a.options.z_step, "Grid spacing in Z for averages at constant Z");
+  s->add_flag("--no-rattlers", a.options.no_rattlers,
+              "Average at constant Z with rattlers removed (runs must store it)");
+  s->add_flag("--pool-sizes", a.options.pool_sizes,
+              "Average all sizes together (after the finite-size check passed)");
+  s->add_option("--fit-phi-init", a.fit_phi_init,
+                "phi_init of the fitted ensembles (default: lowest)");
+  s->add_option("--order", a.options.order, "Polynomial order of ln f(x)");
+  s->add_option("--fix-phi-j", a.fix_phi_j, "Hold phi_J at this value");
+  s->add_option("--fix-q", a.fix_q, "Hold q at this value");
+  s->add_option("--fix-inv-znu", a.fix_inv_znu, "Hold 1/(z nu) at this value");
+  s->add_flag("--fix-paper-exponents", a.fix_paper_exponents,
+              "Hold q and 1/(z nu) at the paper's values for the dimension");
+  s->add_flag(
+      "--no-fit", [&a](std::int64_t) { a.options.fit = false; }, "Averages only");
+}
+
+int run_stats_command(const StatsArgs& a) {
+  stats::StatsOptions o = a.options;
+  if (a.fit_phi_init > 0) o.fit_phi_init = a.fit_phi_init;
+  if (a.fix_phi_j > 0) o.fixed_phi_j = a.fix_phi_j;
+  if (a.fix_q > 0) o.fixed_q = a.fix_q;
+  if (a.fix_inv_znu > 0) o.fixed_inv_znu = a.fix_inv_znu;
+  if (o.order < 0 || o.order > 9) {
+    throw std::runtime_error(fmt::format("--order {}: must be in 0..9", o.order));
+  }
+  if (!(o.z_step > 0))
+    throw std::runtime_error(fmt::format("--z-step {:g}: must be > 0", o.z_step));
+  if (a.fix_paper_exponents) {
+    // Needs the dimension: read it with the data.
+    const auto dim = stats::read_campaign_runs(a.directory).dim;
+    const double znu = dim == 2 ? 2.63 + 1.12 : 3.07 + 1.22;
+    o.fixed_q = (dim == 2 ? 1.12 : 1.22) / znu;
+    o.fixed_inv_znu = 1.0 / znu;
+  }
+  const stats::CampaignStats s = stats::compute_campaign_stats(a.directory, o);
+  const std::string out = (std::filesystem::path(a.directory) / "stats.h5").string();
+  stats::write_stats_file(out, s, o);
+  fmt::print("{}", stats::format_stats_summary(s));
+  fmt::print("wrote {}\n", out);
+  return 0;
+}
+
+}  // namespace jam

@@ -1,0 +1,109 @@
+// `jam stats DIR` on a real (tiny) campaign: stats.h5 has the documented schema and shapes,
+// pooling doubles the samples, the means are the means of the stored per-sample tables,
+// held exponents are reported, and a directory without finished runs is an error.
+#define BOOST_TEST_MODULE stats_end_to_end
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "process.hpp"
+#include "sim/io/hdf5_file.hpp"
+
+namespace fs = std::filesystem;
+using jam::test::slurp;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-stats-" + std::to_string(::getpid()));
+
+int run_jam(const std::string& args, std::string* output = nullptr) {
+  const fs::path log = kDir / "log.txt";
+  const int raw = std::system(
+      (std::string(JAM_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1").c_str());
+  if (output) *output = slurp(log);
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+struct Campaign {
+  Campaign() {
+    fs::create_directories(kDir);
+    // The shipped CI campaign, with its output in the temporary directory.
+    std::string text = slurp(std::string(JAM_SOURCE_DIR) + "/reference/campaigns/ci.toml");
+    const std::string key = "output = \"runs/ci\"";
+    text.replace(text.find(key), key.size(), "output = \"" + (kDir / "ci").string() + "\"");
+    std::ofstream(kDir / "c.toml") << text;
+    BOOST_TEST_REQUIRE(run_jam("campaign run --quiet " + (kDir / "c.toml").string()) == 0);
+  }
+  ~Campaign() { fs::remove_all(kDir); }
+};
+
+}  // namespace
+
+BOOST_FIXTURE_TEST_SUITE(stats, Campaign)
+
+BOOST_AUTO_TEST_CASE(schema_shapes_and_means) {
+  std::string out;
+  BOOST_TEST_REQUIRE(run_jam("stats " + (kDir / "ci").string(), &out) == 0, out);
+  BOOST_TEST(out.find("16 runs averaged") != std::string::npos, out);
+  const jam::h5::File f = jam::h5::File::open_read((kDir / "ci" / "stats.h5").string());
+  BOOST_TEST(f.read_attribute_string("campaign") == "ci");
+  BOOST_TEST(f.read_attribute_int("runs") == 16);
+  const std::string g = "ensembles/n256_phi0.7000_r-3.00";
+  BOOST_TEST(f.read_attribute_int("samples", g) == 2);
+  const auto phi = f.read_dataset(g + "/constant_phi/packing_fraction");
+  const auto mean = f.read_dataset(g + "/constant_phi/pressure_mean");
+  const auto err = f.read_dataset(g + "/constant_phi/pressure_error");
+  const auto samples = f.read_dataset(g + "/constant_phi/pressure_samples");
+  BOOST_TEST_REQUIRE(phi.size() > 10u);
+  BOOST_TEST(mean.size() == phi.size());
+  BOOST_TEST(samples.size() == 2 * phi.size());
+  // Grid on multiples of phi_step inside every sample's range.
+  BOOST_TEST(std::abs(phi.front() / 0.002 - std::round(phi.front() / 0.002)) < 1e-9);
+  for (std::size_t k = 0; k < phi.size(); ++k) {
+    const double a = samples[k], b = samples[phi.size() + k];
+    BOOST_TEST(mean[k] == 0.5 * (a + b), boost::test_tools::tolerance(1e-14));
+    BOOST_TEST(err[k] == std::abs(a - b) / 2.0, boost::test_tools::tolerance(1e-12));
+  }
+  const auto z = f.read_dataset(g + "/constant_z/contacts_per_particle");
+  BOOST_TEST(f.read_dataset(g + "/constant_z/packing_fraction_mean").size() == z.size());
+  BOOST_TEST(f.read_attribute_string("error_method", g + "/constant_phi").find("sigma/sqrt") !=
+             std::string::npos);
+  // The scan table exists; every row either fitted or says why not.
+  BOOST_TEST(f.read_dataset("fit/scan/phi_j").size() == f.read_dataset("fit/scan/rate_max").size());
+}
+
+BOOST_AUTO_TEST_CASE(pooled_sizes_and_held_exponents) {
+  std::string out;
+  BOOST_TEST_REQUIRE(
+      run_jam("stats --pool-sizes --fix-paper-exponents --order 3 " + (kDir / "ci").string(),
+              &out) == 0,
+      out);
+  const jam::h5::File f = jam::h5::File::open_read((kDir / "ci" / "stats.h5").string());
+  BOOST_TEST(f.read_attribute_int("pooled_sizes") == 1);
+  BOOST_TEST(f.read_attribute_int("samples", "ensembles/pooled_phi0.7000_r-3.00") == 4);
+  if (f.has_dataset("fit/representative/coefficients")) {
+    BOOST_TEST(f.read_attribute_string("fixed", "fit/representative") == "q, 1/(z nu)");
+    BOOST_TEST(f.read_attribute_double("q", "fit/representative") == 1.12 / 3.75,
+               boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(f.read_attribute_double("beta", "fit/representative") == 2.63,
+               boost::test_tools::tolerance(1e-12));
+  } else {
+    BOOST_TEST(f.read_attribute_string("failure", "fit").size() > 0u);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(no_finished_runs_is_an_error) {
+  for (const auto& e : fs::directory_iterator(kDir / "ci" / "runs")) fs::remove(e.path());
+  fs::remove(kDir / "ci" / "stats.h5");
+  std::string out;
+  BOOST_TEST(run_jam("stats " + (kDir / "ci").string(), &out) != 0);
+  BOOST_TEST(out.find("no finished runs") != std::string::npos, out);
+  BOOST_TEST(!fs::exists(kDir / "ci" / "stats.h5"));
+}
+
+BOOST_AUTO_TEST_SUITE_END()
