@@ -144,3 +144,21 @@ BOOST_AUTO_TEST_CASE(shrunk_covariance_and_chi2) {
     for (double& x : row) x = g(rng);
   BOOST_TEST(shrunk_covariance_of_mean(dev).lambda > 0.5);
 }
+
+BOOST_AUTO_TEST_CASE(interpolation_and_grouping) {
+  const std::vector<double> x = {0.1, 0.2, 0.4}, y = {1.0, 3.0, 7.0};
+  BOOST_TEST(interpolate(x, y, 0.1) == 1.0);
+  BOOST_TEST(interpolate(x, y, 0.3) == 5.0, boost::test_tools::tolerance(1e-14));
+  BOOST_TEST(interpolate(x, y, 0.4) == 7.0);
+  BOOST_TEST(std::isnan(interpolate(x, y, 0.41)));
+  BOOST_TEST(std::isnan(interpolate(x, y, 0.09)));
+  RunCurves a, b, c;
+  a.n = 64, b.n = 128, c.n = 64;
+  a.log10_rate = b.log10_rate = -3;
+  c.log10_rate = -4;
+  const Ensembles separate = group_runs({a, b, c}, false);
+  BOOST_TEST(separate.size() == 3u);
+  const Ensembles pooled = group_runs({a, b, c}, true);
+  BOOST_TEST(pooled.size() == 2u);
+  BOOST_TEST(pooled.at(EnsembleKey{0, 0.0, -3}).size() == 2u);
+}
