@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "app/campaign_command.hpp"
+#include "app/check_command.hpp"
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
 #include "sim/version.hpp"
@@ -24,6 +25,8 @@ int main(int argc, char** argv) {
   jam::add_campaign_command(app, campaign_args);
   jam::StatsArgs stats_args;
   jam::add_stats_command(app, stats_args);
+  jam::CheckArgs check_args;
+  jam::add_check_command(app, check_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -41,6 +44,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("sim")) return jam::run_sim_command(sim_config);
     if (app.got_subcommand("campaign")) return jam::run_campaign_command(app, campaign_args, ranks);
     if (app.got_subcommand("stats")) return jam::run_stats_command(stats_args);
+    if (app.got_subcommand("check")) return jam::run_check_command(check_args);
   } catch (const std::exception& e) {
     fmt::print(stderr, "jam: error: {}\n", e.what());
     return 1;

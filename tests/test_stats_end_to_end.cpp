@@ -97,6 +97,24 @@ BOOST_AUTO_TEST_CASE(pooled_sizes_and_held_exponents) {
   }
 }
 
+BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
+  const std::string dir = (kDir / "ci").string();
+  std::string out;
+  BOOST_TEST(run_jam("check all " + dir, &out) != 0);  // before stats: an error, no verdict
+  BOOST_TEST(out.find("run `jam stats") != std::string::npos, out);
+  BOOST_TEST_REQUIRE(run_jam("stats " + dir) == 0);
+  const int status = run_jam("check all " + dir, &out);
+  BOOST_TEST(out.find("passed,") != std::string::npos, out);
+  const std::string json = slurp(kDir / "ci" / "checks.json");
+  const bool any_fail = json.find("\"status\": \"fail\"") != std::string::npos;
+  BOOST_TEST(status == (any_fail ? 1 : 0));
+  BOOST_TEST(slurp(kDir / "ci" / "checks.xml").find("<testsuite name=\"jam.check.all\"") !=
+             std::string::npos);
+  BOOST_TEST(run_jam("check finite_size " + dir + " --set-a size=3 --set-b n=128", &out) != 0);
+  BOOST_TEST(out.find("size=3") != std::string::npos, out);
+  BOOST_TEST(run_jam("check nonsense " + dir, &out) != 0);
+}
+
 BOOST_AUTO_TEST_CASE(no_finished_runs_is_an_error) {
   for (const auto& e : fs::directory_iterator(kDir / "ci" / "runs")) fs::remove(e.path());
   fs::remove(kDir / "ci" / "stats.h5");

@@ -184,6 +184,22 @@ std::vector<double> File::read_dataset(const std::string& name) const {
   return read_array<double>(id(), path_, name, H5T_NATIVE_DOUBLE);
 }
 
+std::vector<std::string> File::list_group(const std::string& group) const {
+  Handle g(check(H5Gopen2(id(), group.c_str(), H5P_DEFAULT),
+                 fmt::format("{}: missing group '{}'", path_, group)),
+           H5Gclose);
+  H5G_info_t info;
+  check_status(H5Gget_info(g.get(), &info), path_ + ": cannot read group " + group);
+  std::vector<std::string> names;
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    const ssize_t size = H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
+    std::string name(static_cast<std::size_t>(size), '\0');
+    H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1, H5P_DEFAULT);
+    names.push_back(name);
+  }
+  return names;
+}
+
 std::vector<std::uint32_t> File::read_dataset_u32(const std::string& name) const {
   return read_array<std::uint32_t>(id(), path_, name, H5T_NATIVE_UINT32);
 }

@@ -61,6 +61,8 @@ class File {
   std::int64_t read_attribute_int(const std::string& name, const std::string& object = ".") const;
   std::string read_attribute_string(const std::string& name, const std::string& object = ".") const;
   std::vector<double> read_dataset(const std::string& name) const;
+  /// Names of the links (groups, datasets) directly inside a group, in name order.
+  std::vector<std::string> list_group(const std::string& group) const;
   std::vector<std::uint32_t> read_dataset_u32(const std::string& name) const;
 
  private:

@@ -1,0 +1,59 @@
+#include "app/check_command.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "sim/io/atomic_file.hpp"
+
+namespace jam {
+
+void add_check_command(CLI::App& app, CheckArgs& a) {
+  CLI::App* c = app.add_subcommand(
+      "check",
+      "Statistical verdicts from DIR/stats.h5: finite_size, sample_pairs, phi_init or all");
+  c->option_defaults()->always_capture_default();
+  c->add_option("name", a.name, "finite_size, sample_pairs, phi_init or all")
+      ->required()
+      ->check(CLI::IsMember({"finite_size", "sample_pairs", "phi_init", "all"}));
+  c->add_option("directory", a.directory, "Campaign directory (after `jam stats`)")->required();
+  c->add_option("--alpha", a.options.alpha,
+                "False-alarm rate of each check (Bonferroni over its comparisons)");
+  c->add_option("--permutations", a.options.permutations,
+                "Permutations of whole runs for null distributions");
+  c->add_option("--phi-min", a.phi_min,
+                "phi_init check: compare from this packing (default phi_J - 0.03)");
+  c->add_option("--set-a", a.set_a, "finite_size: first run set, e.g. n=1024,phi_init=0.6,rate=-4");
+  c->add_option("--set-b", a.set_b, "finite_size: second run set");
+}
+
+int run_check_command(const CheckArgs& a) {
+  checks::CheckOptions o = a.options;
+  if (!(o.alpha > 0 && o.alpha < 1))
+    throw std::runtime_error(fmt::format("--alpha {:g}: must be in (0, 1)", o.alpha));
+  if (o.permutations < 100)
+    throw std::runtime_error(fmt::format("--permutations {}: at least 100", o.permutations));
+  if (a.phi_min > 0) o.phi_min = a.phi_min;
+  if (!a.set_a.empty() || !a.set_b.empty()) {
+    if (a.set_a.empty() || a.set_b.empty())
+      throw std::runtime_error("--set-a and --set-b go together");
+    o.set_a = checks::RunSetSelector::parse(a.set_a);
+    o.set_b = checks::RunSetSelector::parse(a.set_b);
+  }
+  const checks::StatsData data = checks::read_stats(a.directory);
+  const std::vector<checks::Verdict> verdicts = checks::run_check(a.name, data, o);
+  fmt::print("{}", checks::format_table(verdicts));
+  const std::filesystem::path dir(a.directory);
+  for (const auto& [file, text] :
+       {std::pair{dir / "checks.json", checks::to_json(verdicts)},
+        std::pair{dir / "checks.xml", checks::to_junit_xml(verdicts, "jam.check." + a.name)}}) {
+    AtomicFile out(file.string());
+    std::fputs(text.c_str(), out.stream());
+    out.commit();
+  }
+  fmt::print("wrote {} and {}\n", (dir / "checks.json").string(), (dir / "checks.xml").string());
+  return checks::exit_status(verdicts);
+}
+
+}  // namespace jam

@@ -1,0 +1,21 @@
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include "checks/checks.hpp"
+
+namespace jam {
+
+struct CheckArgs {
+  std::string name, directory, set_a, set_b;
+  checks::CheckOptions options;
+  double phi_min = -1.0;
+};
+
+/// Registers `jam check NAME DIR`.
+void add_check_command(CLI::App& app, CheckArgs& args);
+
+/// Runs the check, prints the table, writes DIR/checks.json and DIR/checks.xml; returns 1 if a
+/// check failed.
+int run_check_command(const CheckArgs& args);
+
+}  // namespace jam

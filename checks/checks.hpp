@@ -1,0 +1,36 @@
+#pragma once
+// The checks of `jam check NAME DIR`: each turns the per-sample tables of DIR/stats.h5 into
+// verdicts (checks/verdict.hpp).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "checks/stats_data.hpp"
+#include "checks/verdict.hpp"
+
+namespace jam::checks {
+
+/// Names a run set: an ensemble of stats.h5 by size, phi_init and log10 rate
+/// (written "n=1024,phi_init=0.6,rate=-4"; fields left out match anything).
+struct RunSetSelector {
+  std::optional<std::int64_t> n;
+  std::optional<double> phi_init, log10_rate;
+  static RunSetSelector parse(const std::string& text);  // throws naming the bad field
+  bool matches(const EnsembleTables& e) const;
+};
+
+struct CheckOptions {
+  double alpha = 0.05;  // false-alarm rate of a whole check (Bonferroni over its comparisons)
+  int permutations = 2000;
+  std::optional<double> phi_min;  // phi_init check: compare from here (default phi_J - 0.03)
+  std::optional<RunSetSelector> set_a, set_b;  // finite-size check of two named run sets
+};
+
+std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o);
+std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& o);
+std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o);
+
+/// Runs one check by name ("finite_size", "sample_pairs", "phi_init" or "all").
+std::vector<Verdict> run_check(const std::string& name, const StatsData& d, const CheckOptions& o);
+
+}  // namespace jam::checks

@@ -1,0 +1,143 @@
+// Finite size (the paper's supplement, "relE-p" and "relE-p-constZ"): Delta p/p between two
+// system sizes against phi and against Z, for every phi_init and rate; one verdict per
+// comparison, each at alpha / (number of comparisons) so the whole check's false-alarm rate
+// is alpha.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "checks/checks.hpp"
+#include "checks/relative_difference.hpp"
+
+namespace jam::checks {
+namespace {
+
+struct Comparison {
+  const EnsembleTables* a;
+  const EnsembleTables* b;
+  bool at_z;
+  std::string label;
+};
+
+Verdict judge(const Comparison& c, double alpha, int permutations) {
+  Verdict v;
+  v.check = "finite_size";
+  v.case_name = c.label;
+  v.statistic_name = "max |Delta p/p| / sigma";
+  const auto& ga = c.at_z ? c.a->z_grid : c.a->phi_grid;
+  const auto& gb = c.at_z ? c.b->z_grid : c.b->phi_grid;
+  const Aligned al = align(ga, c.at_z ? c.a->pressure_at_z : c.a->pressure_at_phi, gb,
+                           c.at_z ? c.b->pressure_at_z : c.b->pressure_at_phi);
+  if (al.grid.empty() || al.a.size() < 2 || al.b.size() < 2) {
+    v.status = "skipped";
+    v.reason = "no common grid points or fewer than 2 samples per set";
+    return v;
+  }
+  try {
+    const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, permutations);
+    v.statistic = r.statistic;
+    v.threshold = r.critical;
+    v.detectable = r.detectable;
+    v.excluded_above = r.excluded_above;
+    v.status = r.p_value <= alpha ? "fail" : "pass";
+    v.reason = fmt::format(
+        "permutation p = {:.3g} (alpha {:.3g}, {} permutations of whole runs); "
+        "|Delta p/p| > {:.3g} excluded",
+        r.p_value, alpha, r.permutations, r.excluded_above);
+  } catch (const std::invalid_argument& e) {
+    v.status = "skipped";
+    v.reason = e.what();
+  }
+  return v;
+}
+
+std::string describe(const EnsembleTables& e) {
+  return fmt::format("n{} phi_init {:g} rate 1e{:g}", e.n, e.phi_init, e.log10_rate);
+}
+
+}  // namespace
+
+std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o) {
+  std::vector<Comparison> comparisons;
+  if (o.set_a && o.set_b) {
+    const EnsembleTables *a = nullptr, *b = nullptr;
+    for (const auto& e : d.ensembles) {
+      if (!a && o.set_a->matches(e))
+        a = &e;
+      else if (!b && o.set_b->matches(e))
+        b = &e;
+    }
+    if (!a || !b) {
+      return {skipped("finite_size", "named run sets",
+                      "a named run set matches no ensemble of stats.h5")};
+    }
+    for (bool z : {false, true}) {
+      comparisons.push_back(
+          {a, b, z,
+           fmt::format("{} vs {}, constant {}", describe(*a), describe(*b), z ? "Z" : "phi")});
+    }
+  } else {
+    if (d.pooled) {
+      return {skipped("finite_size", "all",
+                      "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
+    }
+    // Smallest against largest size at every (phi_init, rate).
+    std::map<std::pair<double, double>, std::map<std::int64_t, const EnsembleTables*>> by;
+    for (const auto& e : d.ensembles) by[{e.phi_init, e.log10_rate}][e.n] = &e;
+    for (const auto& [key, sizes] : by) {
+      if (sizes.size() < 2) continue;
+      const auto* a = sizes.begin()->second;
+      const auto* b = sizes.rbegin()->second;
+      for (bool z : {false, true}) {
+        comparisons.push_back({a, b, z,
+                               fmt::format("n{} vs n{}, phi_init {:g}, rate 1e{:g}, constant {}",
+                                           a->n, b->n, key.first, key.second, z ? "Z" : "phi")});
+      }
+    }
+    if (comparisons.empty()) {
+      return {skipped("finite_size", "all", "the campaign has a single system size")};
+    }
+  }
+  std::vector<Verdict> out;
+  const double each = o.alpha / static_cast<double>(comparisons.size());
+  for (const auto& c : comparisons) out.push_back(judge(c, each, o.permutations));
+  return out;
+}
+
+RunSetSelector RunSetSelector::parse(const std::string& text) {
+  RunSetSelector s;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    const std::string field = text.substr(start, end - start);
+    const std::size_t eq = field.find('=');
+    if (eq == std::string::npos)
+      throw std::invalid_argument(
+          fmt::format("run set '{}': field '{}' is not key=value", text, field));
+    const std::string key = field.substr(0, eq), value = field.substr(eq + 1);
+    try {
+      if (key == "n")
+        s.n = std::stoll(value);
+      else if (key == "phi_init")
+        s.phi_init = std::stod(value);
+      else if (key == "rate")
+        s.log10_rate = std::stod(value);
+      else
+        throw std::invalid_argument("");
+    } catch (const std::exception&) {
+      throw std::invalid_argument(
+          fmt::format("run set '{}': field '{}' (keys: n, phi_init, rate as log10)", text, field));
+    }
+    start = end + 1;
+  }
+  return s;
+}
+
+bool RunSetSelector::matches(const EnsembleTables& e) const {
+  return (!n || *n == e.n) && (!phi_init || std::abs(*phi_init - e.phi_init) < 1e-9) &&
+         (!log10_rate || std::abs(*log10_rate - e.log10_rate) < 1e-9);
+}
+
+}  // namespace jam::checks

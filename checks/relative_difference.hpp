@@ -1,0 +1,36 @@
+#pragma once
+// The statistic behind the finite-size and phi_init checks: the relative pressure difference
+// of two run sets A and B on a common grid (the paper's supplement),
+//   Delta_k = 2 (p_A - p_B) / (p_A + p_B),  sigma_k from the sample errors of both means,
+// and a test that Delta is zero over the whole grid.
+//
+// Test: T = max_k |Delta_k| / sigma_k. Neighbouring grid points come from the same runs and
+// are strongly correlated, so T's null distribution is not taken from a formula but obtained
+// by permuting whole runs between A and B (exchangeable when there is no difference): the
+// p-value is the fraction of label permutations with T >= T_observed. The (1 - alpha)
+// quantile c of that distribution gives a simultaneous band |Delta_k - true_k| <= c sigma_k, so
+//   - the data exclude any effect larger than  max_k (|Delta_k| + c sigma_k)  (equivalence bound),
+//   - the smallest effect it could have detected is c times the median sigma_k.
+#include <cstdint>
+#include <vector>
+
+namespace jam::checks {
+
+struct RelativeDifference {
+  std::vector<std::size_t> points;   // grid indices compared (finite and positive in both sets)
+  std::vector<double> delta, sigma;  // per compared point
+  double statistic = 0;              // T = max |Delta| / sigma
+  double p_value = 1;                // permutation p-value of T
+  double critical = 0;               // c, the (1 - alpha) quantile of T under permutation
+  double excluded_above = 0;         // max_k (|Delta_k| + c sigma_k)
+  double detectable = 0;             // c * median sigma_k
+  int permutations = 0;
+};
+
+/// a, b: [sample][point] on the same grid (points where either table has NaN are dropped).
+/// alpha: the false-alarm rate of this one comparison. Deterministic for a given seed.
+RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
+                                    const std::vector<std::vector<double>>& b, double alpha,
+                                    int permutations = 2000, std::uint64_t seed = 1);
+
+}  // namespace jam::checks

@@ -1,0 +1,133 @@
+// Sample pairs (the paper's panels "#16 -- #32"): Delta p/p between sample i of one size and
+// sample i of the other, and whether its spread matches the sample-to-sample fluctuations
+// measured within each size. Statistic R = mean over points of <Delta_pair^2> / (v_a + v_b),
+// v the relative sample variance within a size: about 1 when the pairs differ only by
+// sample-to-sample noise, above 1 when the sizes differ systematically, below when samples
+// are not independent. Its two-sided acceptance band comes from permuting whole runs.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <random>
+
+#include "checks/checks.hpp"
+
+namespace jam::checks {
+namespace {
+
+double pair_ratio(const std::vector<const std::vector<double>*>& a,
+                  const std::vector<const std::vector<double>*>& b) {
+  const std::size_t m = a.front()->size(), pairs = std::min(a.size(), b.size());
+  auto relative_variance = [&](const std::vector<const std::vector<double>*>& set, std::size_t k) {
+    double mean = 0.0, ss = 0.0;
+    for (const auto* r : set) mean += (*r)[k] / static_cast<double>(set.size());
+    for (const auto* r : set) ss += ((*r)[k] - mean) * ((*r)[k] - mean);
+    return ss / static_cast<double>(set.size() - 1) / (mean * mean);
+  };
+  double sum = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    double d2 = 0.0;
+    for (std::size_t i = 0; i < pairs; ++i) {
+      const double pa = (*a[i])[k], pb = (*b[i])[k];
+      const double d = 2.0 * (pa - pb) / (pa + pb);
+      d2 += d * d / static_cast<double>(pairs);
+    }
+    sum += d2 / (relative_variance(a, k) + relative_variance(b, k));
+  }
+  return sum / static_cast<double>(m);
+}
+
+}  // namespace
+
+std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& o) {
+  if (d.pooled) {
+    return {skipped("sample_pairs", "all",
+                    "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
+  }
+  std::map<std::pair<double, double>, std::map<std::int64_t, const EnsembleTables*>> by;
+  for (const auto& e : d.ensembles) by[{e.phi_init, e.log10_rate}][e.n] = &e;
+  std::size_t comparisons = 0;
+  for (const auto& [key, sizes] : by) comparisons += sizes.size() >= 2;
+  if (comparisons == 0)
+    return {skipped("sample_pairs", "all", "the campaign has a single system size")};
+  const double alpha = o.alpha / static_cast<double>(comparisons);
+  std::vector<Verdict> out;
+  for (const auto& [key, sizes] : by) {
+    if (sizes.size() < 2) continue;
+    const auto* ea = sizes.begin()->second;
+    const auto* eb = sizes.rbegin()->second;
+    Verdict v;
+    v.check = "sample_pairs";
+    v.case_name = fmt::format("n{} #i vs n{} #i, phi_init {:g}, rate 1e{:g}", ea->n, eb->n,
+                              key.first, key.second);
+    v.statistic_name = "<Delta_pair^2> / (v_a + v_b)";
+    const Aligned al = align(ea->phi_grid, ea->pressure_at_phi, eb->phi_grid, eb->pressure_at_phi);
+    // Points where every sample has a positive pressure.
+    std::vector<std::size_t> keep;
+    for (std::size_t k = 0; k < al.grid.size(); ++k) {
+      bool ok = true;
+      for (const auto& r : al.a) ok = ok && r[k] > 0 && std::isfinite(r[k]);
+      for (const auto& r : al.b) ok = ok && r[k] > 0 && std::isfinite(r[k]);
+      if (ok) keep.push_back(k);
+    }
+    if (keep.empty() || al.a.size() < 3 || al.b.size() < 3) {
+      v.status = "skipped";
+      v.reason = "fewer than 3 samples per size or no common grid points";
+      out.push_back(v);
+      continue;
+    }
+    std::vector<std::vector<double>> rows;
+    for (const auto* set : {&al.a, &al.b})
+      for (const auto& r : *set) {
+        std::vector<double> x;
+        for (auto k : keep) x.push_back(r[k]);
+        rows.push_back(std::move(x));
+      }
+    std::vector<const std::vector<double>*> a, b;
+    for (std::size_t i = 0; i < rows.size(); ++i) (i < al.a.size() ? a : b).push_back(&rows[i]);
+    v.statistic = pair_ratio(a, b);
+    std::mt19937_64 rng(2);
+    std::vector<std::size_t> order(rows.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::vector<double> null;
+    for (int p = 0; p < o.permutations; ++p) {
+      std::shuffle(order.begin(), order.end(), rng);
+      std::vector<const std::vector<double>*> pa, pb;
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        (i < al.a.size() ? pa : pb).push_back(&rows[order[i]]);
+      null.push_back(pair_ratio(pa, pb));
+    }
+    std::sort(null.begin(), null.end());
+    const auto quantile = [&](double q) {
+      return null[std::min(null.size() - 1,
+                           static_cast<std::size_t>(q * static_cast<double>(null.size())))];
+    };
+    const double lo = quantile(alpha / 2), hi = quantile(1 - alpha / 2);
+    v.threshold = hi;
+    // A uniform systematic difference delta adds delta^2 / (v_a + v_b) to R: the smallest one
+    // that reaches the threshold from R = 1.
+    double v_sum = 0.0;
+    for (std::size_t k = 0; k < keep.size(); ++k) {
+      double ma = 0, sa = 0, mb = 0, sb = 0;
+      for (const auto* r : a) ma += (*r)[k] / static_cast<double>(a.size());
+      for (const auto* r : a)
+        sa += ((*r)[k] - ma) * ((*r)[k] - ma) / static_cast<double>(a.size() - 1);
+      for (const auto* r : b) mb += (*r)[k] / static_cast<double>(b.size());
+      for (const auto* r : b)
+        sb += ((*r)[k] - mb) * ((*r)[k] - mb) / static_cast<double>(b.size() - 1);
+      v_sum += sa / (ma * ma) + sb / (mb * mb);
+    }
+    v.detectable = std::sqrt(std::max(0.0, hi - 1.0) * v_sum / static_cast<double>(keep.size()));
+    v.status = v.statistic < lo || v.statistic > hi ? "fail" : "pass";
+    v.reason = fmt::format(
+        "R = {:.3g}, permutation band [{:.3g}, {:.3g}] (alpha {:.3g}); "
+        "spread of single pairs vs within-size fluctuations",
+        v.statistic, lo, hi, alpha);
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace jam::checks

@@ -1,0 +1,88 @@
+#include "checks/stats_data.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "sim/io/hdf5_file.hpp"
+
+namespace jam::checks {
+namespace {
+
+std::vector<std::vector<double>> table(const h5::File& f, const std::string& name, std::size_t m) {
+  const auto flat = f.read_dataset(name);
+  std::vector<std::vector<double>> rows;
+  for (std::size_t s = 0; m > 0 && s * m < flat.size(); ++s) {
+    rows.emplace_back(flat.begin() + static_cast<long>(s * m),
+                      flat.begin() + static_cast<long>((s + 1) * m));
+  }
+  return rows;
+}
+
+}  // namespace
+
+StatsData read_stats(const std::string& directory) {
+  const std::string path = (std::filesystem::path(directory) / "stats.h5").string();
+  if (!std::filesystem::exists(path)) {
+    throw std::runtime_error(
+        fmt::format("{}: no stats.h5; run `jam stats {}` first", directory, directory));
+  }
+  const h5::File f = h5::File::open_read(path);
+  StatsData d;
+  d.campaign = f.read_attribute_string("campaign");
+  d.dim = static_cast<int>(f.read_attribute_int("dim"));
+  d.pooled = f.read_attribute_int("pooled_sizes") != 0;
+  for (const auto& name : f.list_group("ensembles")) {
+    const std::string g = "ensembles/" + name;
+    EnsembleTables e;
+    e.name = name;
+    e.n = f.read_attribute_int("n", g);
+    e.phi_init = f.read_attribute_double("phi_init", g);
+    e.log10_rate = f.read_attribute_double("log10_rate", g);
+    e.phi_grid = f.read_dataset(g + "/constant_phi/packing_fraction");
+    e.pressure_at_phi = table(f, g + "/constant_phi/pressure_samples", e.phi_grid.size());
+    if (f.has_dataset(g + "/constant_z")) {
+      const auto groups = f.list_group(g + "/constant_z");
+      const std::string grid_name =
+          std::find(groups.begin(), groups.end(), "contacts_per_particle") != groups.end()
+              ? "contacts_per_particle"
+              : "contacts_per_particle_no_rattlers";
+      e.z_grid = f.read_dataset(g + "/constant_z/" + grid_name);
+      e.pressure_at_z = table(f, g + "/constant_z/pressure_samples", e.z_grid.size());
+    }
+    d.ensembles.push_back(std::move(e));
+  }
+  return d;
+}
+
+Aligned align(const std::vector<double>& ga, const std::vector<std::vector<double>>& a,
+              const std::vector<double>& gb, const std::vector<std::vector<double>>& b,
+              double grid_min) {
+  Aligned r;
+  std::vector<std::size_t> ia, ib;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < ga.size(); ++i) {
+    while (j < gb.size() && gb[j] < ga[i] - 1e-9) ++j;
+    if (j < gb.size() && std::abs(gb[j] - ga[i]) < 1e-9 && ga[i] >= grid_min - 1e-12) {
+      ia.push_back(i);
+      ib.push_back(j);
+      r.grid.push_back(ga[i]);
+    }
+  }
+  for (const auto& row : a) {
+    std::vector<double> v;
+    for (auto i : ia) v.push_back(row[i]);
+    r.a.push_back(std::move(v));
+  }
+  for (const auto& row : b) {
+    std::vector<double> v;
+    for (auto i : ib) v.push_back(row[i]);
+    r.b.push_back(std::move(v));
+  }
+  return r;
+}
+
+}  // namespace jam::checks

@@ -1,0 +1,39 @@
+#pragma once
+// What the checks read: the per-sample tables of DIR/stats.h5 (never the runs themselves).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace jam::checks {
+
+struct EnsembleTables {
+  std::string name;
+  std::int64_t n = 0;
+  double phi_init = 0, log10_rate = 0;
+  std::vector<double> phi_grid;
+  std::vector<std::vector<double>> pressure_at_phi;  // [sample][point]
+  std::vector<double> z_grid;
+  std::vector<std::vector<double>> pressure_at_z;  // empty when no constant-Z average
+};
+
+struct StatsData {
+  std::string campaign;
+  int dim = 2;
+  bool pooled = false;
+  std::vector<EnsembleTables> ensembles;
+};
+
+/// Reads DIR/stats.h5; throws with a message to run `jam stats DIR` when it is missing.
+StatsData read_stats(const std::string& directory);
+
+/// Rows of two tables restricted to the grid values both grids have (multiples of a step).
+struct Aligned {
+  std::vector<double> grid;
+  std::vector<std::vector<double>> a, b;
+};
+Aligned align(const std::vector<double>& grid_a, const std::vector<std::vector<double>>& a,
+              const std::vector<double>& grid_b, const std::vector<std::vector<double>>& b,
+              double grid_min = -1e300);
+
+}  // namespace jam::checks

@@ -1,0 +1,159 @@
+// The statistical checks on synthetic run sets with run-to-run correlated noise: each passes
+// on data that should pass and fails on data with a planted difference, the false-alarm rate
+// of the finite-size test is measured over many repeats, and the JSON and JUnit outputs parse.
+#define BOOST_TEST_MODULE checks
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "checks/checks.hpp"
+#include "checks/relative_difference.hpp"
+
+using namespace jam::checks;
+
+namespace {
+
+// S runs of p(phi) = exp(30 (phi - 0.84)) * (1 + shift) * exp(eps), eps an AR(1) process
+// along the grid (neighbour correlation 0.9, 10% amplitude), like the scatter of real runs.
+std::vector<std::vector<double>> runs(int samples, double shift, std::mt19937_64& rng,
+                                      std::size_t points = 60) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<std::vector<double>> t;
+  for (int s = 0; s < samples; ++s) {
+    std::vector<double> row;
+    double eps = 0.1 * g(rng);
+    for (std::size_t k = 0; k < points; ++k) {
+      const double phi = 0.80 + 0.001 * static_cast<double>(k);
+      row.push_back(std::exp(30 * (phi - 0.84)) * (1 + shift) * std::exp(eps));
+      eps = 0.9 * eps + 0.1 * std::sqrt(1 - 0.81) * g(rng);
+    }
+    t.push_back(std::move(row));
+  }
+  return t;
+}
+
+EnsembleTables ensemble(std::int64_t n, double phi_init, double log10_rate,
+                        std::vector<std::vector<double>> p) {
+  EnsembleTables e;
+  e.n = n;
+  e.phi_init = phi_init;
+  e.log10_rate = log10_rate;
+  for (std::size_t k = 0; k < p.front().size(); ++k) e.phi_grid.push_back(0.80 + 0.001 * k);
+  e.pressure_at_phi = std::move(p);
+  return e;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(finite_size_false_alarm_rate_is_nominal) {
+  // Two independent run sets from the same distribution, 400 times: the fraction of failures
+  // at alpha = 0.05 must be near 0.05 (binomial sd 0.011 for 400 repeats; accept 0.02 .. 0.09).
+  std::mt19937_64 rng(1);
+  int alarms = 0;
+  const int repeats = 400;
+  for (int r = 0; r < repeats; ++r) {
+    const auto a = runs(10, 0.0, rng), b = runs(10, 0.0, rng);
+    alarms += compare_run_sets(a, b, 0.05, 400, 1000 + r).p_value <= 0.05;
+  }
+  const double rate = double(alarms) / repeats;
+  BOOST_TEST_MESSAGE("measured false-alarm rate at alpha 0.05: " << rate);
+  BOOST_TEST(rate > 0.02);
+  BOOST_TEST(rate < 0.09);
+}
+
+BOOST_AUTO_TEST_CASE(finite_size_detects_a_planted_difference_and_bounds_what_it_excludes) {
+  std::mt19937_64 rng(2);
+  // 15% systematic difference with 10% sample scatter and 10 samples each: detected.
+  const auto a = runs(10, 0.15, rng), b = runs(10, 0.0, rng);
+  const RelativeDifference r = compare_run_sets(a, b, 0.05);
+  BOOST_TEST(r.p_value <= 0.05);
+  BOOST_TEST(r.statistic > r.critical);
+  // No difference: passes, and the excluded bound covers the (zero) truth with a margin
+  // comparable to the detectable effect.
+  const auto c = runs(10, 0.0, rng);
+  const RelativeDifference s = compare_run_sets(c, b, 0.05);
+  BOOST_TEST(s.p_value > 0.05);
+  BOOST_TEST(s.excluded_above > 0.0);
+  BOOST_TEST(s.excluded_above < 0.3);
+  BOOST_TEST(s.detectable > 0.01);
+  BOOST_TEST(s.detectable < s.excluded_above);
+  BOOST_CHECK_THROW(compare_run_sets({a[0]}, b, 0.05), std::invalid_argument);
+}
+
+BOOST_AUTO_TEST_CASE(checks_on_stats_data_pass_and_fail_as_planted) {
+  std::mt19937_64 rng(3);
+  StatsData clean, planted;
+  for (double rate : {-3.0, -4.0}) {
+    clean.ensembles.push_back(ensemble(1024, 0.6, rate, runs(10, 0.0, rng)));
+    clean.ensembles.push_back(ensemble(2048, 0.6, rate, runs(10, 0.0, rng)));
+    clean.ensembles.push_back(ensemble(1024, 0.8, rate, runs(10, 0.0, rng)));
+    planted.ensembles.push_back(ensemble(1024, 0.6, rate, runs(10, 0.0, rng)));
+    planted.ensembles.push_back(
+        ensemble(2048, 0.6, rate, runs(10, rate == -3.0 ? 0.25 : 0.0, rng)));
+    planted.ensembles.push_back(
+        ensemble(1024, 0.8, rate, runs(10, rate == -3.0 ? -0.3 : 0.0, rng)));
+  }
+  CheckOptions o;
+  o.permutations = 500;
+  o.phi_min = 0.80;
+  int passed = 0;
+  for (const auto& v : run_check("all", clean, o)) {
+    // The synthetic sets have no constant-Z tables: those comparisons are skipped, with why.
+    BOOST_TEST(
+        v.status == (v.case_name.find("constant Z") != std::string::npos ? "skipped" : "pass"),
+        v.check << " " << v.case_name);
+    passed += v.status == "pass";
+  }
+  BOOST_TEST(passed == 2 + 2 + 2);  // finite size (phi), sample pairs, phi_init at two rates
+  int failed = 0;
+  for (const auto& v : run_check("all", planted, o)) {
+    const bool should_fail = v.case_name.find("rate 1e-3") != std::string::npos &&
+                             v.case_name.find("constant Z") == std::string::npos;
+    if (should_fail) BOOST_TEST(v.status == "fail", v.check << " " << v.case_name);
+    failed += v.status == "fail";
+  }
+  BOOST_TEST(failed == 3);  // finite size, sample pairs and phi_init at rate 1e-3
+  // Named run sets: the same size at two rates that differ (a planted change of rate).
+  StatsData rates;
+  rates.ensembles.push_back(ensemble(1024, 0.6, -3.0, runs(10, 0.0, rng)));
+  rates.ensembles.push_back(ensemble(1024, 0.6, -4.0, runs(10, 0.2, rng)));
+  o.set_a = RunSetSelector::parse("n=1024,rate=-3");
+  o.set_b = RunSetSelector::parse("rate=-4");
+  const auto v = finite_size_check(rates, o);
+  BOOST_TEST_REQUIRE(!v.empty());
+  BOOST_TEST(v.front().status == "fail");
+  BOOST_CHECK_THROW(RunSetSelector::parse("size=3"), std::invalid_argument);
+}
+
+BOOST_AUTO_TEST_CASE(json_and_junit_are_valid_and_exit_status_follows_failures) {
+  Verdict pass;
+  pass.check = "finite_size";
+  pass.case_name = "a <vs> b & \"quoted\"";
+  pass.status = "pass";
+  pass.statistic = 1.0;
+  Verdict fail = pass;
+  fail.status = "fail";
+  fail.reason = "p = 0.001 < 'alpha'";
+  const Verdict skip = skipped("phi_init", "all", "single phi_init");
+  BOOST_TEST(exit_status({pass, skip}) == 0);
+  BOOST_TEST(exit_status({pass, fail, skip}) == 1);
+  const auto json = nlohmann::json::parse(to_json({pass, fail, skip}));
+  BOOST_TEST(json.size() == 3u);
+  BOOST_TEST(json[1]["status"] == "fail");
+  BOOST_TEST(json[2]["statistic"].is_null());  // NaN is written as null, not as invalid JSON
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("jam-junit-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "checks.xml") << to_junit_xml({pass, fail, skip}, "jam.check.all");
+  const std::string cmd =
+      "python3 -c \"import xml.etree.ElementTree as E; r = E.parse('" +
+      (dir / "checks.xml").string() +
+      "').getroot(); assert r.get('failures') == '1' and r.get('skipped') == '1' and "
+      "len(r.findall('testcase')) == 3 and len(r.findall('testcase/failure')) == 1\"";
+  BOOST_TEST(std::system(cmd.c_str()) == 0);
+  std::filesystem::remove_all(dir);
+}
