@@ -74,6 +74,13 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     for (const auto& pt : state.points)
       for (const auto& row : pt.stress) stress.insert(stress.end(), row.begin(), row.end());
     f.write_dataset("points_stress", stress);
+    std::vector<double> saved_phi, saved_s;
+    for (const auto& c : state.saved) {
+      saved_phi.push_back(c.packing_fraction);
+      saved_s.insert(saved_s.end(), c.s.begin(), c.s.end());
+    }
+    f.write_dataset("saved_packing_fraction", saved_phi);
+    f.write_dataset("saved_s", saved_s);
     for (const auto& [name, values] : stepper) f.write_dataset("stepper_" + name, values);
     f.write_attribute("stepper_fields", std::int64_t(stepper.size()));
     for (std::size_t k = 0; k < stepper.size(); ++k) {
@@ -119,6 +126,14 @@ std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
   for (auto& pt : c.state.points)
     for (auto& row : pt.stress)
       for (auto& x : row) x = stress.at(at++);
+  const auto saved_phi = f.read_dataset("saved_packing_fraction");
+  const auto saved_s = f.read_dataset("saved_s");
+  const std::size_t per = saved_phi.empty() ? 0 : saved_s.size() / saved_phi.size();
+  for (std::size_t k = 0; k < saved_phi.size(); ++k) {
+    c.state.saved.push_back(
+        {saved_phi[k], std::vector<double>(saved_s.begin() + static_cast<long>(k * per),
+                                           saved_s.begin() + static_cast<long>((k + 1) * per))});
+  }
   const auto fields = f.read_attribute_int("stepper_fields");
   for (std::int64_t k = 0; k < fields; ++k) {
     const std::string name = f.read_attribute_string(fmt::format("stepper_field_{}", k));

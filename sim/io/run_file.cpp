@@ -35,6 +35,15 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
     f.write_attribute("relax_converged", std::int64_t{meta.relax_converged});
     f.write_attribute("steps", meta.steps);
     f.write_attribute("version", std::string(kVersion));
+    if (c.jamming_point) {
+      f.write_attribute("jamming_packing_fraction", meta.jamming_packing_fraction);
+      f.write_attribute("jamming_minimizations", meta.jamming_minimizations);
+      f.write_attribute(
+          "jamming_definition",
+          std::string("lowest packing whose configuration, FIRE-minimized at fixed box "
+                      "to max force < 1e-10, keeps pressure > 1e-8; bisection over "
+                      "output points, refined by affine compression to 1e-5"));
+    }
 
     const std::size_t m = points.size();
     std::vector<double> phi(m), p(m), z(m), e(m), t(m);

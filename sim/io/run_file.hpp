@@ -19,6 +19,8 @@ struct RunMetadata {
   std::int64_t steps = 0;
   std::int64_t relax_steps = 0;
   bool relax_converged = true;
+  double jamming_packing_fraction = 0.0;  // NaN when not bracketed; written only when asked for
+  std::int64_t jamming_minimizations = 0;
 };
 
 /// Writes path atomically (HDF5 to "<path>.partial", renamed when closed).

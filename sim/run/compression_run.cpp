@@ -120,6 +120,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
 
   Progress progress(!c.quiet, c.phi_stop);
   const auto wall_start = Clock::now();
+  std::size_t steps_here = 0;  // relaxation and compression steps done by this invocation
   const std::size_t builds_before = sys.neighbors.builds();
 
   auto write_configuration = [&](const std::string& path, double t, const char* what) {
@@ -128,7 +129,17 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
                       fmt::format("jam {} configuration, dim {} n {} phi {:.17g} seed {}", what, D,
                                   n, sys.box.packing_fraction(t), c.seed));
   };
+  // Configurations kept for the jamming point: from phi_J(paper) - 0.04 up.
+  const double save_from =
+      c.jamming_search_from > 0 ? c.jamming_search_from : (D == 2 ? 0.8415 : 0.6464) - 0.04;
   auto record = [&](double t) {
+    if (c.jamming_point && sys.box.packing_fraction(t) >= save_from) {
+      SavedConfiguration saved{sys.box.packing_fraction(t), {}};
+      for (int d = 0; d < D; ++d) {
+        saved.s.insert(saved.s.end(), sys.particles.s[d].begin(), sys.particles.s[d].end());
+      }
+      st.saved.push_back(std::move(saved));
+    }
     st.points.push_back(measure(sys, t, c.rattlers));
     if (!std::isfinite(st.points.back().pressure)) {
       throw std::runtime_error(fmt::format(
@@ -181,6 +192,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
         }
         stepper.step(sys, t, c.dt);
         ++st.relax_steps;
+        ++steps_here;
       }
       sys.box.compression_rate = rate;
       stepper.reset();
@@ -220,6 +232,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
     }
     stepper.step(sys, t, h);
     ++st.steps;
+    ++steps_here;
     bool due = false;
     while (st.next_output < n_targets && t_after >= targets[st.next_output]) {
       due = true;
@@ -231,6 +244,12 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
   progress.finish();
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
+  if (c.jamming_point) {
+    System<D> scratch(sys.particles, sys.species, sys.box, c.skin);
+    const JammingPoint j = find_jamming_point(scratch, st.saved);
+    meta.jamming_packing_fraction = j.packing_fraction;
+    meta.jamming_minimizations = j.minimizations;
+  }
   meta.steps = st.steps;
   meta.relax_steps = st.relax_steps;
   meta.relax_converged = !c.relax || st.relax_converged;
@@ -251,7 +270,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
   summary.final_contacts_per_particle = last.contacts_per_particle;
   summary.final_energy_per_particle = last.energy_per_particle;
   summary.wall_seconds = wall;
-  summary.particle_steps_per_second = wall > 0 ? static_cast<double>(st.steps * n) / wall : 0.0;
+  summary.particle_steps_per_second = wall > 0 ? static_cast<double>(steps_here * n) / wall : 0.0;
   return summary;
 }
 

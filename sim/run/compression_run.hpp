@@ -26,7 +26,7 @@ struct RunSummary {
   double final_contacts_per_particle = 0.0;
   double final_energy_per_particle = 0.0;
   double wall_seconds = 0.0;
-  double particle_steps_per_second = 0.0;  // compression phase, force evaluations counted once
+  double particle_steps_per_second = 0.0;  // relaxation + compression steps of this invocation
   bool resumed = false;                    // continued from a checkpoint
   bool interrupted = false;                // stopped on request; a checkpoint holds the state
 };

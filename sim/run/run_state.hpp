@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sim/observables/jamming_point.hpp"
 #include "sim/observables/observables.hpp"
 
 namespace jam {
@@ -18,6 +19,7 @@ struct RunState {
   std::int64_t steps = 0;        // compression steps done
   std::int64_t next_output = 0;  // index of the next output time
   std::vector<Observables<D>> points;
+  std::vector<SavedConfiguration> saved;  // for the jamming point, when asked for
 };
 
 }  // namespace jam

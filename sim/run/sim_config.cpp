@@ -102,11 +102,13 @@ std::string fingerprint(const SimConfig& c) {
   return fmt::format(
       "dim={} n={} phi_init={:.17g} phi_stop={:.17g} phi_step={:.17g} rate={:.17g} dt={:.17g} "
       "dynamics={} integrator={} q={:.17g} seed={} skin={:.17g} diameter_ratio={:.17g} relax={} "
-      "relax_energy={:.17g} relax_time_max={:.17g} rattlers={} stress={} read={}",
+      "relax_energy={:.17g} relax_time_max={:.17g} rattlers={} stress={} read={} jamming_point={} "
+      "from={:.17g}",
       c.dim, c.read_lammps_data.empty() ? c.n : 0, c.read_lammps_data.empty() ? c.phi_init : 0.0,
       c.phi_stop, c.phi_step, c.compression_rate, c.dt, c.dynamics, c.resolved_integrator(),
       c.dynamics == "inertial" ? c.q : 0.0, c.seed, c.skin, c.diameter_ratio, c.relax,
-      c.resolved_relax_energy(), c.relax_time_max, c.rattlers, c.stress, c.read_lammps_data);
+      c.resolved_relax_energy(), c.relax_time_max, c.rattlers, c.stress, c.read_lammps_data,
+      c.jamming_point, c.jamming_search_from);
 }
 
 std::string relaxation_fingerprint(const SimConfig& c) {

@@ -34,6 +34,8 @@ struct SimConfig {
   double relax_time_max = 1e4;  // ... or this much time has passed
   bool stress = false;
   bool rattlers = false;
+  bool jamming_point = false;  // find phi_Ji (FIRE minimizations, see observables/jamming_point.hpp)
+  double jamming_search_from = 0.0;  // lowest packing searched; 0: the paper's phi_J - 0.04
   std::string out;
   std::string read_lammps_data;
   std::string write_lammps_data;

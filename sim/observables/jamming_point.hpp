@@ -1,0 +1,80 @@
+#pragma once
+// The jamming point phi_Ji of one compression run (checks/ phi_init independence):
+//
+//   the lowest packing at which the configuration, energy-minimized with FIRE at fixed box to
+//   a largest force below 1e-10, keeps a pressure above 1e-8,
+//
+// found by bisection over the configurations saved at the output points of the run, then
+// refined between the last unjammed and the first jammed output point: the unjammed
+// configuration is compressed affinely (its scaled positions kept, the box shrunk) to the
+// midpoint packing and minimized again, until the bracket is narrower than 1e-5.
+// Below jamming the minimized pressure is exactly 0 (no overlap left); above it p grows about
+// linearly with phi - phi_Ji (p ~ 1e-5 at 1e-4 above), so 1e-8 separates the two cleanly.
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "sim/dynamics/fire_minimizer.hpp"
+#include "sim/observables/observables.hpp"
+
+namespace jam {
+
+inline constexpr double kJammedPressure = 1e-8;
+inline constexpr double kJammingResolution = 1e-5;
+
+struct SavedConfiguration {
+  double packing_fraction = 0.0;
+  std::vector<double> s;  // D x N scaled positions, dimension-major
+};
+
+struct JammingPoint {
+  double packing_fraction = std::numeric_limits<double>::quiet_NaN();
+  int minimizations = 0;
+  bool bracketed = false;  // false: not jammed by the last saved point, or jammed at the first
+};
+
+template <int D>
+bool jammed_after_minimization(System<D>& sys, const std::vector<double>& s, double phi) {
+  const std::size_t n = sys.size();
+  for (int d = 0; d < D; ++d)
+    std::copy(s.begin() + static_cast<long>(d * n), s.begin() + static_cast<long>((d + 1) * n),
+              sys.particles.s[d].begin());
+  sys.neighbors.invalidate();
+  const double length = CompressingBox<D>::length_for_packing(sys.box.particle_volume, phi);
+  minimize_fire(sys, length);
+  CompressingBox<D> fixed = sys.box;
+  sys.box.initial_length = length;
+  sys.box.compression_rate = 0.0;
+  const double p = measure(sys, 0.0, false).pressure;
+  sys.box = fixed;
+  return p > kJammedPressure;
+}
+
+/// Bisection over the saved configurations (in increasing packing), then refinement.
+/// sys is used as scratch: its particles are overwritten.
+template <int D>
+JammingPoint find_jamming_point(System<D>& sys, const std::vector<SavedConfiguration>& saved) {
+  JammingPoint r;
+  if (saved.size() < 2) return r;
+  auto jammed = [&](const std::vector<double>& s, double phi) {
+    ++r.minimizations;
+    return jammed_after_minimization(sys, s, phi);
+  };
+  if (!jammed(saved.back().s, saved.back().packing_fraction)) return r;
+  if (jammed(saved.front().s, saved.front().packing_fraction)) return r;
+  std::size_t lo = 0, hi = saved.size() - 1;  // saved[lo] unjammed, saved[hi] jammed
+  while (hi - lo > 1) {
+    const std::size_t mid = (lo + hi) / 2;
+    (jammed(saved[mid].s, saved[mid].packing_fraction) ? hi : lo) = mid;
+  }
+  double phi_lo = saved[lo].packing_fraction, phi_hi = saved[hi].packing_fraction;
+  while (phi_hi - phi_lo > kJammingResolution) {
+    const double mid = 0.5 * (phi_lo + phi_hi);
+    (jammed(saved[lo].s, mid) ? phi_hi : phi_lo) = mid;
+  }
+  r.packing_fraction = 0.5 * (phi_lo + phi_hi);
+  r.bracketed = true;
+  return r;
+}
+
+}  // namespace jam

@@ -1,0 +1,86 @@
+// FIRE minimization and the jamming point phi_Ji: FIRE removes every overlap below jamming
+// and balances the forces above it; a perfect square (cubic) lattice of equal spheres
+// compressed through contact jams exactly at phi = pi/4 (pi/6), which the run finds.
+#define BOOST_TEST_MODULE jamming_point
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "helpers.hpp"
+#include "sim/dynamics/fire_minimizer.hpp"
+#include "sim/io/hdf5_file.hpp"
+#include "sim/io/lammps_data.hpp"
+#include "sim/observables/observables.hpp"
+#include "sim/run/compression_run.hpp"
+
+using namespace jam;
+namespace fs = std::filesystem;
+
+BOOST_AUTO_TEST_CASE(fire_relaxes_below_and_balances_above_jamming) {
+  System<2> loose = test::random_system<2>(256, 0.60, 1);
+  const double l1 = loose.box.length(0.0);
+  const FireResult r1 = minimize_fire(loose, l1);
+  BOOST_TEST(r1.converged);
+  // Overlaps left are below the force tolerance: energy ~ f_tol^2 per contact.
+  BOOST_TEST(measure(loose, 0.0, false).energy_per_particle < 1e-20);
+  BOOST_TEST(measure(loose, 0.0, false).pressure < 1e-8);  // below the jammed threshold
+
+  System<2> dense = test::random_system<2>(256, 0.90, 2);
+  const double l2 = dense.box.length(0.0);
+  const FireResult r2 = minimize_fire(dense, l2);
+  BOOST_TEST(r2.converged);
+  BOOST_TEST(r2.max_force < 1e-10);
+  const auto obs = measure(dense, 0.0, false);
+  BOOST_TEST(obs.pressure > 1e-3);  // jammed: a finite pressure survives
+  BOOST_TEST(obs.contacts_per_particle > 3.5);
+}
+
+namespace {
+
+// Compresses a lattice of m^D equal small spheres (spacing a0 > 1) through contact and returns
+// the run's phi_Ji.
+template <int D>
+double lattice_jamming_point(int m, double a0, double phi_stop, double search_from) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("jam-jp-" + std::to_string(::getpid()) + std::to_string(D));
+  fs::create_directories(dir);
+  ParticleData<D> p;
+  const int sites = static_cast<int>(std::pow(m, D));
+  p.resize(static_cast<std::size_t>(sites));
+  for (int k = 0; k < sites; ++k) {
+    int rest = k;
+    for (int d = 0; d < D; ++d) {
+      p.s[d][static_cast<std::size_t>(k)] = (rest % m + 0.5) / m;
+      rest /= m;
+    }
+    p.type[static_cast<std::size_t>(k)] = 0;
+    p.id[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(k + 1);
+  }
+  write_lammps_data<D>((dir / "lattice.data").string(), p, m * a0, 1.0, 1.0, "lattice");
+  SimConfig c;
+  c.dim = D;
+  c.read_lammps_data = (dir / "lattice.data").string();
+  c.n_given = c.phi_init_given = false;
+  c.phi_stop = phi_stop;
+  c.phi_step = 0.002;
+  c.compression_rate = 1e-3;
+  c.relax = false;
+  c.jamming_point = true;
+  c.jamming_search_from = search_from;
+  c.quiet = true;
+  c.checkpoint_interval = 0;
+  c.out = (dir / "run.h5").string();
+  run_compression(c);
+  const double phi_j = h5::File::open_read(c.out).read_attribute_double("jamming_packing_fraction");
+  fs::remove_all(dir);
+  return phi_j;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(square_and_cubic_lattices_jam_at_contact) {
+  // Resolution of the refinement is 1e-5; the pressure threshold moves the point by < 1e-7.
+  BOOST_TEST(std::abs(lattice_jamming_point<2>(8, 1.06, 0.80, 0.75) - std::numbers::pi / 4) < 2e-5);
+  BOOST_TEST(std::abs(lattice_jamming_point<3>(5, 1.05, 0.54, 0.50) - std::numbers::pi / 6) < 2e-5);
+}
