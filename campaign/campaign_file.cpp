@@ -140,6 +140,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.relax_time_max = r.number("relax_time_max", false, c.relax_time_max);
   c.rattlers = r.boolean("rattlers", c.rattlers);
   c.stress = r.boolean("stress", c.stress);
+  c.jamming_point = r.boolean("jamming_point", c.jamming_point);
   c.checkpoint_interval = r.number("checkpoint_interval", false, c.checkpoint_interval);
   r.reject_unknown_keys();
 
@@ -215,7 +216,8 @@ std::vector<std::pair<std::string, std::string>> identity_keys(const Campaign& c
           {"relax_energy", c.relax_energy},
           {"relax_time_max", g(c.relax_time_max)},
           {"rattlers", c.rattlers ? "true" : "false"},
-          {"stress", c.stress ? "true" : "false"}};
+          {"stress", c.stress ? "true" : "false"},
+          {"jamming_point", c.jamming_point ? "true" : "false"}};
 }
 
 }  // namespace jam

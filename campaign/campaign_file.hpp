@@ -37,6 +37,7 @@ struct Campaign {
   double relax_time_max = 1e4;
   bool rattlers = false;
   bool stress = false;
+  bool jamming_point = false;          // find each run's phi_Ji (FIRE), for the phi_init check
   double checkpoint_interval = 300.0;  // seconds
 
   std::string source_path;  // the file it was read from

@@ -62,6 +62,7 @@ SimConfig run_config(const Campaign& c, std::int64_t n, double phi_init, double 
   s.relax_time_max = c.relax_time_max;
   s.rattlers = c.rattlers;
   s.stress = c.stress;
+  s.jamming_point = c.jamming_point;
   s.quiet = true;
   s.checkpoint_interval = c.checkpoint_interval;
   return s;

@@ -15,6 +15,11 @@
 #include "checks/relative_difference.hpp"
 
 namespace jam::checks {
+namespace {
+double alpha_jamming(const CheckOptions& o, std::size_t comparisons) {
+  return o.alpha / static_cast<double>(std::max<std::size_t>(1, comparisons));
+}
+}  // namespace
 
 std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
   const double phi_min = o.phi_min.value_or(d.dim == 2 ? 0.8415 - 0.03 : 0.6464 - 0.03);
@@ -23,6 +28,11 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
   for (const auto& e : d.ensembles) by[{e.n, e.log10_rate}][e.phi_init] = &e;
   std::size_t comparisons = 0;
   for (const auto& [key, starts] : by) comparisons += starts.size() - 1;
+  std::size_t jamming_comparisons = 0;
+  for (const auto& [key, starts] : by)
+    for (const auto& [phi, e] : starts)
+      jamming_comparisons += !e->jamming_points.empty() && phi != starts.begin()->first &&
+                             !starts.begin()->second->jamming_points.empty();
   if (comparisons == 0) return {skipped("phi_init", "all", "the campaign has a single phi_init")};
   const double alpha = o.alpha / static_cast<double>(comparisons);
   std::vector<Verdict> out;
@@ -59,6 +69,30 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
         all_consistent_so_far = false;
       }
       out.push_back(v);
+      // The jamming points themselves, when the runs looked for them.
+      if (!e->jamming_points.empty() && !low->jamming_points.empty()) {
+        Verdict j;
+        j.check = "phi_init";
+        j.case_name = fmt::format("n{} rate 1e{:g}: <phi_Ji> at phi_init {:g} vs {:g}", key.first,
+                                  key.second, e->phi_init, low->phi_init);
+        j.statistic_name = "|<phi_Ji>_a - <phi_Ji>_b| / sigma";
+        try {
+          const double a_j = alpha_jamming(o, jamming_comparisons);
+          const MeanDifference m =
+              compare_means(e->jamming_points, low->jamming_points, a_j, o.permutations, 4);
+          j.statistic = m.statistic;
+          j.threshold = m.critical;
+          j.detectable = m.detectable;
+          j.excluded_above = m.excluded_above;
+          j.status = m.p_value <= a_j ? "fail" : "pass";
+          j.reason = fmt::format(
+              "phi_J difference {:+.5f} +- {:.5f}, permutation p = {:.3g} (alpha {:.3g})",
+              m.difference, m.sigma, m.p_value, a_j);
+        } catch (const std::invalid_argument& ex) {
+          j = skipped("phi_init", j.case_name, ex.what());
+        }
+        out.push_back(j);
+      }
     }
     // Compression time from phi0 to phi_stop is ln(phi_stop / phi0) / (D rate).
     const double phi_stop = low->phi_grid.empty() ? 0 : low->phi_grid.back();

@@ -105,4 +105,50 @@ RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
   return r;
 }
 
+MeanDifference compare_means(std::vector<double> a, std::vector<double> b, double alpha,
+                             int permutations, std::uint64_t seed) {
+  auto finite = [](std::vector<double>& v) {
+    v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }),
+            v.end());
+  };
+  finite(a);
+  finite(b);
+  if (a.size() < 2 || b.size() < 2)
+    throw std::invalid_argument("compare: each set needs at least 2 values");
+  auto stat = [](const std::vector<double>& all, std::size_t na, double* diff, double* sigma) {
+    double ma = 0, mb = 0, va = 0, vb = 0;
+    const std::size_t nb = all.size() - na;
+    for (std::size_t i = 0; i < na; ++i) ma += all[i] / static_cast<double>(na);
+    for (std::size_t i = na; i < all.size(); ++i) mb += all[i] / static_cast<double>(nb);
+    for (std::size_t i = 0; i < na; ++i)
+      va += (all[i] - ma) * (all[i] - ma) / static_cast<double>(na - 1);
+    for (std::size_t i = na; i < all.size(); ++i)
+      vb += (all[i] - mb) * (all[i] - mb) / static_cast<double>(nb - 1);
+    const double s = std::sqrt(va / static_cast<double>(na) + vb / static_cast<double>(nb));
+    if (diff) *diff = ma - mb;
+    if (sigma) *sigma = s;
+    return s > 0 ? std::abs(ma - mb) / s : 0.0;
+  };
+  std::vector<double> all = a;
+  all.insert(all.end(), b.begin(), b.end());
+  MeanDifference r;
+  r.statistic = stat(all, a.size(), &r.difference, &r.sigma);
+  std::mt19937_64 rng(seed);
+  std::vector<double> null;
+  int at_least = 0;
+  for (int p = 0; p < permutations; ++p) {
+    std::shuffle(all.begin(), all.end(), rng);
+    const double t = stat(all, a.size(), nullptr, nullptr);
+    null.push_back(t);
+    at_least += t >= r.statistic;
+  }
+  r.p_value = (1.0 + at_least) / (1.0 + permutations);
+  std::sort(null.begin(), null.end());
+  r.critical = null[std::min(null.size() - 1,
+                             static_cast<std::size_t>(std::ceil((1.0 - alpha) * null.size())) - 1)];
+  r.excluded_above = std::abs(r.difference) + r.critical * r.sigma;
+  r.detectable = r.critical * r.sigma;
+  return r;
+}
+
 }  // namespace jam::checks

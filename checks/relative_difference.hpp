@@ -33,4 +33,13 @@ RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
                                     const std::vector<std::vector<double>>& b, double alpha,
                                     int permutations = 2000, std::uint64_t seed = 1);
 
+/// Two sets of scalars (e.g. phi_Ji per run): T = |mean_a - mean_b| / sqrt(v_a/n_a + v_b/n_b),
+/// p-value and critical value from permuting the values between the sets. NaNs are dropped.
+struct MeanDifference {
+  double difference = 0, sigma = 0, statistic = 0, p_value = 1, critical = 0;
+  double excluded_above = 0, detectable = 0;  // in the units of the values
+};
+MeanDifference compare_means(std::vector<double> a, std::vector<double> b, double alpha,
+                             int permutations = 2000, std::uint64_t seed = 1);
+
 }  // namespace jam::checks

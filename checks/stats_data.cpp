@@ -53,6 +53,8 @@ StatsData read_stats(const std::string& directory) {
       e.z_grid = f.read_dataset(g + "/constant_z/" + grid_name);
       e.pressure_at_z = table(f, g + "/constant_z/pressure_samples", e.z_grid.size());
     }
+    if (f.has_dataset(g + "/jamming"))
+      e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples");
     d.ensembles.push_back(std::move(e));
   }
   return d;

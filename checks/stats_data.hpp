@@ -15,6 +15,7 @@ struct EnsembleTables {
   std::vector<std::vector<double>> pressure_at_phi;  // [sample][point]
   std::vector<double> z_grid;
   std::vector<std::vector<double>> pressure_at_z;  // empty when no constant-Z average
+  std::vector<double> jamming_points;  // phi_Ji per sample (NaN: not found); empty if not sought
 };
 
 struct StatsData {

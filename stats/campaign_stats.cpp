@@ -37,6 +37,20 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
     } catch (const std::invalid_argument&) {
       if (o.no_rattlers) throw;
     }
+    if (std::all_of(runs.begin(), runs.end(),
+                    [](const RunCurves& r) { return r.jamming_point.has_value(); })) {
+      JammingStats j;
+      SampleAccumulator acc;
+      for (const auto& r : runs) {
+        j.samples.push_back(*r.jamming_point);
+        j.sample_ids.push_back(r.sample);
+        if (std::isfinite(*r.jamming_point)) acc.add(*r.jamming_point);
+      }
+      j.mean = acc.finalize();
+      j.spread =
+          j.mean.samples > 1 ? j.mean.error * std::sqrt(static_cast<double>(j.mean.samples)) : NAN;
+      e.jamming = std::move(j);
+    }
     s.ensembles.push_back(std::move(e));
   }
   if (!o.fit) return s;

@@ -22,10 +22,19 @@ struct StatsOptions {
   bool fit = true;
 };
 
+/// phi_Ji over the samples of an ensemble (runs with jamming_point).
+struct JammingStats {
+  std::vector<double> samples;  // per run, NaN where the run did not bracket it
+  std::vector<std::int64_t> sample_ids;
+  SampleMean mean;      // over the runs that found it
+  double spread = 0.0;  // standard deviation over samples, Delta phi_J
+};
+
 struct EnsembleStats {
   EnsembleKey key;
   GridAverage constant_phi;
   std::optional<GridAverage> constant_z;
+  std::optional<JammingStats> jamming;
 };
 
 struct ScanRow {

@@ -34,6 +34,9 @@ CampaignData read_campaign_runs(const std::string& directory) {
     if (f.has_dataset("contacts_per_particle_no_rattlers")) {
       c.contacts_no_rattlers = f.read_dataset("contacts_per_particle_no_rattlers");
     }
+    if (f.has_attribute("jamming_packing_fraction")) {
+      c.jamming_point = f.read_attribute_double("jamming_packing_fraction");
+    }
     data.runs.push_back(std::move(c));
   }
   return data;

@@ -5,6 +5,7 @@
 #include <compare>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@ struct RunCurves {
   double log10_rate = 0.0;
   std::int64_t sample = 0;
   std::vector<double> phi, pressure, contacts, contacts_no_rattlers;  // last one may be empty
+  std::optional<double> jamming_point;  // phi_Ji when the run looked for it (NaN: not found)
 };
 
 struct EnsembleKey {

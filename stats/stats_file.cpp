@@ -113,6 +113,18 @@ void write_stats_file(const std::string& path, const CampaignStats& s, const Sta
       f.write_attribute("samples", static_cast<std::int64_t>(e.constant_phi.sample_ids.size()), g);
       write_average(f, g + "/constant_phi", e.constant_phi);
       if (e.constant_z) write_average(f, g + "/constant_z", *e.constant_z);
+      if (e.jamming) {
+        const std::string jg = g + "/jamming";
+        f.create_group(jg);
+        f.write_dataset(jg + "/packing_fraction_samples", e.jamming->samples);
+        f.write_dataset(
+            jg + "/sample_ids",
+            std::vector<std::uint32_t>(e.jamming->sample_ids.begin(), e.jamming->sample_ids.end()));
+        f.write_attribute("mean", e.jamming->mean.mean, jg);
+        f.write_attribute("error", e.jamming->mean.error, jg);
+        f.write_attribute("spread", e.jamming->spread, jg);
+        f.write_attribute("found", static_cast<std::int64_t>(e.jamming->mean.samples), jg);
+      }
     }
     if (!s.scan.empty()) {
       f.create_group("fit");
@@ -177,6 +189,20 @@ std::string format_stats_summary(const CampaignStats& s) {
         std::pow(10.0, e.key.log10_rate), a.sample_ids.size(), p.mean, 100 * p.error / p.mean,
         z.mean, 100 * z.error / z.mean,
         std::abs(a.grid[k] - probe) > 1e-9 ? fmt::format("  (at phi {:.4f})", a.grid[k]) : "");
+  }
+  bool any_jamming = false;
+  for (const auto& e : s.ensembles) any_jamming = any_jamming || e.jamming.has_value();
+  if (any_jamming) {
+    out << fmt::format("\n{:>8} {:>8} {:>9} {:>18} {:>10} {:>6}\n", "N", "phi_init", "rate",
+                       "<phi_Ji>", "spread", "found");
+    for (const auto& e : s.ensembles) {
+      if (!e.jamming) continue;
+      out << fmt::format("{:>8} {:>8.4f} {:>9.2e} {:>9.5f}({:>7.5f}) {:>10.5f} {:>3}/{}\n",
+                         e.key.n ? std::to_string(e.key.n) : "pooled", e.key.phi_init,
+                         std::pow(10.0, e.key.log10_rate), e.jamming->mean.mean,
+                         e.jamming->mean.error, e.jamming->spread, e.jamming->mean.samples,
+                         e.jamming->samples.size());
+    }
   }
   if (!s.scan.empty()) {
     out << fmt::format(

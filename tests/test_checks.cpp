@@ -129,6 +129,41 @@ BOOST_AUTO_TEST_CASE(checks_on_stats_data_pass_and_fail_as_planted) {
   BOOST_CHECK_THROW(RunSetSelector::parse("size=3"), std::invalid_argument);
 }
 
+BOOST_AUTO_TEST_CASE(jamming_points_compared_across_phi_init) {
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> g(0.0, 0.003);  // sample spread of phi_Ji at these sizes
+  auto points = [&](double mean) {
+    std::vector<double> v;
+    for (int s = 0; s < 10; ++s) v.push_back(mean + g(rng));
+    v[3] = NAN;  // a run that did not bracket its jamming point is left out
+    return v;
+  };
+  // False alarms over 300 repeats of equal means: near alpha = 0.05.
+  int alarms = 0;
+  for (int r = 0; r < 300; ++r)
+    alarms += compare_means(points(0.84), points(0.84), 0.05, 400, r).p_value <= 0.05;
+  BOOST_TEST_MESSAGE("phi_J test: measured false-alarm rate " << alarms / 300.0);
+  BOOST_TEST(alarms / 300.0 > 0.015);
+  BOOST_TEST(alarms / 300.0 < 0.095);
+  StatsData d;
+  for (double phi_init : {0.6, 0.7, 0.8}) {
+    auto e = ensemble(1024, phi_init, -4.0, runs(10, 0.0, rng));
+    e.jamming_points = points(phi_init == 0.8 ? 0.850 : 0.840);  // planted: 0.8 jams later
+    d.ensembles.push_back(e);
+  }
+  CheckOptions o;
+  o.permutations = 500;
+  o.phi_min = 0.80;
+  int jamming_verdicts = 0;
+  for (const auto& v : phi_init_check(d, o)) {
+    if (v.case_name.find("phi_Ji") == std::string::npos) continue;
+    ++jamming_verdicts;
+    const bool planted = v.case_name.find("phi_init 0.8") != std::string::npos;
+    BOOST_TEST(v.status == (planted ? "fail" : "pass"), v.case_name << ": " << v.reason);
+  }
+  BOOST_TEST(jamming_verdicts == 2);
+}
+
 BOOST_AUTO_TEST_CASE(json_and_junit_are_valid_and_exit_status_follows_failures) {
   Verdict pass;
   pass.check = "finite_size";

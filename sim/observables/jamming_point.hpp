@@ -5,9 +5,11 @@
 //   a largest force below 1e-10, keeps a pressure above 1e-8,
 //
 // found by bisection over the configurations saved at the output points of the run, then
-// refined between the last unjammed and the first jammed output point: the unjammed
-// configuration is compressed affinely (its scaled positions kept, the box shrunk) to the
-// midpoint packing and minimized again, until the bracket is narrower than 1e-5.
+// refined between the last unjammed and the first jammed output point by bisection along the
+// straight path between those two configurations (scaled positions interpolated with the
+// minimum image, packing interpolated linearly), until the bracket is narrower than 1e-5.
+// Between output points (1e-3 apart in phi) particles move little, so that path stands in for
+// the trajectory the run did not store.
 // Below jamming the minimized pressure is exactly 0 (no overlap left); above it p grows about
 // linearly with phi - phi_Ji (p ~ 1e-5 at 1e-4 above), so 1e-8 separates the two cleanly.
 #include <cmath>
@@ -67,12 +69,17 @@ JammingPoint find_jamming_point(System<D>& sys, const std::vector<SavedConfigura
     const std::size_t mid = (lo + hi) / 2;
     (jammed(saved[mid].s, saved[mid].packing_fraction) ? hi : lo) = mid;
   }
-  double phi_lo = saved[lo].packing_fraction, phi_hi = saved[hi].packing_fraction;
-  while (phi_hi - phi_lo > kJammingResolution) {
-    const double mid = 0.5 * (phi_lo + phi_hi);
-    (jammed(saved[lo].s, mid) ? phi_hi : phi_lo) = mid;
+  const double phi0 = saved[lo].packing_fraction, phi1 = saved[hi].packing_fraction;
+  double lam_lo = 0.0, lam_hi = 1.0;
+  std::vector<double> s(saved[lo].s.size());
+  while ((lam_hi - lam_lo) * (phi1 - phi0) > kJammingResolution) {
+    const double mid = 0.5 * (lam_lo + lam_hi);
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      s[k] = wrap_unit(saved[lo].s[k] + mid * minimum_image(saved[hi].s[k] - saved[lo].s[k]));
+    }
+    (jammed(s, phi0 + mid * (phi1 - phi0)) ? lam_hi : lam_lo) = mid;
   }
-  r.packing_fraction = 0.5 * (phi_lo + phi_hi);
+  r.packing_fraction = phi0 + 0.5 * (lam_lo + lam_hi) * (phi1 - phi0);
   r.bracketed = true;
   return r;
 }
