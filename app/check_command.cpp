@@ -14,9 +14,9 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
       "check",
       "Statistical verdicts from DIR/stats.h5: finite_size, sample_pairs, phi_init or all");
   c->option_defaults()->always_capture_default();
-  c->add_option("name", a.name, "finite_size, sample_pairs, phi_init or all")
+  c->add_option("name", a.name, "finite_size, sample_pairs, phi_init, lammps or all")
       ->required()
-      ->check(CLI::IsMember({"finite_size", "sample_pairs", "phi_init", "all"}));
+      ->check(CLI::IsMember({"finite_size", "sample_pairs", "phi_init", "lammps", "all"}));
   c->add_option("directory", a.directory, "Campaign directory (after `jam stats`)")->required();
   c->add_option("--alpha", a.options.alpha,
                 "False-alarm rate of each check (Bonferroni over its comparisons)");
@@ -26,6 +26,11 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
                 "phi_init check: compare from this packing (default phi_J - 0.03)");
   c->add_option("--set-a", a.set_a, "finite_size: first run set, e.g. n=1024,phi_init=0.6,rate=-4");
   c->add_option("--set-b", a.set_b, "finite_size: second run set");
+  c->add_option("--reference-dir", a.reference_dir, "lammps: LAMMPS inputs and stored results");
+  c->add_flag("--no-lmp", a.no_lmp,
+              "lammps: use the stored LAMMPS result even if lmp is installed");
+  c->add_flag("--regenerate-reference", a.regenerate,
+              "lammps: run lmp and rewrite the stored LAMMPS result in --reference-dir");
 }
 
 int run_check_command(const CheckArgs& a) {
@@ -41,8 +46,17 @@ int run_check_command(const CheckArgs& a) {
     o.set_a = checks::RunSetSelector::parse(a.set_a);
     o.set_b = checks::RunSetSelector::parse(a.set_b);
   }
-  const checks::StatsData data = checks::read_stats(a.directory);
-  const std::vector<checks::Verdict> verdicts = checks::run_check(a.name, data, o);
+  std::vector<checks::Verdict> verdicts;
+  if (a.name != "lammps") verdicts = checks::run_check(a.name, checks::read_stats(a.directory), o);
+  if (a.name == "lammps" || a.name == "all") {
+    checks::LammpsCheckOptions l;
+    l.work_directory = (std::filesystem::path(a.directory) / "lammps-check").string();
+    l.reference_directory = (std::filesystem::path(a.reference_dir) / "lammps").string();
+    l.use_lmp = !a.no_lmp;
+    l.regenerate = a.regenerate;
+    const auto v = checks::lammps_check(l);
+    verdicts.insert(verdicts.end(), v.begin(), v.end());
+  }
   fmt::print("{}", checks::format_table(verdicts));
   const std::filesystem::path dir(a.directory);
   for (const auto& [file, text] :

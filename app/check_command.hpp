@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include "checks/checks.hpp"
+#include "checks/lammps_check.hpp"
 
 namespace jam {
 
@@ -9,6 +10,8 @@ struct CheckArgs {
   std::string name, directory, set_a, set_b;
   checks::CheckOptions options;
   double phi_min = -1.0;
+  std::string reference_dir = JAM_REFERENCE_DIR;
+  bool no_lmp = false, regenerate = false;
 };
 
 /// Registers `jam check NAME DIR`.

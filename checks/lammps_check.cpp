@@ -1,0 +1,235 @@
+#include "checks/lammps_check.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "sim/dynamics/system.hpp"
+#include "sim/initial_state.hpp"
+#include "sim/io/lammps_data.hpp"
+#include "sim/observables/observables.hpp"
+#include "sim/run/compression_run.hpp"
+#include "sim/version.hpp"
+
+namespace jam::checks {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr double kRate = 1e-3, kDt = 0.005, kQ = 0.1;
+constexpr int kSteps = 400;
+
+// Tolerances. Positions: round-off (1e-16 L per step, operations in another order) and the
+// r^2-spaced force table (relative error ~1e-11 for 1e5 entries), amplified only mildly over
+// t = 2: measured 4e-12; an error in the step order gives ~5e-6. Pressure and energy: LAMMPS
+// interpolates energy and force in its table; at the small overlaps of this start (~1e-3) that
+// is ~1e-7 relative (the issue's measurement), 1e-5 leaves a margin and still catches a wrong
+// box convention (5e-3) or a wrong drag (> 1e-3).
+constexpr double kPositionTolerance = 1e-9, kRelativeTolerance = 1e-5;
+
+struct LammpsResult {
+  double virial_pressure = NAN, energy_per_atom = NAN;
+  std::string end_data;  // path of the final configuration
+};
+
+std::string today() {
+  const std::time_t now = std::time(nullptr);
+  char text[16];
+  std::strftime(text, sizeof text, "%Y-%m-%d", std::gmtime(&now));
+  return text;
+}
+
+// The first line of a LAMMPS log names its version: "LAMMPS (29 Sep 2021 - Update 2)".
+std::string lammps_version(const fs::path& log) {
+  std::ifstream in(log);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+bool lmp_available() {
+  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+}
+
+LammpsResult parse_log(const fs::path& log, const fs::path& end_data) {
+  std::ifstream in(log);
+  LammpsResult r;
+  r.end_data = end_data.string();
+  std::string line;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (line.find("Step") != std::string::npos && line.find("c_virial") != std::string::npos) {
+      header = true;
+      continue;
+    }
+    if (!header) continue;
+    std::istringstream row(line);
+    long step = -1;
+    double time = 0, p = 0, pe = 0;
+    if (row >> step >> time >> p >> pe && step == kSteps) {
+      r.virial_pressure = p;
+      r.energy_per_atom = pe;
+    }
+    if (line.rfind("Loop time", 0) == 0) header = false;
+  }
+  if (!std::isfinite(r.virial_pressure))
+    throw std::runtime_error(fmt::format("{}: no thermo line for step {}", log.string(), kSteps));
+  return r;
+}
+
+template <int D>
+LammpsResult run_lammps(const fs::path& dir, const fs::path& ref) {
+  const Species<D> species;
+  // Inputs copied next to the start so that the log names files, not this machine's paths.
+  for (const char* f : {"compress_inertial.in", "harmonic_contact.table"}) {
+    fs::copy_file(ref / f, dir / f, fs::copy_options::overwrite_existing);
+  }
+  const std::string cmd = fmt::format(
+      "cd {} && lmp -log lammps.log -screen none -in compress_inertial.in -var data start.data "
+      "-var table harmonic_contact.table -var out lammps_end.data -var dim {} -var rate {} -var dt "
+      "{} "
+      "-var steps {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} -var d_sb 1.2 "
+      "-var d_bb 1.4",
+      dir.string(), D, kRate, kDt, kSteps, species.drag[0], species.volume[1] / species.volume[0]);
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);
+  return parse_log(dir / "lammps.log", dir / "lammps_end.data");
+}
+
+template <int D>
+std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
+  const fs::path ref(o.reference_directory);
+  const fs::path stored = ref / fmt::format("inertial-{}d", D);
+  const fs::path dir = fs::path(o.work_directory) / fmt::format("lammps-{}d", D);
+  fs::create_directories(dir);
+  const std::string label = fmt::format("{}D inertial Q={:g} dt={:g} x{}", D, kQ, kDt, kSteps);
+  const bool live = o.use_lmp && lmp_available();
+  std::vector<Verdict> out;
+  if (!live && !fs::exists(stored / "lammps.log")) {
+    out.push_back(skipped("lammps", label, "no lmp on the PATH and no stored LAMMPS result"));
+    return out;
+  }
+  // The start: the stored one (so the stored LAMMPS result applies), or a fresh one when
+  // regenerating.
+  if (o.regenerate || !fs::exists(stored / "start.data")) {
+    const double phi = D == 2 ? 0.80 : 0.60;
+    SimConfig a;
+    a.dim = D;
+    a.n = 256;
+    a.phi_init = phi;
+    a.phi_stop = phi * 1.001;
+    a.compression_rate = kRate;
+    a.dynamics = "inertial";
+    a.q = kQ;
+    a.dt = kDt;
+    a.relax_energy = "1e-6";
+    a.seed = 17;
+    a.quiet = true;
+    a.checkpoint_interval = 0;
+    a.out = (dir / "start_run.h5").string();
+    a.write_lammps_data = (dir / "start.data").string();
+    run_compression(a);
+  } else {
+    fs::copy_file(stored / "start.data", dir / "start.data", fs::copy_options::overwrite_existing);
+  }
+  const LammpsResult lmp =
+      live ? run_lammps<D>(dir, ref) : parse_log(stored / "lammps.log", stored / "lammps_end.data");
+  if (o.regenerate && live) {
+    fs::create_directories(stored);
+    for (const char* f : {"start.data", "lammps.log", "lammps_end.data"}) {
+      fs::copy_file(dir / f, stored / f, fs::copy_options::overwrite_existing);
+    }
+    std::ofstream(stored / "provenance.toml")
+        << fmt::format("# Stored LAMMPS result for `jam check lammps` ({}D)\n", D) << "lammps = \""
+        << lammps_version(dir / "lammps.log") << "\"\n"
+        << "input = \"reference/lammps/compress_inertial.in with "
+           "reference/lammps/harmonic_contact.table\"\n"
+        << fmt::format("rate = {:g}\ndt = {:g}\nq = {:g}\nsteps = {}\n", kRate, kDt, kQ, kSteps)
+        << "regenerate = \"jam check lammps DIR --regenerate-reference (needs lmp)\"\n"
+        << "jam_version = \"" << kVersion << "\"\n"
+        << "date = \"" << today() << "\"\n";
+  }
+
+  // jam on the same start.
+  const auto start = read_lammps_data<D>((dir / "start.data").string());
+  const Species<D> species;
+  const double phi0 =
+      total_particle_volume(start.particles, species) / std::pow(start.box_length, D);
+  SimConfig b;
+  b.dim = D;
+  b.read_lammps_data = (dir / "start.data").string();
+  b.n_given = b.phi_init_given = false;
+  b.relax = false;
+  b.dynamics = "inertial";
+  b.q = kQ;
+  b.dt = kDt;
+  b.compression_rate = kRate;
+  b.phi_stop = phi0 * std::exp(D * kRate * kSteps * kDt);
+  b.quiet = true;
+  b.checkpoint_interval = 0;
+  b.out = (dir / "jam_run.h5").string();
+  b.write_final_lammps_data = (dir / "jam_end.data").string();
+  run_compression(b);
+
+  const auto mine = read_lammps_data<D>(b.write_final_lammps_data);
+  const auto theirs = read_lammps_data<D>(lmp.end_data);
+  std::map<std::uint32_t, std::size_t> where;
+  for (std::size_t i = 0; i < theirs.particles.size(); ++i) where[theirs.particles.id[i]] = i;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < mine.particles.size(); ++i) {
+    const std::size_t j = where.at(mine.particles.id[i]);
+    for (int d = 0; d < D; ++d) {
+      worst = std::max(worst,
+                       std::abs(minimum_image(mine.particles.s[d][i] - theirs.particles.s[d][j])) *
+                           mine.box_length);
+    }
+  }
+  // LAMMPS's thermo at the last step: forces (and energy) at the box before the deformation,
+  // volume after it.
+  System<D> sys(mine.particles, species, CompressingBox<D>{}, 0.3);
+  sys.box.particle_volume = total_particle_volume(mine.particles, species);
+  sys.box.initial_length = CompressingBox<D>::length_for_packing(sys.box.particle_volume, phi0) *
+                           std::exp(-kRate * (kSteps - 1) * kDt);
+  const auto before = measure(sys, 0.0, false);
+  const double volume_ratio = std::pow(std::exp(-kRate * kDt), D);
+  const double pressure = before.pressure / volume_ratio;
+
+  const std::string source = live ? "LAMMPS run now" : "stored LAMMPS result";
+  auto verdict = [&](const std::string& what, double statistic, double tolerance,
+                     const std::string& reason) {
+    Verdict v;
+    v.check = "lammps";
+    v.case_name = label + ": " + what;
+    v.statistic_name = what == "positions" ? "max |x_jam - x_lammps|" : "relative difference";
+    v.statistic = statistic;
+    v.threshold = tolerance;
+    v.detectable = tolerance;
+    v.status = statistic <= tolerance ? "pass" : "fail";
+    v.reason = reason + " (" + source + ")";
+    return v;
+  };
+  out.push_back(verdict("positions", worst, kPositionTolerance,
+                        fmt::format("max |x_jam - x_lammps| = {:.3g}", worst)));
+  out.push_back(verdict("pressure", std::abs(pressure / lmp.virial_pressure - 1),
+                        kRelativeTolerance,
+                        fmt::format("jam {:.10g}, LAMMPS {:.10g}", pressure, lmp.virial_pressure)));
+  out.push_back(verdict(
+      "energy", std::abs(before.energy_per_particle / lmp.energy_per_atom - 1), kRelativeTolerance,
+      fmt::format("jam {:.10g}, LAMMPS {:.10g}", before.energy_per_particle, lmp.energy_per_atom)));
+  return out;
+}
+
+}  // namespace
+
+std::vector<Verdict> lammps_check(const LammpsCheckOptions& o) {
+  std::vector<Verdict> out = compare_dimension<2>(o);
+  const auto three = compare_dimension<3>(o);
+  out.insert(out.end(), three.begin(), three.end());
+  return out;
+}
+
+}  // namespace jam::checks

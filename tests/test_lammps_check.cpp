@@ -1,0 +1,86 @@
+// `jam check lammps`: passes against the stored LAMMPS result, fails when that result is
+// perturbed (a particle moved by 1e-6, the pressure changed by 1e-3), and is skipped, never
+// passed, when there is neither lmp nor a stored result.
+#define BOOST_TEST_MODULE lammps_check
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <boost/test/unit_test.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "checks/lammps_check.hpp"
+#include "process.hpp"
+
+using namespace jam::checks;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kDir =
+    fs::temp_directory_path() / ("jam-lammps-check-" + std::to_string(::getpid()));
+
+LammpsCheckOptions stored_only(const fs::path& reference) {
+  LammpsCheckOptions o;
+  o.work_directory = (kDir / "work").string();
+  o.reference_directory = reference.string();
+  o.use_lmp = false;
+  return o;
+}
+
+std::string status_of(const std::vector<Verdict>& v, const std::string& what) {
+  for (const auto& x : v)
+    if (x.case_name.rfind("2D", 0) == 0 && x.case_name.find(what) != std::string::npos)
+      return x.status;
+  return "missing";
+}
+
+void replace_in_file(const fs::path& file, const std::string& from, const std::string& to) {
+  std::string text = jam::test::slurp(file);
+  const auto at = text.find(from);
+  BOOST_TEST_REQUIRE(at != std::string::npos);
+  text.replace(at, from.size(), to);
+  std::ofstream(file) << text;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(stored_result_passes_and_perturbed_results_fail) {
+  fs::create_directories(kDir);
+  const fs::path original = fs::path(JAM_SOURCE_DIR) / "reference" / "lammps";
+  for (const auto& v : lammps_check(stored_only(original)))
+    BOOST_TEST(v.status == "pass", v.case_name << ": " << v.reason);
+
+  // A copy of the reference with one particle of the LAMMPS end state moved by 1e-6.
+  const fs::path copy = kDir / "reference";
+  fs::copy(original, copy, fs::copy_options::recursive);
+  const fs::path end = copy / "inertial-2d" / "lammps_end.data";
+  std::string text = jam::test::slurp(end);
+  const auto atoms = text.find("Atoms");
+  const auto line = text.find('\n', text.find('\n', atoms) + 1) + 1;  // first atom line
+  std::istringstream in(text.substr(line, text.find('\n', line) - line));
+  std::string id, type, x;
+  in >> id >> type >> x;
+  const double moved = std::stod(x) + 1e-6;
+  replace_in_file(end, id + " " + type + " " + x,
+                  id + " " + type + " " + fmt::format("{:.17g}", moved));
+  BOOST_TEST(status_of(lammps_check(stored_only(copy)), "positions") == "fail");
+
+  // The stored pressure changed by 1e-3 relative.
+  fs::remove_all(copy);
+  fs::copy(original, copy, fs::copy_options::recursive);
+  const fs::path log = copy / "inertial-2d" / "lammps.log";
+  std::string log_text = jam::test::slurp(log);
+  const auto row = log_text.find("\n     400 ") + 1;
+  std::istringstream r(log_text.substr(row, log_text.find('\n', row) - row));
+  std::string step, time, p;
+  r >> step >> time >> p;
+  replace_in_file(log, p, fmt::format("{:.17g}", std::stod(p) * 1.001));
+  BOOST_TEST(status_of(lammps_check(stored_only(copy)), "pressure") == "fail");
+
+  // Neither lmp (not used here) nor a stored result: skipped, never passed.
+  fs::remove_all(copy / "inertial-2d");
+  BOOST_TEST(status_of(lammps_check(stored_only(copy)), "") == "skipped");
+  fs::remove_all(kDir);
+}
