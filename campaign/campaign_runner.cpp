@@ -8,8 +8,10 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "campaign/campaign_dir.hpp"
@@ -225,6 +227,26 @@ int print_campaign_plan(const Campaign& c) {
              std::max(1u, std::thread::hardware_concurrency()));
   fmt::print("  longest run: {} ({:.3g} core-hours)\n", plan.front().name,
              plan.front().estimated_particle_steps / speed / 3600.0);
+  // What the phi_init check found for this campaign's directory, if it ran there.
+  const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
+  if (std::filesystem::exists(checks)) {
+    try {
+      std::ifstream in(checks);
+      const auto verdicts = nlohmann::json::parse(in);
+      for (const auto& v : verdicts) {
+        if (!v.contains("values") || !v["values"].contains("largest_consistent_phi_init")) continue;
+        const auto& x = v["values"];
+        fmt::print(
+            "  phi_init check (N {}, rate 1e{:g}): starting at phi_init {:g} instead of {:g} "
+            "gives the same pressures and saves {:.0f}% of the compression time\n",
+            x["n"].get<double>(), x["log10_rate"].get<double>(),
+            x["largest_consistent_phi_init"].get<double>(), x["lowest_phi_init"].get<double>(),
+            100 * x["compression_time_saved"].get<double>());
+      }
+    } catch (const std::exception& e) {
+      fmt::print("  ({}: {})\n", checks.string(), e.what());
+    }
+  }
   return 0;
 }
 

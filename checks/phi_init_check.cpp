@@ -102,6 +102,11 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
         " | n{} rate 1e{:g}: largest phi_init consistent with {:g} is {:g} "
         "(saves {:.0f}% of the compression time)",
         key.first, key.second, low->phi_init, largest_consistent, 100 * saved);
+    out.back().values = {{"n", static_cast<double>(key.first)},
+                         {"log10_rate", key.second},
+                         {"lowest_phi_init", low->phi_init},
+                         {"largest_consistent_phi_init", largest_consistent},
+                         {"compression_time_saved", saved}};
   }
   return out;
 }

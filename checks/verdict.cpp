@@ -71,7 +71,8 @@ std::string to_json(const std::vector<Verdict>& v) {
                  {"statistic", num(x.statistic)},
                  {"threshold", num(x.threshold)},
                  {"detectable_effect", num(x.detectable)},
-                 {"excluded_above", num(x.excluded_above)}});
+                 {"excluded_above", num(x.excluded_above)},
+                 {"values", x.values}});
   }
   return j.dump(2) + "\n";
 }

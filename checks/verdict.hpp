@@ -3,6 +3,7 @@
 // why), the statistic and its threshold, and the smallest effect the data could have
 // detected. Written as a table, as JSON and as JUnit XML.
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -17,8 +18,9 @@ struct Verdict {
   std::string statistic_name;
   double statistic = NAN;
   double threshold = NAN;
-  double detectable = NAN;      // smallest effect the data could have detected
-  double excluded_above = NAN;  // effects larger than this are excluded (where meaningful)
+  double detectable = NAN;               // smallest effect the data could have detected
+  double excluded_above = NAN;           // effects larger than this are excluded (where meaningful)
+  std::map<std::string, double> values;  // further numbers a later stage reads (JSON "values")
 };
 
 /// A verdict that could not be reached, and why.

@@ -110,6 +110,10 @@ BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
   BOOST_TEST(status == (any_fail ? 1 : 0));
   BOOST_TEST(slurp(kDir / "ci" / "checks.xml").find("<testsuite name=\"jam.check.all\"") !=
              std::string::npos);
+  // The plan of the campaign now reports what the phi_init check found.
+  BOOST_TEST(run_jam("campaign plan " + (kDir / "c.toml").string(), &out) == 0);
+  BOOST_TEST(out.find("phi_init check (N 128, rate 1e-3)") != std::string::npos, out);
+  BOOST_TEST(json.find("\"largest_consistent_phi_init\"") != std::string::npos);
   BOOST_TEST(run_jam("check finite_size " + dir + " --set-a size=3 --set-b n=128", &out) != 0);
   BOOST_TEST(out.find("size=3") != std::string::npos, out);
   BOOST_TEST(run_jam("check nonsense " + dir, &out) != 0);
