@@ -6,6 +6,7 @@
 
 #include "app/campaign_command.hpp"
 #include "app/check_command.hpp"
+#include "app/import_command.hpp"
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
 #include "sim/version.hpp"
@@ -27,6 +28,8 @@ int main(int argc, char** argv) {
   jam::add_stats_command(app, stats_args);
   jam::CheckArgs check_args;
   jam::add_check_command(app, check_args);
+  jam::LammpsImport import_request;
+  jam::add_import_command(app, import_request);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -45,6 +48,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("campaign")) return jam::run_campaign_command(app, campaign_args, ranks);
     if (app.got_subcommand("stats")) return jam::run_stats_command(stats_args);
     if (app.got_subcommand("check")) return jam::run_check_command(check_args);
+    if (app.got_subcommand("import")) return jam::run_import_command(import_request);
   } catch (const std::exception& e) {
     fmt::print(stderr, "jam: error: {}\n", e.what());
     return 1;

@@ -33,7 +33,7 @@ constexpr int kSteps = 400;
 constexpr double kPositionTolerance = 1e-9, kRelativeTolerance = 1e-5;
 
 struct LammpsResult {
-  double virial_pressure = NAN, energy_per_atom = NAN;
+  double virial_pressure = NAN, energy_per_atom = NAN, contacts_per_particle = NAN;
   std::string end_data;  // path of the final configuration
 };
 
@@ -63,17 +63,19 @@ LammpsResult parse_log(const fs::path& log, const fs::path& end_data) {
   std::string line;
   bool header = false;
   while (std::getline(in, line)) {
-    if (line.find("Step") != std::string::npos && line.find("c_virial") != std::string::npos) {
+    if (line.find("Step") != std::string::npos &&
+        line.find("c_virial") != std::string::npos) {  // header
       header = true;
       continue;
     }
     if (!header) continue;
     std::istringstream row(line);
     long step = -1;
-    double time = 0, p = 0, pe = 0;
+    double time = 0, p = 0, pe = 0, z = NAN;
     if (row >> step >> time >> p >> pe && step == kSteps) {
       r.virial_pressure = p;
       r.energy_per_atom = pe;
+      if (row >> z) r.contacts_per_particle = z;
     }
     if (line.rfind("Loop time", 0) == 0) header = false;
   }
@@ -93,9 +95,10 @@ LammpsResult run_lammps(const fs::path& dir, const fs::path& ref) {
       "cd {} && lmp -log lammps.log -screen none -in compress_inertial.in -var data start.data "
       "-var table harmonic_contact.table -var out lammps_end.data -var dim {} -var rate {} -var dt "
       "{} "
-      "-var steps {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} -var d_sb 1.2 "
-      "-var d_bb 1.4",
-      dir.string(), D, kRate, kDt, kSteps, species.drag[0], species.volume[1] / species.volume[0]);
+      "-var steps {} -var every {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} "
+      "-var d_sb 1.2 -var d_bb 1.4",
+      dir.string(), D, kRate, kDt, kSteps, kSteps / 8, species.drag[0],
+      species.volume[1] / species.volume[0]);
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);
   return parse_log(dir / "lammps.log", dir / "lammps_end.data");
 }
@@ -220,6 +223,12 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   out.push_back(verdict(
       "energy", std::abs(before.energy_per_particle / lmp.energy_per_atom - 1), kRelativeTolerance,
       fmt::format("jam {:.10g}, LAMMPS {:.10g}", before.energy_per_particle, lmp.energy_per_atom)));
+  // Contacts are counted by LAMMPS per type pair (compute coord/atom, r < d_ij): the same
+  // integers unless a pair sits within the position difference (~1e-11) of contact.
+  out.push_back(verdict("contacts",
+                        std::abs(before.contacts_per_particle - lmp.contacts_per_particle), 1e-12,
+                        fmt::format("Z jam {:.6f}, LAMMPS {:.6f}", before.contacts_per_particle,
+                                    lmp.contacts_per_particle)));
   return out;
 }
 

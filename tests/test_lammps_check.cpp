@@ -6,12 +6,15 @@
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "checks/lammps_check.hpp"
 #include "process.hpp"
+#include "sim/io/hdf5_file.hpp"
+#include "sim/io/lammps_import.hpp"
 
 using namespace jam::checks;
 namespace fs = std::filesystem;
@@ -82,5 +85,41 @@ BOOST_AUTO_TEST_CASE(stored_result_passes_and_perturbed_results_fail) {
   // Neither lmp (not used here) nor a stored result: skipped, never passed.
   fs::remove_all(copy / "inertial-2d");
   BOOST_TEST(status_of(lammps_check(stored_only(copy)), "") == "skipped");
+  fs::remove_all(kDir);
+}
+
+BOOST_AUTO_TEST_CASE(import_turns_a_lammps_log_into_a_run_file) {
+  fs::create_directories(kDir);
+  const fs::path stored = fs::path(JAM_SOURCE_DIR) / "reference" / "lammps" / "inertial-2d";
+  const std::string out = (kDir / "imported.h5").string();
+  jam::import_lammps_run({(stored / "lammps.log").string(), (stored / "start.data").string(), out});
+  const jam::h5::File f = jam::h5::File::open_read(out);
+  BOOST_TEST(f.read_attribute_int("complete") == 1);
+  BOOST_TEST(f.read_attribute_int("dim") == 2);
+  BOOST_TEST(f.read_attribute_int("n") == 256);
+  BOOST_TEST(f.read_attribute_double("q") == 0.1, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(f.read_attribute_double("compression_rate") == 1e-3);
+  const auto phi = f.read_dataset("packing_fraction"), t = f.read_dataset("time"),
+             p = f.read_dataset("pressure"), z = f.read_dataset("contacts_per_particle");
+  BOOST_TEST_REQUIRE(phi.size() == 9u);  // thermo every 50 of 400 steps
+  BOOST_TEST(f.read_dataset("energy_per_particle").size() == 9u);
+  for (std::size_t k = 0; k < phi.size(); ++k) {
+    BOOST_TEST(phi[k] == f.read_attribute_double("phi_init") * std::exp(2 * 1e-3 * t[k]),
+               boost::test_tools::tolerance(1e-13));
+    BOOST_TEST(std::abs(z[k] * 256 - std::round(z[k] * 256)) < 1e-9);  // whole contacts
+  }
+  BOOST_TEST(p.back() == 0.0015968148084278199, boost::test_tools::tolerance(1e-15));
+  // A log without the thermo columns is refused, naming the file and line.
+  std::ofstream(kDir / "bad.log")
+      << "dimension 2\ntimestep 0.005\nfix c all deform 1 x trate -0.001\n"
+      << "Step Time Temp\n0 0 1\n";
+  BOOST_CHECK_EXCEPTION(
+      jam::import_lammps_run(
+          {(kDir / "bad.log").string(), (stored / "start.data").string(), out + "2"}),
+      std::runtime_error, [](const std::runtime_error& e) {
+        return std::string(e.what()).find("bad.log:5: thermo has no column c_virial") !=
+               std::string::npos;
+      });
+  BOOST_TEST(!fs::exists(out + "2"));
   fs::remove_all(kDir);
 }

@@ -65,9 +65,10 @@ void compare_with_lammps(double phi_init, std::size_t n) {
   const std::string cmd = fmt::format(
       "cd {} && lmp -log none -screen none -in {}compress_inertial.in -var data start.data "
       "-var table {}harmonic_contact.table -var out lmp_end.data -var dim {} -var rate {} "
-      "-var dt {} -var steps {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} "
+      "-var dt {} -var steps {} -var every {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio "
+      "{:.17g} "
       "-var d_sb 1.2 -var d_bb 1.4",
-      dir.string(), ref, ref, D, rate, dt, steps, species.drag[0],
+      dir.string(), ref, ref, D, rate, dt, steps, steps, species.drag[0],
       species.volume[1] / species.volume[0]);
   BOOST_TEST_REQUIRE(std::system(cmd.c_str()) == 0, "LAMMPS (lmp) failed or is missing: " << cmd);
 

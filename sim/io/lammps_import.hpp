@@ -1,0 +1,23 @@
+#pragma once
+// `jam import lammps`: a LAMMPS run of this model (reference/lammps/compress_inertial.in) turned
+// into a run file of the simulator's schema, so that statistics, checks and reports work on
+// campaigns run with LAMMPS too.
+//
+// Read from the log: `dimension`, `timestep`, the rate of `fix ... deform ... trate`, and every
+// thermo line under a header with the columns Step, Time, c_virial (virial pressure), PotEng
+// (energy per atom) and v_Z (contacts per particle). Read from the start's data file: N, the
+// box and the species, hence phi_init; phi(t) = phi_init exp(D rate t). Q follows from the mass
+// of type 1, m_s = Q^2 (2/D)^2. LAMMPS evaluates its thermo with the forces of the step before
+// the box deformation and the volume after it; the pressures are stored as LAMMPS printed them.
+#include <string>
+
+namespace jam {
+
+struct LammpsImport {
+  std::string log, data, out;
+};
+
+/// Writes the run file atomically; throws with file and line on anything it cannot read.
+void import_lammps_run(const LammpsImport& request);
+
+}  // namespace jam
