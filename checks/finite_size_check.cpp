@@ -37,11 +37,7 @@ Verdict judge(const Comparison& c, double alpha, int permutations) {
   }
   try {
     const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, permutations);
-    v.statistic = r.statistic;
-    v.threshold = r.critical;
-    v.detectable = r.detectable;
-    v.excluded_above = r.excluded_above;
-    v.status = r.p_value <= alpha ? "fail" : "pass";
+    record_test(v, r, alpha);
     v.reason = fmt::format(
         "permutation p = {:.3g} (alpha {:.3g}, {} permutations of whole runs); "
         "|Delta p/p| > {:.3g} excluded",

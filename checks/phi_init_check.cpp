@@ -51,11 +51,7 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
           align(e->phi_grid, e->pressure_at_phi, low->phi_grid, low->pressure_at_phi, phi_min);
       try {
         const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, o.permutations, 3);
-        v.statistic = r.statistic;
-        v.threshold = r.critical;
-        v.detectable = r.detectable;
-        v.excluded_above = r.excluded_above;
-        v.status = r.p_value <= alpha ? "fail" : "pass";
+        record_test(v, r, alpha);
         const double largest_delta =
             *std::max_element(r.delta.begin(), r.delta.end(),
                               [](double x, double y) { return std::abs(x) < std::abs(y); });
@@ -80,11 +76,7 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
           const double a_j = alpha_jamming(o, jamming_comparisons);
           const MeanDifference m =
               compare_means(e->jamming_points, low->jamming_points, a_j, o.permutations, 4);
-          j.statistic = m.statistic;
-          j.threshold = m.critical;
-          j.detectable = m.detectable;
-          j.excluded_above = m.excluded_above;
-          j.status = m.p_value <= a_j ? "fail" : "pass";
+          record_test(j, m, a_j);
           j.reason = fmt::format(
               "phi_J difference {:+.5f} +- {:.5f}, permutation p = {:.3g} (alpha {:.3g})",
               m.difference, m.sigma, m.p_value, a_j);
