@@ -1,4 +1,5 @@
 #include "checks/lammps_check.hpp"
+#include "checks/lammps_runner.hpp"
 
 #include <fmt/format.h>
 
@@ -44,18 +45,6 @@ std::string today() {
   return text;
 }
 
-// The first line of a LAMMPS log names its version: "LAMMPS (29 Sep 2021 - Update 2)".
-std::string lammps_version(const fs::path& log) {
-  std::ifstream in(log);
-  std::string line;
-  std::getline(in, line);
-  return line;
-}
-
-bool lmp_available() {
-  return std::system("command -v lmp > /dev/null 2>&1") == 0;
-}
-
 LammpsResult parse_log(const fs::path& log, const fs::path& end_data) {
   std::ifstream in(log);
   LammpsResult r;
@@ -82,25 +71,6 @@ LammpsResult parse_log(const fs::path& log, const fs::path& end_data) {
   if (!std::isfinite(r.virial_pressure))
     throw std::runtime_error(fmt::format("{}: no thermo line for step {}", log.string(), kSteps));
   return r;
-}
-
-template <int D>
-LammpsResult run_lammps(const fs::path& dir, const fs::path& ref) {
-  const Species<D> species;
-  // Inputs copied next to the start so that the log names files, not this machine's paths.
-  for (const char* f : {"compress_inertial.in", "harmonic_contact.table"}) {
-    fs::copy_file(ref / f, dir / f, fs::copy_options::overwrite_existing);
-  }
-  const std::string cmd = fmt::format(
-      "cd {} && lmp -log lammps.log -screen none -in compress_inertial.in -var data start.data "
-      "-var table harmonic_contact.table -var out lammps_end.data -var dim {} -var rate {} -var dt "
-      "{} "
-      "-var steps {} -var every {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} "
-      "-var d_sb 1.2 -var d_bb 1.4",
-      dir.string(), D, kRate, kDt, kSteps, kSteps / 8, species.drag[0],
-      species.volume[1] / species.volume[0]);
-  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);
-  return parse_log(dir / "lammps.log", dir / "lammps_end.data");
 }
 
 template <int D>
@@ -139,8 +109,12 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   } else {
     fs::copy_file(stored / "start.data", dir / "start.data", fs::copy_options::overwrite_existing);
   }
-  const LammpsResult lmp =
-      live ? run_lammps<D>(dir, ref) : parse_log(stored / "lammps.log", stored / "lammps_end.data");
+  if (live) {
+    run_lammps(dir, ref, D, kRate, kDt, kSteps, kSteps / 8, "start.data", "lammps.log",
+               "lammps_end.data");
+  }
+  const fs::path from = live ? dir : stored;
+  const LammpsResult lmp = parse_log(from / "lammps.log", from / "lammps_end.data");
   if (o.regenerate && live) {
     fs::create_directories(stored);
     for (const char* f : {"start.data", "lammps.log", "lammps_end.data"}) {

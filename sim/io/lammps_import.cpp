@@ -15,12 +15,6 @@
 namespace jam {
 namespace {
 
-struct LogData {
-  int dim = 0;
-  double dt = NAN, rate = NAN;
-  std::vector<double> step, time, pressure, energy, contacts;
-};
-
 std::vector<std::string> words(const std::string& line) {
   std::istringstream in(line);
   std::vector<std::string> w;
@@ -28,10 +22,14 @@ std::vector<std::string> words(const std::string& line) {
   return w;
 }
 
-LogData read_log(const std::string& path) {
+}  // namespace
+
+LammpsThermo read_lammps_thermo(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot read LAMMPS log", path));
-  LogData d;
+  LammpsThermo d;
+  d.dt = NAN;
+  d.rate = NAN;
   std::string line;
   int line_no = 0;
   std::vector<std::string> header;
@@ -82,6 +80,8 @@ LogData read_log(const std::string& path) {
   return d;
 }
 
+namespace {
+
 double small_mass(const std::string& path) {
   std::ifstream in(path);
   std::string line;
@@ -98,7 +98,7 @@ double small_mass(const std::string& path) {
 }
 
 template <int D>
-void import_dimension(const LammpsImport& r, const LogData& log) {
+void import_dimension(const LammpsImport& r, const LammpsThermo& log) {
   const LammpsData<D> start = read_lammps_data<D>(r.data);
   const Species<D> species;
   const double volume = total_particle_volume(start.particles, species);
@@ -140,7 +140,7 @@ void import_dimension(const LammpsImport& r, const LogData& log) {
 }  // namespace
 
 void import_lammps_run(const LammpsImport& r) {
-  const LogData log = read_log(r.log);
+  const LammpsThermo log = read_lammps_thermo(r.log);
   if (log.dim == 2) {
     import_dimension<2>(r, log);
   } else {

@@ -10,8 +10,19 @@
 // of type 1, m_s = Q^2 (2/D)^2. LAMMPS evaluates its thermo with the forces of the step before
 // the box deformation and the volume after it; the pressures are stored as LAMMPS printed them.
 #include <string>
+#include <vector>
 
 namespace jam {
+
+/// The thermo of a LAMMPS log of this model, with the run's dimension, time step and rate.
+struct LammpsThermo {
+  int dim = 0;
+  double dt = 0, rate = 0;
+  std::vector<double> step, time, pressure, energy, contacts;
+};
+
+/// Reads a log of reference/lammps/compress_inertial.in; throws with file and line.
+LammpsThermo read_lammps_thermo(const std::string& log);
 
 struct LammpsImport {
   std::string log, data, out;
