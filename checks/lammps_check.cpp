@@ -1,5 +1,4 @@
 #include "checks/lammps_check.hpp"
-#include "checks/lammps_runner.hpp"
 
 #include <fmt/format.h>
 
@@ -11,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "checks/lammps_runner.hpp"
 #include "sim/dynamics/system.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
@@ -52,8 +52,7 @@ LammpsResult parse_log(const fs::path& log, const fs::path& end_data) {
   std::string line;
   bool header = false;
   while (std::getline(in, line)) {
-    if (line.find("Step") != std::string::npos &&
-        line.find("c_virial") != std::string::npos) {  // header
+    if (line.rfind("Step", 0) == 0 && line.find("c_virial") != std::string::npos) {  // header
       header = true;
       continue;
     }
@@ -212,6 +211,8 @@ std::vector<Verdict> lammps_check(const LammpsCheckOptions& o) {
   std::vector<Verdict> out = compare_dimension<2>(o);
   const auto three = compare_dimension<3>(o);
   out.insert(out.end(), three.begin(), three.end());
+  const auto overdamped = lammps_overdamped_check(o);
+  out.insert(out.end(), overdamped.begin(), overdamped.end());
   return out;
 }
 

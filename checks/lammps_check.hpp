@@ -22,6 +22,10 @@ struct LammpsCheckOptions {
   bool regenerate = false;          // rewrite the stored reference from a fresh LAMMPS run
 };
 
+/// The inertial comparison in 2D and 3D, then the overdamped one (lammps_overdamped_check).
 std::vector<Verdict> lammps_check(const LammpsCheckOptions& options);
+
+/// jam's overdamped dynamics against LAMMPS at Q = 0.03 through jamming, 2D and 3D.
+std::vector<Verdict> lammps_overdamped_check(const LammpsCheckOptions& options);
 
 }  // namespace jam::checks

@@ -10,7 +10,9 @@
 namespace jam::checks {
 namespace fs = std::filesystem;
 
-bool lmp_available() { return std::system("command -v lmp > /dev/null 2>&1") == 0; }
+bool lmp_available() {
+  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+}
 
 std::string lammps_version(const fs::path& log) {
   std::ifstream in(log);
@@ -28,7 +30,8 @@ void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double 
   // Species of the paper: gamma_s = k_d V_s = 2/D, V_b/V_s = 1.4^D, d_sb = 1.2, d_bb = 1.4.
   const std::string cmd = fmt::format(
       "cd {} && lmp -log {} -screen none -in compress_inertial.in -var data {} -var table "
-      "harmonic_contact.table -var out {} -var dim {} -var rate {:.17g} -var dt {:.17g} -var steps {} "
+      "harmonic_contact.table -var out {} -var dim {} -var rate {:.17g} -var dt {:.17g} -var steps "
+      "{} "
       "-var every {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} -var d_sb 1.2 "
       "-var d_bb 1.4",
       dir.string(), log, data, end, dim, rate, dt, steps, every, 2.0 / dim, std::pow(1.4, dim));

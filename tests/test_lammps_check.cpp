@@ -82,6 +82,30 @@ BOOST_AUTO_TEST_CASE(stored_result_passes_and_perturbed_results_fail) {
   replace_in_file(log, p, fmt::format("{:.17g}", std::stod(p) * 1.001));
   BOOST_TEST(status_of(lammps_check(stored_only(copy)), "pressure") == "fail");
 
+  // The overdamped comparison: LAMMPS pressures 3% higher in every stored log fail it.
+  fs::remove_all(copy);
+  fs::copy(original, copy, fs::copy_options::recursive);
+  for (int k = 0; k < 4; ++k) {
+    const fs::path f = copy / "overdamped-2d" / ("lammps_" + std::to_string(k) + ".log");
+    std::istringstream in(jam::test::slurp(f));
+    std::ostringstream out;
+    bool thermo = false;
+    for (std::string l; std::getline(in, l);) {
+      if (l.rfind("Loop time", 0) == 0) thermo = false;
+      if (thermo) {
+        std::istringstream w(l);
+        std::string step, time, pressure, rest;
+        w >> step >> time >> pressure;
+        std::getline(w, rest);
+        l = step + " " + time + " " + fmt::format("{:.17g}", 1.03 * std::stod(pressure)) + rest;
+      }
+      if (l.rfind("Step Time c_virial", 0) == 0) thermo = true;  // header, not the comment
+      out << l << "\n";
+    }
+    std::ofstream(f) << out.str();
+  }
+  BOOST_TEST(status_of(lammps_check(stored_only(copy)), "overdamped") == "fail");
+
   // Neither lmp (not used here) nor a stored result: skipped, never passed.
   fs::remove_all(copy / "inertial-2d");
   BOOST_TEST(status_of(lammps_check(stored_only(copy)), "") == "skipped");

@@ -45,7 +45,8 @@ class File {
 
   // Attributes of the object at `object` (a group or dataset path; "." is the root).
   void write_attribute(const std::string& name, double value, const std::string& object = ".");
-  void write_attribute(const std::string& name, std::int64_t value, const std::string& object = ".");
+  void write_attribute(const std::string& name, std::int64_t value,
+                       const std::string& object = ".");
   void write_attribute(const std::string& name, const std::string& value,
                        const std::string& object = ".");
   /// Creates a group and any missing parents.
