@@ -66,7 +66,9 @@ int run_check_command(const CheckArgs& a) {
     std::fputs(text.c_str(), out.stream());
     out.commit();
   }
-  fmt::print("wrote {} and {}\n", (dir / "checks.json").string(), (dir / "checks.xml").string());
+  checks::write_curves((dir / "checks.h5").string(), verdicts);
+  fmt::print("wrote {}, {} and {}\n", (dir / "checks.json").string(), (dir / "checks.xml").string(),
+             (dir / "checks.h5").string());
   return checks::exit_status(verdicts);
 }
 

@@ -21,6 +21,12 @@ struct Comparison {
   std::string label;
 };
 
+std::vector<double> pick(const std::vector<double>& grid, const std::vector<std::size_t>& points) {
+  std::vector<double> out;
+  for (auto k : points) out.push_back(grid[k]);
+  return out;
+}
+
 Verdict judge(const Comparison& c, double alpha, int permutations) {
   Verdict v;
   v.check = "finite_size";
@@ -38,6 +44,7 @@ Verdict judge(const Comparison& c, double alpha, int permutations) {
   try {
     const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, permutations);
     record_test(v, r, alpha);
+    v.curves = {{"grid", pick(al.grid, r.points)}, {"delta", r.delta}, {"sigma", r.sigma}};
     v.reason = fmt::format(
         "permutation p = {:.3g} (alpha {:.3g}, {} permutations of whole runs); "
         "|Delta p/p| > {:.3g} excluded",

@@ -52,6 +52,9 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
       try {
         const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, o.permutations, 3);
         record_test(v, r, alpha);
+        std::vector<double> grid;
+        for (auto k : r.points) grid.push_back(al.grid[k]);
+        v.curves = {{"grid", grid}, {"delta", r.delta}, {"sigma", r.sigma}};
         const double largest_delta =
             *std::max_element(r.delta.begin(), r.delta.end(),
                               [](double x, double y) { return std::abs(x) < std::abs(y); });

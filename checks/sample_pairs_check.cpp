@@ -121,6 +121,16 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     }
     v.detectable = std::sqrt(std::max(0.0, hi - 1.0) * v_sum / static_cast<double>(keep.size()));
     v.status = v.statistic < lo || v.statistic > hi ? "fail" : "pass";
+    // Delta p/p of each pair (sample i of one size against sample i of the other).
+    std::vector<double> grid;
+    for (auto k : keep) grid.push_back(al.grid[k]);
+    v.curves.emplace_back("grid", grid);
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+      std::vector<double> d;
+      for (std::size_t k = 0; k < keep.size(); ++k)
+        d.push_back(2 * ((*a[i])[k] - (*b[i])[k]) / ((*a[i])[k] + (*b[i])[k]));
+      v.curves.emplace_back("pair_" + std::to_string(i), d);
+    }
     v.reason = fmt::format(
         "R = {:.3g}, permutation band [{:.3g}, {:.3g}] (alpha {:.3g}); "
         "spread of single pairs vs within-size fluctuations",

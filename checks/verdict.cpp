@@ -2,8 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "sim/io/atomic_file.hpp"
+#include "sim/io/hdf5_file.hpp"
 
 namespace jam::checks {
 namespace {
@@ -104,6 +108,28 @@ std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite
   }
   out << "</testsuite>\n";
   return out.str();
+}
+
+void write_curves(const std::string& path, const std::vector<Verdict>& v) {
+  const std::string temporary = AtomicFile::temporary_name(path);
+  try {
+    h5::File f = h5::File::create(temporary);
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const std::string g = fmt::format("verdicts/{:03d}_{}", k, v[k].check);
+      f.create_group(g);
+      f.write_attribute("check", v[k].check, g);
+      f.write_attribute("case", v[k].case_name, g);
+      f.write_attribute("status", v[k].status, g);
+      f.write_attribute("statistic", v[k].statistic, g);
+      f.write_attribute("threshold", v[k].threshold, g);
+      for (const auto& [name, values] : v[k].curves) f.write_dataset(g + "/" + name, values);
+    }
+    f.close();
+    AtomicFile::publish(path);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
 }
 
 int exit_status(const std::vector<Verdict>& v) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace jam::checks {
@@ -21,6 +22,8 @@ struct Verdict {
   double detectable = NAN;               // smallest effect the data could have detected
   double excluded_above = NAN;           // effects larger than this are excluded (where meaningful)
   std::map<std::string, double> values;  // further numbers a later stage reads (JSON "values")
+  // Curves behind the verdict, for the report (checks.h5): e.g. "grid", "delta", "sigma".
+  std::vector<std::pair<std::string, std::vector<double>>> curves;
 };
 
 /// A verdict that could not be reached, and why.
@@ -37,6 +40,9 @@ inline Verdict skipped(const std::string& check, const std::string& case_name,
 std::string format_table(const std::vector<Verdict>& verdicts);
 std::string to_json(const std::vector<Verdict>& verdicts);
 std::string to_junit_xml(const std::vector<Verdict>& verdicts, const std::string& suite);
+
+/// Writes the curves of every verdict to an HDF5 file (schema in reference/schema.md).
+void write_curves(const std::string& path, const std::vector<Verdict>& verdicts);
 
 /// 1 if any verdict failed, else 0.
 int exit_status(const std::vector<Verdict>& verdicts);
