@@ -88,23 +88,8 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   // The start: the stored one (so the stored LAMMPS result applies), or a fresh one when
   // regenerating.
   if (o.regenerate || !fs::exists(stored / "start.data")) {
-    const double phi = D == 2 ? 0.80 : 0.60;
-    SimConfig a;
-    a.dim = D;
-    a.n = 256;
-    a.phi_init = phi;
-    a.phi_stop = phi * 1.001;
-    a.compression_rate = kRate;
-    a.dynamics = "inertial";
-    a.q = kQ;
-    a.dt = kDt;
-    a.relax_energy = "1e-6";
-    a.seed = 17;
-    a.quiet = true;
-    a.checkpoint_interval = 0;
-    a.out = (dir / "start_run.h5").string();
-    a.write_lammps_data = (dir / "start.data").string();
-    run_compression(a);
+    write_relaxed_start({D, D == 2 ? 0.80 : 0.60, kQ, kDt, "inertial", "1e-6", 17},
+                        dir / "start.data");
   } else {
     fs::copy_file(stored / "start.data", dir / "start.data", fs::copy_options::overwrite_existing);
   }

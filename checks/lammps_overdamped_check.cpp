@@ -52,20 +52,10 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
     const std::string start = fmt::format("start_{}.data", k),
                       log = fmt::format("lammps_{}.log", k);
     if (o.regenerate || !fs::exists(stored / start)) {
-      SimConfig a;
-      a.dim = D;
-      a.n = 256;
-      a.phi_init = phi0;
-      a.phi_stop = phi0 * 1.001;
-      a.compression_rate = kRate;
-      a.q = kQ;  // masses written to the data file
-      a.relax_energy = "1e-12";
-      a.seed = static_cast<std::uint64_t>(100 + k);
-      a.quiet = true;
-      a.checkpoint_interval = 0;
-      a.out = (dir / "start_run.h5").string();
-      a.write_lammps_data = (dir / start).string();
-      run_compression(a);
+      // Relaxed with jam's overdamped dynamics; masses of Q for LAMMPS.
+      write_relaxed_start(
+          {D, phi0, kQ, 0.01, "overdamped", "1e-12", static_cast<std::uint64_t>(100 + k)},
+          dir / start);
     } else {
       fs::copy_file(stored / start, dir / start, fs::copy_options::overwrite_existing);
     }

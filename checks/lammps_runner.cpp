@@ -7,6 +7,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "sim/run/compression_run.hpp"
+
 namespace jam::checks {
 namespace fs = std::filesystem;
 
@@ -36,6 +38,25 @@ void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double 
       "-var d_bb 1.4",
       dir.string(), log, data, end, dim, rate, dt, steps, every, 2.0 / dim, std::pow(1.4, dim));
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);
+}
+
+void write_relaxed_start(const StartSpec& spec, const fs::path& data) {
+  SimConfig a;
+  a.dim = spec.dim;
+  a.n = 256;
+  a.phi_init = spec.phi;
+  a.phi_stop = spec.phi * 1.001;  // the start is written before any compression step
+  a.compression_rate = 1e-3;
+  a.dynamics = spec.dynamics;
+  a.q = spec.q;
+  a.dt = spec.dt;
+  a.relax_energy = spec.relax_energy;
+  a.seed = spec.seed;
+  a.quiet = true;
+  a.checkpoint_interval = 0;
+  a.out = (data.parent_path() / "start_run.h5").string();
+  a.write_lammps_data = data.string();
+  run_compression(a);
 }
 
 }  // namespace jam::checks

@@ -1,5 +1,6 @@
 #pragma once
 // Running the Debian `lmp` on reference/lammps/compress_inertial.in for the LAMMPS checks.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -15,5 +16,16 @@ std::string lammps_version(const std::filesystem::path& log);
 void run_lammps(const std::filesystem::path& dir, const std::filesystem::path& reference, int dim,
                 double rate, double dt, long steps, long every, const std::string& data,
                 const std::string& log, const std::string& end);
+
+/// A start for a comparison: N = 256 random particles at phi, relaxed at zero rate (with the
+/// given dynamics) to the energy target, written as a LAMMPS data file with the masses of Q.
+struct StartSpec {
+  int dim = 2;
+  double phi = 0.8, q = 0.1, dt = 0.01;
+  std::string dynamics = "overdamped";
+  std::string relax_energy = "1e-12";
+  std::uint64_t seed = 1;
+};
+void write_relaxed_start(const StartSpec& spec, const std::filesystem::path& data);
 
 }  // namespace jam::checks
