@@ -69,6 +69,12 @@ BOOST_AUTO_TEST_CASE(bad_numbers) {
   expect_rejected("--skin 0", "--skin 0");
 }
 
+BOOST_AUTO_TEST_CASE(grossly_unstable_time_step) {
+  // Far beyond Euler's stability bound particles jump by more than the skin at
+  // every step: an error within a bounded number of steps, not a quietly wrong run file.
+  expect_rejected("--n 256 --phi-init 0.8 --phi-stop 0.86 --rate 1e-3 --dt 5", "reduce --dt");
+}
+
 BOOST_AUTO_TEST_CASE(box_too_small) {
   expect_rejected("--n 4 --phi-init 0.5", "--n 4");
   expect_rejected("--n 8 --dim 3 --phi-init 0.3 --phi-stop 0.6", "--n 8");
