@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include "sim/model/paper_values.hpp"
+
 namespace jam {
 
 void add_stats_command(CLI::App& app, StatsArgs& a) {
@@ -43,9 +45,8 @@ int run_stats_command(const StatsArgs& a) {
   if (a.fix_paper_exponents) {
     // Needs the dimension: read it with the data.
     const auto dim = stats::read_campaign_runs(a.directory).dim;
-    const double znu = dim == 2 ? 2.63 + 1.12 : 3.07 + 1.22;
-    o.fixed_q = (dim == 2 ? 1.12 : 1.22) / znu;
-    o.fixed_inv_znu = 1.0 / znu;
+    o.fixed_q = paper_values(dim).q();
+    o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
   const stats::CampaignStats s = stats::compute_campaign_stats(a.directory, o);
   const std::string out = (std::filesystem::path(a.directory) / "stats.h5").string();

@@ -13,6 +13,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/relative_difference.hpp"
+#include "sim/model/paper_values.hpp"
 
 namespace jam::checks {
 namespace {
@@ -22,7 +23,7 @@ double alpha_jamming(const CheckOptions& o, std::size_t comparisons) {
 }  // namespace
 
 std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
-  const double phi_min = o.phi_min.value_or(d.dim == 2 ? 0.8415 - 0.03 : 0.6464 - 0.03);
+  const double phi_min = o.phi_min.value_or(paper_values(d.dim).phi_j - 0.03);
   // (n, rate) -> phi_init -> ensemble
   std::map<std::pair<std::int64_t, double>, std::map<double, const EnsembleTables*>> by;
   for (const auto& e : d.ensembles) by[{e.n, e.log10_rate}][e.phi_init] = &e;

@@ -6,20 +6,10 @@
 #include <cmath>
 #include <set>
 
+#include "sim/model/paper_values.hpp"
+
 namespace jam::stats {
-namespace {
-
-// The paper's values as starting points (and windows' centres) for each dimension.
-struct PaperValues {
-  double phi_j, q, inv_znu;
-};
-PaperValues paper_values(int dim) {
-  // 2D: beta 2.63, y 1.12 -> z nu = 3.75; 3D: beta 3.07, y 1.22 -> z nu = 4.29.
-  return dim == 2 ? PaperValues{0.8415, 1.12 / 3.75, 1.0 / 3.75}
-                  : PaperValues{0.6464, 1.22 / 4.29, 1.0 / 4.29};
-}
-
-}  // namespace
+namespace {}  // namespace
 
 CampaignStats compute_campaign_stats(const std::string& directory, const StatsOptions& o) {
   CampaignStats s;
@@ -81,15 +71,15 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
   std::sort(fit_data.begin(), fit_data.end(),
             [](const FitEnsemble& a, const FitEnsemble& b) { return a.rate > b.rate; });
 
-  const PaperValues paper = paper_values(s.data.dim);
+  const PaperValues paper = paper_values(s.data.dim);  // starts and window centres
   ScalingFitOptions base;
   base.order = o.order;
   base.fixed_phi_j = o.fixed_phi_j;
   base.fixed_q = o.fixed_q;
   base.fixed_inv_znu = o.fixed_inv_znu;
   base.start_phi_j = paper.phi_j;
-  base.start_q = paper.q;
-  base.start_inv_znu = paper.inv_znu;
+  base.start_q = paper.q();
+  base.start_inv_znu = paper.inv_znu();
   const double centre = o.fixed_phi_j.value_or(paper.phi_j);
   // rate_max from the fastest rate down to the third slowest, so every fit sees >= 3 rates
   // (or all of them when there are fewer).

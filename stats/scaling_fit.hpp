@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/model/paper_values.hpp"
 namespace jam::stats {
 
 /// One rate's constant-phi averages: its grid and the per-sample pressures on it.
@@ -30,7 +31,8 @@ struct ScalingFitOptions {
   double x_max = 1.0;
   std::optional<double> fixed_phi_j, fixed_q, fixed_inv_znu;
   // Starting values (also the centre of a small multi-start); the paper's 2D values.
-  double start_phi_j = 0.8415, start_q = 0.298, start_inv_znu = 0.267;
+  double start_phi_j = paper_values(2).phi_j, start_q = paper_values(2).q(),
+         start_inv_znu = paper_values(2).inv_znu();
   bool jackknife = true;
 };
 

@@ -16,6 +16,7 @@
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/lammps_data.hpp"
 #include "sim/io/run_file.hpp"
+#include "sim/model/paper_values.hpp"
 #include "sim/observables/observables.hpp"
 #include "sim/run/progress.hpp"
 #include "sim/run/run_state.hpp"
@@ -131,7 +132,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
   };
   // Configurations kept for the jamming point: from phi_J(paper) - 0.04 up.
   const double save_from =
-      c.jamming_search_from > 0 ? c.jamming_search_from : (D == 2 ? 0.8415 : 0.6464) - 0.04;
+      c.jamming_search_from > 0 ? c.jamming_search_from : paper_values(D).phi_j - 0.04;
   auto record = [&](double t) {
     if (c.jamming_point && sys.box.packing_fraction(t) >= save_from) {
       SavedConfiguration saved{sys.box.packing_fraction(t), {}};
