@@ -120,7 +120,9 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.source_path = path;
   c.source_text = text;
   c.name = r.string("name", true, "");
-  c.dim = static_cast<int>(r.integer("dim", true, 2));
+  const std::int64_t dim = r.integer("dim", true, 2);
+  if (dim != 2 && dim != 3) r.fail("dim", fmt::format("{} (must be 2 or 3)", dim));
+  c.dim = static_cast<int>(dim);
   c.sizes = r.integers("sizes");
   c.phi_init = r.numbers("phi_init");
   c.log10_rates = r.numbers("log10_rates");
@@ -150,6 +152,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   if (c.dim != 2 && c.dim != 3) r.fail("dim", fmt::format("{} (must be 2 or 3)", c.dim));
   for (auto n : c.sizes) {
     if (n < 2 || n % 2 != 0) r.fail("sizes", fmt::format("{} (each must be even and >= 2)", n));
+    if (n > (std::int64_t{1} << 31)) r.fail("sizes", fmt::format("{} (at most 2^31)", n));
   }
   for (double phi : c.phi_init) {
     if (!(phi > 0.0 && phi < c.phi_stop)) {
@@ -161,7 +164,9 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
     if (lr > 0.0 || lr < -12.0)
       r.fail("log10_rates", fmt::format("{:g} (must be in [-12, 0])", lr));
   }
-  if (c.samples < 1) r.fail("samples", fmt::format("{} (must be >= 1)", c.samples));
+  if (c.samples < 1 || c.samples > 1000000) {
+    r.fail("samples", fmt::format("{} (must be in [1, 10^6])", c.samples));
+  }
   if (seed < 0) r.fail("seed", fmt::format("{} (must be >= 0)", seed));
   c.seed = static_cast<std::uint64_t>(seed);
   if (c.output.empty()) r.fail("output", "must name a directory");

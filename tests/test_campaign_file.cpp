@@ -71,7 +71,43 @@ BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
   BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 64]")) ==
              "c.toml:3: sizes: repeated value");
   BOOST_TEST(rejection(replace(kGood, "samples = 3", "samples = 0")) ==
-             "c.toml:6: samples: 0 (must be >= 1)");
+             "c.toml:6: samples: 0 (must be in [1, 10^6])");
+  // Infinite, negative, out-of-range and wrongly typed values.
+  BOOST_TEST(rejection(kGood + "dt = inf\n") == "c.toml:10: dt: must be finite");
+  BOOST_TEST(rejection(kGood + "skin = -inf\n") == "c.toml:10: skin: must be finite");
+  BOOST_TEST(rejection(replace(kGood, "phi_stop = 0.86", "phi_stop = nan")) ==
+             "c.toml:7: phi_stop: must be finite");
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, -128]")) ==
+             "c.toml:3: sizes: -128 (each must be even and >= 2)");
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 4294967296]")) ==
+             "c.toml:3: sizes: 4294967296 (at most 2^31)");
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, \"x\"]")) ==
+             "c.toml:3: sizes: must be a non-empty array of integers");
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 128.0]")) ==
+             "c.toml:3: sizes: must be a non-empty array of integers");
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = 64")) ==
+             "c.toml:3: sizes: must be a non-empty array of integers");
+  BOOST_TEST(rejection(replace(kGood, "phi_init = [0.7, 0.8]", "phi_init = [0.7, inf]")) ==
+             "c.toml:4: phi_init: values must be finite");
+  BOOST_TEST(rejection(replace(kGood, "phi_init = [0.7, 0.8]", "phi_init = [-0.7]")) ==
+             "c.toml:4: phi_init: -0.7 (each must be in (0, phi_stop = 0.86))");
+  BOOST_TEST(rejection(replace(kGood, "dim = 2", "dim = 4294967298")) ==
+             "c.toml:2: dim: 4294967298 (must be 2 or 3)");  // not truncated to 2
+  BOOST_TEST(rejection(replace(kGood, "dim = 2", "dim = 2.0")) ==
+             "c.toml:2: dim: must be an integer");
+  BOOST_TEST(rejection(replace(kGood, "samples = 3", "samples = -3")) ==
+             "c.toml:6: samples: -3 (must be in [1, 10^6])");
+  BOOST_TEST(rejection(replace(kGood, "seed = 5", "seed = -5")) ==
+             "c.toml:8: seed: -5 (must be >= 0)");
+  BOOST_TEST(rejection(replace(kGood, "name = \"t\"", "name = 1")) ==
+             "c.toml:1: name: must be a string");
+  BOOST_TEST(rejection(kGood + "relax = 1\n") == "c.toml:10: relax: must be true or false");
+  BOOST_TEST(rejection(kGood + "diameter_ratio = 2.5\n") ==
+             "c.toml:10: diameter_ratio: 2.5: must be in [1, 2]");
+  BOOST_TEST(rejection(kGood + "[extra]\nx = 1\n") == "c.toml:10: extra: unknown key");
+  BOOST_TEST(rejection(replace(kGood, "output = \"out\"\n", "")) ==
+             "c.toml: output: missing (required)");
+  BOOST_TEST(rejection("").rfind("c.toml: name: missing", 0) == 0u);
   // Syntax errors carry the line of the parser.
   BOOST_TEST(rejection(kGood + "dt = = 3\n").rfind("c.toml:10: ", 0) == 0u);
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_set>
 #include <vector>
 
 #include "sim/io/atomic_file.hpp"
@@ -44,6 +45,8 @@ void write_lammps_data(const std::string& path, const ParticleData<D>& p, double
 }
 
 namespace {
+
+constexpr long long kMaxAtoms = std::int64_t{1} << 31;  // as jam sim --n
 
 struct Reader {
   std::string path;
@@ -90,6 +93,11 @@ template <int D>
 LammpsData<D> read_lammps_data(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("--read-lammps-data {}: cannot open file", path));
+  return read_lammps_data<D>(in, path);
+}
+
+template <int D>
+LammpsData<D> read_lammps_data(std::istream& in, const std::string& path) {
   Reader r{path};
   std::string line;
   std::getline(in, line);  // title line
@@ -106,8 +114,10 @@ LammpsData<D> read_lammps_data(const std::string& path) {
     if (t.empty()) continue;
     if (t.size() == 2 && t[1] == "atoms") {
       natoms = r.integer(t[0], "atoms");
+      if (natoms < 0) r.fail(fmt::format("atoms: {} (a count must be >= 0)", t[0]));
     } else if (t.size() == 3 && t[1] == "atom" && t[2] == "types") {
       ntypes = r.integer(t[0], "atom types");
+      if (ntypes < 0) r.fail(fmt::format("atom types: {} (a count must be >= 0)", t[0]));
     } else if (t.size() == 4 && t[2].size() == 3 && t[2].substr(1) == "lo" &&
                t[3].substr(1) == "hi") {
       const int axis = t[2][0] - 'x';
@@ -132,10 +142,14 @@ LammpsData<D> read_lammps_data(const std::string& path) {
       }
       if (natoms < 0) r.fail("Atoms section before the 'atoms' count");
       if (natoms < 2) r.fail(fmt::format("atoms: {} (at least 2 are needed)", natoms));
+      if (natoms > kMaxAtoms) r.fail(fmt::format("atoms: {} (at most {})", natoms, kMaxAtoms));
+      if (have_atoms) r.fail("a second Atoms section");
       for (int d = 0; d < D; ++d) {
         if (!have_bounds[d]) r.fail(fmt::format("missing {}lo {}hi line", "xyz"[d], "xyz"[d]));
       }
       const double length = hi[0] - lo[0];
+      if (!std::isfinite(length))
+        r.fail(fmt::format("xlo xhi: box length {} is not finite", length));
       for (int d = 1; d < D; ++d) {
         if (std::abs((hi[d] - lo[d]) - length) > 1e-12 * length) {
           r.fail(fmt::format("box is not square/cubic: side {} is {} but x is {}", "xyz"[d],
@@ -143,8 +157,8 @@ LammpsData<D> read_lammps_data(const std::string& path) {
         }
       }
       data.box_length = length;
-      data.particles.resize(static_cast<std::size_t>(natoms));
-      std::vector<bool> seen(static_cast<std::size_t>(natoms) + 1, false);
+      // Memory grows with the atom lines actually read, never with the count a header claims.
+      std::unordered_set<long long> seen;
       std::getline(in, line);  // blank line after the header
       ++r.line_no;
       if (!tokens(line).empty()) r.fail("expected a blank line after 'Atoms'");
@@ -159,19 +173,23 @@ LammpsData<D> read_lammps_data(const std::string& path) {
                              a.size()));
         }
         const long long id = r.integer(a[0], "atom id");
-        if (id < 1 || id > natoms || seen[static_cast<std::size_t>(id)]) {
+        if (id < 1 || id > natoms || !seen.insert(id).second) {
           r.fail(fmt::format("atom id: {} is out of range or repeated", a[0]));
         }
-        seen[static_cast<std::size_t>(id)] = true;
         const long long type = r.integer(a[1], "atom type");
         if (type != 1 && type != 2) r.fail(fmt::format("atom type: {} (must be 1 or 2)", a[1]));
         const std::size_t i = static_cast<std::size_t>(k);
+        data.particles.resize(i + 1);
         data.particles.id[i] = static_cast<std::uint32_t>(id);
         data.particles.type[i] = static_cast<std::uint8_t>(type - 1);
         for (int d = 0; d < 3; ++d) {
           const double x = r.number(a[2 + d], std::string(1, "xyz"[d]));
           if (d < D) {
-            data.particles.s[d][i] = wrap_unit((x - lo[d]) / length);
+            const double scaled = (x - lo[d]) / length;
+            if (!std::isfinite(scaled) || std::abs(scaled) > 1e6) {
+              r.fail(fmt::format("{}: {} is far outside the box", "xyz"[d], a[2 + d]));
+            }
+            data.particles.s[d][i] = wrap_unit(scaled);
           } else if (x != 0.0) {
             r.fail(fmt::format("z: {} (a 2D configuration needs z = 0)", a[2 + d]));
           }
@@ -199,5 +217,7 @@ template void write_lammps_data<3>(const std::string&, const ParticleData<3>&, d
                                    double, const std::string&);
 template LammpsData<2> read_lammps_data<2>(const std::string&);
 template LammpsData<3> read_lammps_data<3>(const std::string&);
+template LammpsData<2> read_lammps_data<2>(std::istream&, const std::string&);
+template LammpsData<3> read_lammps_data<3>(std::istream&, const std::string&);
 
 }  // namespace jam

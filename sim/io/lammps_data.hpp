@@ -4,6 +4,7 @@
 // which is also the origin of the host flow v_host = -rate r, so that LAMMPS's
 // fix deform ... trate, which shrinks the box about its centre, follows the same affine map.
 #include <cstdint>
+#include <istream>
 #include <string>
 
 #include "sim/model/particles.hpp"
@@ -25,5 +26,9 @@ void write_lammps_data(const std::string& path, const ParticleData<D>& particles
 /// (cubic), orthogonal, and in 2D have z = 0 for every atom.
 template <int D>
 LammpsData<D> read_lammps_data(const std::string& path);
+
+/// The same from a stream; `path` names it in the errors.
+template <int D>
+LammpsData<D> read_lammps_data(std::istream& in, const std::string& path);
 
 }  // namespace jam

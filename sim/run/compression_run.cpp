@@ -20,6 +20,7 @@
 #include "sim/observables/observables.hpp"
 #include "sim/run/progress.hpp"
 #include "sim/run/run_state.hpp"
+#include "sim/run/stability_guard.hpp"
 
 namespace jam {
 namespace {
@@ -113,6 +114,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
   auto count_steps = [&](std::size_t steps) {
     if (control.particle_steps) control.particle_steps->fetch_add(steps * n);
   };
+  StabilityGuard<D> stability(c, sys.species);
   RunSummary summary;
   summary.n = n;
   summary.resumed = resumed;
@@ -184,6 +186,9 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
           }
           if (t >= c.relax_time_max) break;
         }
+        if (k % kStabilityCheckInterval == 0) {
+          stability.check(sys, sys.box.length(t), sys.box.packing_fraction(t), "relaxation");
+        }
         if (k > 0 && (k & 255) == 0) {
           count_steps(256);
           if (checkpoint_if_due()) {
@@ -212,6 +217,10 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
   const auto n_targets = static_cast<std::int64_t>(targets.size());
   while (st.next_output < n_targets) {
     const auto step = st.steps;
+    if (step % kStabilityCheckInterval == 0) {
+      const double t_now = static_cast<double>(step) * c.dt;
+      stability.check(sys, sys.box.length(t_now), sys.box.packing_fraction(t_now), "compression");
+    }
     if (step > 0 && (step & 255) == 0) {
       count_steps(256);
       progress.update(static_cast<double>(step) * c.dt / t_stop,
@@ -242,6 +251,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
     if (due) record(t_after);
   }
   count_steps(static_cast<std::size_t>(st.steps % 256));
+  stability.check(sys, sys.box.length(t_stop), sys.box.packing_fraction(t_stop), "compression");
   progress.finish();
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
