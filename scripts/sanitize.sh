@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# AddressSanitizer + UndefinedBehaviorSanitizer build (clang, build-asan/) of the executable,
+# the test suites labelled "sanitize" and the libFuzzer targets; runs those suites and a
+# bounded fuzz run of each target (label "fuzz", JAM_FUZZ_SECONDS each, default 20).
+# Called by .ci/run after the main (g++) test suite. Usage: scripts/sanitize.sh [ctest args]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${JAM_FUZZ_SECONDS:-20}"
+# MPI is left out: OpenMPI's own allocations would drown the leak checker.
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DJAM_FUZZ=ON -DJAM_WERROR=OFF -DCMAKE_DISABLE_FIND_PACKAGE_MPI=ON \
+  -DJAM_FUZZ_SECONDS="$seconds" >/dev/null
+targets=(jam fuzz_campaign_file fuzz_lammps_data)
+while read -r t; do targets+=("$t"); done < <(
+  ctest --test-dir build-asan -N -L sanitize | sed -n 's/^ *Test *#[0-9]*: //p')
+cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+ctest --test-dir build-asan --output-on-failure -j 2 -L 'sanitize|fuzz' "$@"
