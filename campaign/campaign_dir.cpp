@@ -11,6 +11,7 @@
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/run_file.hpp"
 #include "sim/version.hpp"
 
 namespace jam {
@@ -83,17 +84,19 @@ void prepare_campaign_directory(const Campaign& c) {
 RunStatus run_status(const PlannedRun& run, std::string* detail) {
   const std::string& file = run.config.out;
   if (fs::exists(file)) {
-    try {
-      const h5::File f = h5::File::open_read(file);
-      if (f.read_attribute_int("complete") == 1 &&
-          f.read_attribute_int("seed") == static_cast<std::int64_t>(run.config.seed) &&
-          f.read_dataset("pressure").size() == f.read_dataset("packing_fraction").size()) {
-        return RunStatus::kDone;
+    std::string problem = run_file_problem(file);
+    if (problem.empty()) {
+      try {
+        const h5::File f = h5::File::open_read(file);
+        if (f.read_attribute_int("seed") == static_cast<std::int64_t>(run.config.seed)) {
+          return RunStatus::kDone;
+        }
+        problem = "run file belongs to another run (seed)";
+      } catch (const std::exception& e) {
+        problem = e.what();
       }
-      if (detail) *detail = "run file is incomplete or belongs to another run";
-    } catch (const std::exception& e) {
-      if (detail) *detail = e.what();
     }
+    if (detail) *detail = problem;
     return RunStatus::kCorrupt;
   }
   if (fs::exists(checkpoint_path(file))) return RunStatus::kPartial;

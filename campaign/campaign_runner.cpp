@@ -17,6 +17,7 @@
 #include "campaign/campaign_dir.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/throughput.hpp"
+#include "sim/io/atomic_file.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/run/stop_signal.hpp"
 
@@ -87,6 +88,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   for (auto k : mine) remaining_estimate += plan[k].estimated_particle_steps;
   std::atomic<std::size_t> next{0}, finished{0}, failed{0}, interrupted{0};
   std::atomic<int> active{0};
+  std::atomic<bool> cannot_write{false};
   std::atomic<std::uint64_t> particle_steps{0};
   std::mutex print_mutex;
   auto worker = [&]() {
@@ -94,7 +96,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       std::atomic<int>& count;
       ~Active() { --count; }
     } active_guard{active};
-    while (!stop_requested.load()) {
+    while (!stop_requested.load() && !cannot_write.load()) {
       const std::size_t slot = next.fetch_add(1);
       if (slot >= mine.size()) return;
       const PlannedRun& run = plan[mine[slot]];
@@ -112,6 +114,17 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
         }
         record.status = "done";
         record.steps = static_cast<std::int64_t>(s.steps);
+      } catch (const WriteError& e) {
+        // Not the run's fault: no record, so the run stays to be done (or resumed from its
+        // checkpoint) by the next `campaign run`; but no further runs in this directory.
+        std::lock_guard lock(print_mutex);
+        fmt::print(stderr,
+                   "{}jam: error: run {} could not write its output: {}; no further runs "
+                   "started\n",
+                   tty ? "\n" : "", run.name, e.what());
+        cannot_write = true;
+        ++failed;
+        return;
       } catch (const std::exception& e) {
         record.status = "failed";
         record.error = e.what();
@@ -121,8 +134,19 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       }
       record.wall_seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      write_run_record(run, record);
+      try {
+        write_run_record(run, record);
+      } catch (const std::exception& e) {
+        // The directory cannot take even a small record (full disk, gone unwritable): every
+        // further run would fail the same way after doing all its work, so take no more.
+        std::lock_guard lock(print_mutex);
+        fmt::print(stderr, "{}jam: error: {}; no further runs started\n", tty ? "\n" : "",
+                   e.what());
+        if (record.status == "done") ++failed;
+        cannot_write = true;
+      }
       ++finished;
+      if (cannot_write.load()) return;
     }
   };
 

@@ -17,7 +17,12 @@ CampaignData read_campaign_runs(const std::string& directory) {
   Campaign located = campaign;
   located.output = directory;  // the directory may have moved since it was run
   for (const PlannedRun& run : plan_runs(located)) {
-    const RunStatus status = run_status(run);
+    std::string detail;
+    const RunStatus status = run_status(run, &detail);
+    if (status == RunStatus::kCorrupt || status == RunStatus::kFailed) {
+      fmt::print(stderr, "jam stats: warning: {} run {} left out: {}\n", to_string(status),
+                 run.name, detail);
+    }
     if (status != RunStatus::kDone) {
       data.skipped.push_back(fmt::format("{} ({})", run.name, to_string(status)));
       continue;

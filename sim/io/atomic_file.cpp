@@ -12,7 +12,7 @@ AtomicFile::AtomicFile(std::string path)
     : path_(std::move(path)), temporary_(temporary_name(path_)) {
   stream_ = std::fopen(temporary_.c_str(), "w");
   if (!stream_) {
-    throw std::runtime_error(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));
+    throw WriteError(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));
   }
 }
 
@@ -26,7 +26,7 @@ void AtomicFile::commit() {
   const bool close_failed = std::fclose(stream_) != 0;
   stream_ = nullptr;
   if (write_failed || close_failed) {
-    throw std::runtime_error(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));
+    throw WriteError(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));
   }
   publish(path_);
   committed_ = true;
@@ -34,7 +34,7 @@ void AtomicFile::commit() {
 
 void AtomicFile::publish(const std::string& path) {
   if (std::rename(temporary_name(path).c_str(), path.c_str()) != 0) {
-    throw std::runtime_error(fmt::format("cannot rename to '{}': {}", path, std::strerror(errno)));
+    throw WriteError(fmt::format("cannot rename to '{}': {}", path, std::strerror(errno)));
   }
 }
 

@@ -3,9 +3,16 @@
 // and renamed by commit(). Destroyed without commit(), it removes the partial file, so an
 // error never leaves output that could be mistaken for a result.
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 
 namespace jam {
+
+/// Output could not be written (unwritable directory, full disk, I/O error): a fault of the
+/// machine, not of the run, so a campaign leaves the run to be redone rather than failed.
+struct WriteError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 class AtomicFile {
  public:

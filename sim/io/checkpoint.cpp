@@ -95,14 +95,32 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
 }
 
 template <int D>
+Checkpoint<D> read_checkpoint_data(const std::string& path);
+
+template <int D>
 std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
                                              const std::string& fingerprint) {
   if (!std::filesystem::exists(path)) return std::nullopt;
-  const h5::File f = h5::File::open_read(path);
-  if (f.read_attribute_string("fingerprint") != fingerprint) {
+  std::string stored;
+  try {
+    stored = h5::File::open_read(path).read_attribute_string("fingerprint");
+  } catch (const std::exception& e) {
+    throw CorruptCheckpoint(e.what());
+  }
+  if (stored != fingerprint) {
     throw std::runtime_error(fmt::format(
         "checkpoint '{}' belongs to a run with other parameters; remove it to start afresh", path));
   }
+  try {
+    return read_checkpoint_data<D>(path);
+  } catch (const std::exception& e) {
+    throw CorruptCheckpoint(e.what());
+  }
+}
+
+template <int D>
+Checkpoint<D> read_checkpoint_data(const std::string& path) {
+  const h5::File f = h5::File::open_read(path);
   Checkpoint<D> c;
   c.state.phase = f.read_attribute_int("phase");
   c.state.relax_steps = f.read_attribute_int("relax_steps");
@@ -112,9 +130,20 @@ std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
   c.particles.id = f.read_dataset_u32("id");
   c.particles.resize(c.particles.id.size());
   const auto type = f.read_dataset_u32("type");
-  for (std::size_t i = 0; i < type.size(); ++i)
+  for (std::size_t i = 0; i < type.size() && i < c.particles.size(); ++i) {
+    if (type[i] > 1) throw std::runtime_error(path + ": particle type out of range");
     c.particles.type[i] = static_cast<std::uint8_t>(type[i]);
-  for (int d = 0; d < D; ++d) c.particles.s[d] = f.read_dataset(fmt::format("s_{}", d));
+  }
+  if (type.size() != c.particles.size()) throw std::runtime_error(path + ": type and id differ");
+  for (int d = 0; d < D; ++d) {
+    c.particles.s[d] = f.read_dataset(fmt::format("s_{}", d));
+    if (c.particles.s[d].size() != c.particles.size()) {
+      throw std::runtime_error(path + ": positions and id differ in length");
+    }
+    for (double x : c.particles.s[d]) {
+      if (!(x >= 0.0 && x < 1.0)) throw std::runtime_error(path + ": position outside the box");
+    }
+  }
   const auto time = f.read_dataset("points_time");
   c.state.points.resize(time.size());
   for (int k = 0; k < 7; ++k) {

@@ -4,6 +4,7 @@
 // new checkpoint. A checkpoint carries the run's fingerprint (every parameter that changes
 // its numbers) and is only ever resumed by the run with the same fingerprint.
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "sim/dynamics/stepper_state.hpp"
@@ -11,6 +12,12 @@
 #include "sim/run/run_state.hpp"
 
 namespace jam {
+
+/// A checkpoint (or relaxed-start cache) that exists but cannot be read back: written by a
+/// process that died in the middle, or damaged since. The run starts afresh instead.
+struct CorruptCheckpoint : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 template <int D>
 struct Checkpoint {

@@ -2,7 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
+
+#include "sim/io/atomic_file.hpp"
 
 namespace jam::h5 {
 namespace {
@@ -16,9 +20,25 @@ void check_status(herr_t status, const std::string& what) {
   if (status < 0) throw std::runtime_error(what);
 }
 
+// Writing: failures are WriteError (the directory or the disk, not the data).
+hid_t check_write(hid_t id, const std::string& what) {
+  if (id < 0) throw WriteError(what);
+  return id;
+}
+
+void check_write_status(herr_t status, const std::string& what) {
+  if (status < 0) throw WriteError(what);
+}
+
 // HDF5 prints its own error stack by default; errors are reported through exceptions here.
+// No library shutdown at exit: after a failed write (full disk) HDF5 1.10 keeps the file in
+// its tables and crashes closing it again at exit; every file jam writes is closed (or its
+// temporary removed) before then anyway.
 struct SilenceHdf5 {
-  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+  SilenceHdf5() {
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
 const SilenceHdf5 silence_hdf5;
 
@@ -44,17 +64,37 @@ std::mutex& library_mutex() {
   return m;
 }
 
+void File::close() {
+  const hid_t id = file_.get();
+  if (id >= 0) {
+    errno = 0;
+    const herr_t flushed = H5Fflush(id, H5F_SCOPE_LOCAL);
+    file_.release();
+    const herr_t closed = H5Fclose(id);
+    if (flushed < 0 || closed < 0) {
+      const int error = errno;
+      if (lock_.owns_lock()) lock_.unlock();
+      throw WriteError(fmt::format("cannot write HDF5 file '{}': {}", path_,
+                                   error ? std::strerror(error) : "I/O error"));
+    }
+  }
+  if (lock_.owns_lock()) lock_.unlock();
+}
+
 File File::create(const std::string& path) {
   std::unique_lock lock(library_mutex());
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // per thread in thread-safe HDF5 builds
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   H5Pset_obj_track_times(fcpl.get(), false);
   const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT);
   return File(std::move(lock),
-              Handle(check(id, fmt::format("cannot create HDF5 file '{}'", path)), H5Fclose), path);
+              Handle(check_write(id, fmt::format("cannot create HDF5 file '{}'", path)), H5Fclose),
+              path);
 }
 
 File File::open_read(const std::string& path) {
   std::unique_lock lock(library_mutex());
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   return File(std::move(lock),
               Handle(check(id, fmt::format("cannot open HDF5 file '{}'", path)), H5Fclose), path);
@@ -64,11 +104,11 @@ namespace {
 void write_scalar_attribute(hid_t file, const std::string& object, const std::string& name,
                             hid_t type, const void* value) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(check(H5Acreate_by_name(file, object.c_str(), name.c_str(), type, space.get(),
-                                      H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                    "cannot create attribute " + name),
+  Handle attr(check_write(H5Acreate_by_name(file, object.c_str(), name.c_str(), type, space.get(),
+                                            H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                          "cannot create attribute " + name),
               H5Aclose);
-  check_status(H5Awrite(attr.get(), type, value), "cannot write attribute " + name);
+  check_write_status(H5Awrite(attr.get(), type, value), "cannot write attribute " + name);
 }
 }  // namespace
 
@@ -93,8 +133,8 @@ void File::create_group(const std::string& path) {
   H5Pset_create_intermediate_group(lcpl.get(), 1);
   Handle gcpl(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
   H5Pset_obj_track_times(gcpl.get(), false);
-  Handle group(check(H5Gcreate2(id(), path.c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT),
-                     "cannot create group " + path),
+  Handle group(check_write(H5Gcreate2(id(), path.c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT),
+                           "cannot create group " + path),
                H5Gclose);
 }
 
@@ -106,12 +146,12 @@ void write_array(hid_t file, const std::string& name, hid_t file_type, hid_t mem
   H5Pset_obj_track_times(dcpl.get(), false);
   Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(lcpl.get(), 1);
-  Handle set(check(H5Dcreate2(file, name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(),
-                              H5P_DEFAULT),
-                   "cannot create dataset " + name),
+  Handle set(check_write(H5Dcreate2(file, name.c_str(), file_type, space.get(), lcpl.get(),
+                                    dcpl.get(), H5P_DEFAULT),
+                         "cannot create dataset " + name),
              H5Dclose);
-  check_status(H5Dwrite(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
-               "cannot write dataset " + name);
+  check_write_status(H5Dwrite(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+                     "cannot write dataset " + name);
 }
 
 template <class T>

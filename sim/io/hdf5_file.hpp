@@ -21,6 +21,8 @@ class Handle {
   Handle& operator=(Handle&& o) noexcept;
   ~Handle() { reset(); }
   void reset();
+  /// Forgets the id without closing it.
+  void release() { id_ = -1; }
   hid_t get() const { return id_; }
 
  private:
@@ -38,10 +40,9 @@ class File {
   static File open_read(const std::string& path);
   hid_t id() const { return file_.get(); }
   const std::string& path() const { return path_; }
-  void close() {
-    file_.reset();
-    if (lock_.owns_lock()) lock_.unlock();
-  }
+  /// Flushes and closes; throws when HDF5 could not write everything (a full disk, an I/O
+  /// error), so that a file written under a temporary name is never published half-written.
+  void close();
 
   // Attributes of the object at `object` (a group or dataset path; "." is the root).
   void write_attribute(const std::string& name, double value, const std::string& object = ".");

@@ -1,12 +1,80 @@
 #include "sim/io/run_file.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/version.hpp"
 
 namespace jam {
+namespace {
+
+// Datasets covered by the checksum, in this order (those present).
+constexpr const char* kChecksummed[] = {
+    "packing_fraction",    "pressure", "contacts_per_particle",
+    "energy_per_particle", "time",     "contacts_per_particle_no_rattlers",
+    "rattler_fraction",    "stress"};
+
+/// FNV-1a (64 bit) over each dataset's name and the bytes of its values.
+void add_to_checksum(std::uint64_t& h, const std::string& name, const std::vector<double>& v) {
+  auto add = [&h](const unsigned char* bytes, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+      h ^= bytes[k];
+      h *= 0x100000001b3ULL;
+    }
+  };
+  add(reinterpret_cast<const unsigned char*>(name.data()), name.size());
+  for (double x : v) {
+    unsigned char b[sizeof x];
+    std::memcpy(b, &x, sizeof x);
+    add(b, sizeof b);
+  }
+}
+
+constexpr std::uint64_t kChecksumStart = 0xcbf29ce484222325ULL;
+
+std::string hex(std::uint64_t h) {
+  return fmt::format("{:016x}", h);
+}
+
+}  // namespace
+
+std::string run_file_problem(const std::string& path) {
+  try {
+    const h5::File f = h5::File::open_read(path);
+    if (!f.has_attribute("complete") || f.read_attribute_int("complete") != 1) {
+      return "run file is incomplete (no complete = 1)";
+    }
+    const std::size_t m = f.read_dataset("packing_fraction").size();
+    std::uint64_t h = kChecksumStart;
+    for (const char* name : kChecksummed) {
+      if (!f.has_dataset(name)) continue;
+      const std::vector<double> v = f.read_dataset(name);
+      add_to_checksum(h, name, v);
+      if (std::string(name) != "stress" && v.size() != m) {
+        return fmt::format("dataset {} has {} entries, packing_fraction {}", name, v.size(), m);
+      }
+    }
+    if (f.has_attribute("data_checksum") && f.read_attribute_string("data_checksum") != hex(h)) {
+      return fmt::format("data checksum {} does not match the stored {}", hex(h),
+                         f.read_attribute_string("data_checksum"));
+    }
+    const std::vector<double> phi = f.read_dataset("packing_fraction");
+    for (std::size_t k = 0; k < phi.size(); ++k) {
+      if (!std::isfinite(phi[k]) || (k > 0 && !(phi[k] > phi[k - 1]))) {
+        return fmt::format("packing_fraction[{}] = {} is not finite and increasing", k, phi[k]);
+      }
+    }
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
 
 template <int D>
 void write_run_file(const std::string& path, const SimConfig& c, const RunMetadata& meta,
@@ -76,6 +144,11 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
           for (int b = 0; b < D; ++b) s.push_back(pt.stress[a][b]);
       f.write_dataset("stress", s, {m, static_cast<hsize_t>(D), static_cast<hsize_t>(D)});
     }
+    std::uint64_t h = kChecksumStart;
+    for (const char* name : kChecksummed) {
+      if (f.has_dataset(name)) add_to_checksum(h, name, f.read_dataset(name));
+    }
+    f.write_attribute("data_checksum", hex(h));
     f.write_attribute("complete", std::int64_t{1});
     f.close();
     AtomicFile::publish(path);

@@ -23,6 +23,11 @@ struct RunMetadata {
   std::int64_t jamming_minimizations = 0;
 };
 
+/// Why the run file at path cannot be used, or "" when it is sound: unreadable HDF5, not
+/// complete, datasets of unequal length, a data checksum (attribute data_checksum, FNV-1a of the
+/// datasets) that does not match, or a packing fraction that is not finite and increasing.
+std::string run_file_problem(const std::string& path);
+
 /// Writes path atomically (HDF5 to "<path>.partial", renamed when closed).
 template <int D>
 void write_run_file(const std::string& path, const SimConfig& config, const RunMetadata& meta,

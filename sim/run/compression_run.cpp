@@ -78,6 +78,26 @@ std::vector<double> output_times(const CompressingBox<D>& box, double phi_init, 
   return t;
 }
 
+/// A checkpoint or start cache that cannot be read back (or holds another number of particles)
+/// is removed with a warning and the run starts afresh: the results are the same either way.
+template <int D>
+std::optional<Checkpoint<D>> read_checkpoint_or_warn(const std::string& path,
+                                                     const std::string& fingerprint,
+                                                     std::size_t n) {
+  std::string problem;
+  try {
+    auto saved = read_checkpoint<D>(path, fingerprint);
+    if (!saved || saved->particles.size() == n) return saved;
+    problem = fmt::format("{} particles, not {}", saved->particles.size(), n);
+  } catch (const CorruptCheckpoint& e) {
+    problem = e.what();
+  }
+  fmt::print(stderr, "jam: warning: unreadable checkpoint {} removed, starting afresh: {}\n", path,
+             problem);
+  std::remove(path.c_str());
+  return std::nullopt;
+}
+
 template <int D, class Stepper>
 RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& sys,
                      Stepper& stepper, RunMetadata meta) {
@@ -89,7 +109,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
 
   RunState<D> st;
   bool resumed = false;
-  if (auto saved = read_checkpoint<D>(checkpoint_file, run_fingerprint)) {
+  if (auto saved = read_checkpoint_or_warn<D>(checkpoint_file, run_fingerprint, n)) {
     sys.particles = std::move(saved->particles);
     sys.neighbors.invalidate();
     stepper.load_state(saved->stepper);
@@ -156,7 +176,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
     // A start relaxed by another run of the same sample (another rate) is taken as it is.
     bool from_cache = false;
     if (c.relax && !c.start_cache.empty()) {
-      if (auto cached = read_checkpoint<D>(c.start_cache, relaxation_fingerprint(c))) {
+      if (auto cached = read_checkpoint_or_warn<D>(c.start_cache, relaxation_fingerprint(c), n)) {
         sys.particles = std::move(cached->particles);
         sys.neighbors.invalidate();
         stepper.load_state(cached->stepper);

@@ -1,0 +1,264 @@
+// Faults in a campaign directory, through the executable: run files corrupted in their data
+// (one flipped bit), truncated or incomplete are detected, listed by `campaign status`, left
+// out of `jam stats` with a warning, and redone identically by `campaign run`; a run whose time
+// step is unstable is marked failed with the error while the others finish; a full disk and an
+// unwritable directory give a clear error and leave earlier results intact.
+#define BOOST_TEST_MODULE campaign_faults
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/test/unit_test.hpp>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "process.hpp"
+#include "sim/io/hdf5_file.hpp"
+#include "sim/io/run_file.hpp"
+
+namespace fs = std::filesystem;
+using jam::test::slurp;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-faults-" + std::to_string(::getpid()));
+
+struct Outcome {
+  int status;
+  std::string output;
+};
+
+/// Runs `jam <args>` through the shell; `prefix` goes before it (ulimit, traps).
+Outcome run_jam(const std::string& args, const std::string& prefix = "") {
+  const fs::path log = kDir / "output.txt";
+  const std::string cmd = "sh -c '" + prefix + std::string(JAM_EXECUTABLE) + " " + args + " > " +
+                          log.string() + " 2>&1'";
+  const int raw = std::system(cmd.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(log)};
+}
+
+fs::path write_campaign(const std::string& name, const std::string& body, const fs::path& out) {
+  const fs::path file = kDir / (name + ".toml");
+  std::ofstream(file) << body << "output = \"" << out.string() << "\"\n";
+  return file;
+}
+
+std::map<std::string, std::string> run_files(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir / "runs")) {
+    if (e.path().extension() == ".h5") files[e.path().filename().string()] = slurp(e.path());
+  }
+  return files;
+}
+
+const std::string kTiny = R"(name = "tiny"
+dim = 2
+sizes = [64]
+phi_init = [0.70]
+log10_rates = [-2.0]
+samples = 3
+phi_stop = 0.86
+phi_step = 0.002
+dt = 0.02
+relax_energy = "1e-14"
+seed = 3
+)";
+
+struct Fixture {
+  Fixture() { fs::create_directories(kDir); }
+  ~Fixture() { fs::remove_all(kDir); }
+};
+
+/// Flips one bit of the first occurrence of the 8 bytes of `value` in the file.
+bool flip_bit_of(const fs::path& file, double value) {
+  std::string bytes = slurp(file);
+  char pattern[sizeof value];
+  std::memcpy(pattern, &value, sizeof value);
+  const auto at = bytes.find(std::string(pattern, sizeof value));
+  if (at == std::string::npos) return false;
+  bytes[at + 1] ^= 0x10;  // a low mantissa bit: the value stays finite and plausible
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  return true;
+}
+
+}  // namespace
+
+BOOST_FIXTURE_TEST_SUITE(faults, Fixture)
+
+BOOST_AUTO_TEST_CASE(corrupt_run_files_are_detected_left_out_and_redone) {
+  const fs::path dir = kDir / "c";
+  const fs::path file = write_campaign("c", kTiny, dir);
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  const auto first = run_files(dir);
+  BOOST_REQUIRE(first.size() == 3u);
+  for (const auto& [name, bytes] : first)
+    BOOST_TEST(jam::run_file_problem((dir / "runs" / name).string()) == "");
+
+  // One bit of one pressure value: the HDF5 file still opens and looks complete.
+  const fs::path flipped = dir / "runs" / "n64_phi0.7000_r-2.00_s001.h5";
+  const double p3 = jam::h5::File::open_read(flipped.string()).read_dataset("pressure")[3];
+  BOOST_REQUIRE(flip_bit_of(flipped, p3));
+  BOOST_TEST(jam::run_file_problem(flipped.string()).find("checksum") != std::string::npos);
+  // Truncated to a tenth.
+  const fs::path truncated = dir / "runs" / "n64_phi0.7000_r-2.00_s002.h5";
+  fs::resize_file(truncated, fs::file_size(truncated) / 10);
+
+  Outcome o = run_jam("campaign status " + dir.string());
+  BOOST_TEST(o.output.find("corrupt  2") != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("corrupt n64_phi0.7000_r-2.00_s001: data checksum") != std::string::npos,
+             o.output);
+  BOOST_TEST(o.output.find("n64_phi0.7000_r-2.00_s002") != std::string::npos, o.output);
+
+  o = run_jam("stats " + dir.string());
+  BOOST_TEST(o.output.find("1 runs averaged, 2 skipped") != std::string::npos, o.output);
+  BOOST_TEST(
+      o.output.find("warning: corrupt run n64_phi0.7000_r-2.00_s001 left out") != std::string::npos,
+      o.output);
+
+  o = run_jam("campaign run --quiet " + file.string());
+  BOOST_TEST(o.status == 0, o.output);
+  BOOST_TEST((run_files(dir) == first));  // redone bit for bit
+}
+
+// dt = 0.45 is inside the stability bound of the sparse start at phi_init 0.3 and of the
+// packings it is compressed through up to phi 0.75, but not of the random start at 0.74 (its
+// overlaps make lambda_max about 4.2 to 5, measured, so 1.9/lambda_max < 0.45).
+BOOST_AUTO_TEST_CASE(unstable_run_fails_alone) {
+  const fs::path dir = kDir / "u";
+  std::string text = kTiny;
+  text.replace(text.find("phi_init = [0.70]"), 17, "phi_init = [0.30, 0.74]");
+  text.replace(text.find("phi_stop = 0.86"), 15, "phi_stop = 0.75");
+  text.replace(text.find("dt = 0.02"), 9, "dt = 0.45");
+  text.replace(text.find("samples = 3"), 11, "samples = 1");
+  const fs::path file = write_campaign("u", text, dir);
+  const Outcome o = run_jam("campaign run --quiet " + file.string());
+  BOOST_TEST(o.status == 1, o.output);
+  BOOST_TEST(o.output.find("run n64_phi0.7400_r-2.00_s000 failed: --dt 0.45: unstable") !=
+                 std::string::npos,
+             o.output);
+  BOOST_TEST(!fs::exists(dir / "runs" / "n64_phi0.7400_r-2.00_s000.h5"));
+  BOOST_TEST(jam::run_file_problem((dir / "runs" / "n64_phi0.3000_r-2.00_s000.h5").string()) == "");
+  const Outcome status = run_jam("campaign status " + dir.string());
+  BOOST_TEST(status.output.find("failed n64_phi0.7400_r-2.00_s000: --dt 0.45: unstable") !=
+                 std::string::npos,
+             status.output);
+  BOOST_TEST(status.output.find("done     1") != std::string::npos, status.output);
+}
+
+namespace {
+
+/// Earlier results, then more samples with the output made to fail by `prefix`: a non-zero
+/// exit, an error that says what failed, no crash, and the earlier run files unchanged.
+void earlier_results_survive(const fs::path& dir, const std::string& prefix,
+                             const std::string& expected_error) {
+  const fs::path file = write_campaign("f", kTiny, dir);
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  const auto first = run_files(dir);
+  std::string more = kTiny;
+  more.replace(more.find("samples = 3"), 11, "samples = 6");
+  const fs::path bigger = write_campaign("f", more, dir);
+  const Outcome o = run_jam("campaign run --quiet " + bigger.string(), prefix);
+  BOOST_TEST(o.status != 0, o.output);
+  BOOST_TEST(o.output.find(expected_error) != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("Segmentation") == std::string::npos, o.output);
+  auto now = run_files(dir);
+  for (const auto& [name, bytes] : first) BOOST_TEST((now[name] == bytes), name);
+  for (const auto& [name, bytes] : now) {
+    BOOST_TEST(jam::run_file_problem((dir / "runs" / name).string()) == "", name);
+  }
+}
+
+}  // namespace
+
+// A file-size limit (RLIMIT_FSIZE of 4 kB, SIGXFSZ ignored) makes every larger write fail
+// with EFBIG, as a full disk does with ENOSPC, without privileges: the campaign file, records
+// and manifest fit, a relaxed start or run file does not. The runs that could not write are
+// not marked failed, so the same command finishes them once the space is back.
+BOOST_AUTO_TEST_CASE(file_size_limit_like_a_full_disk) {
+  const fs::path dir = kDir / "limit";
+  earlier_results_survive(dir, "trap \"\" XFSZ; ulimit -f 4; ", "could not write its output");
+  BOOST_TEST(run_jam("campaign run --quiet " + (kDir / "f.toml").string()).status == 0);
+  BOOST_TEST(run_files(dir).size() == 6u);
+}
+
+// A real full disk: a 512 kB tmpfs holding the campaign, filled up before the new runs. Needs
+// root (mount); skipped with a message otherwise.
+BOOST_AUTO_TEST_CASE(full_tmpfs) {
+  const fs::path mnt = kDir / "mnt";
+  fs::create_directories(mnt);
+  if (::geteuid() != 0 || ::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=512k") != 0) {
+    BOOST_TEST_MESSAGE("full_tmpfs skipped: mounting a tmpfs needs root");
+    return;
+  }
+  struct Unmount {
+    fs::path p;
+    ~Unmount() { ::umount2(p.c_str(), MNT_DETACH); }
+  } unmount{mnt};
+  const fs::path dir = mnt / "campaign";
+  const fs::path file = write_campaign("f", kTiny, dir);
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  const auto first = run_files(dir);
+  {  // fill the disk, leaving a few kB
+    std::ofstream filler(mnt / "filler", std::ios::binary);
+    const std::string block(4096, 'x');
+    while (filler.write(block.data(), block.size())) {
+    }
+  }
+  fs::resize_file(mnt / "filler", fs::file_size(mnt / "filler") - 8192);
+  std::string more = kTiny;
+  more.replace(more.find("samples = 3"), 11, "samples = 6");
+  const fs::path bigger = write_campaign("f", more, dir);
+  const Outcome o = run_jam("campaign run --quiet " + bigger.string());
+  BOOST_TEST(o.status != 0, o.output);
+  BOOST_TEST(o.output.find("jam") != std::string::npos, o.output);
+  auto now = run_files(dir);
+  for (const auto& [name, bytes] : first) BOOST_TEST((now[name] == bytes), name);
+  for (const auto& [name, bytes] : now) {
+    BOOST_TEST(jam::run_file_problem((dir / "runs" / name).string()) == "", name);
+  }
+  fs::remove(mnt / "filler");
+  const Outcome again = run_jam("campaign run --quiet " + bigger.string());
+  BOOST_TEST(again.status == 0, again.output);
+  BOOST_TEST(run_files(dir).size() == 6u);
+}
+
+// An unwritable runs/ directory: chmod when not root; as root (chmod does not stop root) a
+// read-only tmpfs, or skipped with a message when mounting is not allowed either.
+BOOST_AUTO_TEST_CASE(unwritable_directory) {
+  const fs::path dir = kDir / "ro";
+  const fs::path file = write_campaign("f", kTiny, dir);
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  const auto first = run_files(dir);
+  std::string more = kTiny;
+  more.replace(more.find("samples = 3"), 11, "samples = 6");
+  const fs::path bigger = write_campaign("f", more, dir);
+  bool restore_mode = false, unmount = false;
+  if (::geteuid() != 0) {
+    fs::permissions(dir / "runs", fs::perms::owner_write, fs::perm_options::remove);
+    fs::permissions(dir, fs::perms::owner_write, fs::perm_options::remove);
+    restore_mode = true;
+  } else if (::mount((dir).c_str(), (dir).c_str(), nullptr, MS_BIND, nullptr) == 0 &&
+             ::mount(nullptr, (dir).c_str(), nullptr, MS_BIND | MS_REMOUNT | MS_RDONLY, nullptr) ==
+                 0) {
+    unmount = true;
+  } else {
+    BOOST_TEST_MESSAGE("unwritable_directory skipped: root, and no read-only bind mount");
+    return;
+  }
+  const Outcome o = run_jam("campaign run --quiet " + bigger.string());
+  if (restore_mode) {
+    fs::permissions(dir, fs::perms::owner_write, fs::perm_options::add);
+    fs::permissions(dir / "runs", fs::perms::owner_write, fs::perm_options::add);
+  }
+  if (unmount) ::umount2(dir.c_str(), MNT_DETACH);
+  BOOST_TEST(o.status != 0, o.output);
+  BOOST_TEST(o.output.find("jam: error:") != std::string::npos, o.output);
+  BOOST_TEST(std::count(o.output.begin(), o.output.end(), '\n') <= 2, o.output);
+  BOOST_TEST((run_files(dir) == first));
+}
+
+BOOST_AUTO_TEST_SUITE_END()
