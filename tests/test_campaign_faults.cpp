@@ -2,7 +2,8 @@
 // (one flipped bit), truncated or incomplete are detected, listed by `campaign status`, left
 // out of `jam stats` with a warning, and redone identically by `campaign run`; a run whose time
 // step is unstable is marked failed with the error while the others finish; a full disk and an
-// unwritable directory give a clear error and leave earlier results intact.
+// unwritable directory give a clear error and leave earlier results intact; 1 and 2 threads
+// give identical run files.
 #define BOOST_TEST_MODULE campaign_faults
 #include <sys/mount.h>
 #include <sys/wait.h>
@@ -259,6 +260,20 @@ BOOST_AUTO_TEST_CASE(unwritable_directory) {
   BOOST_TEST(o.output.find("jam: error:") != std::string::npos, o.output);
   BOOST_TEST(std::count(o.output.begin(), o.output.end(), '\n') <= 2, o.output);
   BOOST_TEST((run_files(dir) == first));
+}
+
+// Determinism across threads: each run is computed by one thread from its own seed, so the
+// run files of a campaign are bitwise the same with 1 and 2 threads (MPI ranks against
+// threads: test_campaign_end_to_end).
+BOOST_AUTO_TEST_CASE(one_and_two_threads_give_identical_run_files) {
+  std::string text = kTiny;
+  text.replace(text.find("sizes = [64]"), 12, "sizes = [64, 96]");
+  const fs::path one = write_campaign("one", text, kDir / "one");
+  const fs::path two = write_campaign("two", text, kDir / "two");
+  BOOST_REQUIRE(run_jam("campaign run --quiet --jobs 1 " + one.string()).status == 0);
+  BOOST_REQUIRE(run_jam("campaign run --quiet --jobs 2 " + two.string()).status == 0);
+  BOOST_TEST(run_files(kDir / "one").size() == 6u);
+  BOOST_TEST((run_files(kDir / "one") == run_files(kDir / "two")));
 }
 
 BOOST_AUTO_TEST_SUITE_END()
