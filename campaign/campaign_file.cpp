@@ -109,6 +109,19 @@ class Reader {
 }  // namespace
 
 Campaign parse_campaign(const std::string& text, const std::string& path) {
+  // Plain ASCII only: the TOML parser of Debian 12 (toml++ 3.3.0) reaches undefined behaviour
+  // on some non-ASCII characters (marzer/tomlplusplus#295, found here by fuzzing), and no key
+  // or value of a campaign needs one.
+  int line = 1;
+  for (const char ch : text) {
+    const auto byte = static_cast<unsigned char>(ch);
+    if (byte == '\n') ++line;
+    if (byte >= 0x80 || (byte < 0x20 && byte != '\n' && byte != '\t' && byte != '\r') ||
+        byte == 0x7f) {
+      throw CampaignError(fmt::format("{}:{}: byte 0x{:02x}: campaign files are plain ASCII text",
+                                      path, line, byte));
+    }
+  }
   toml::table table;
   try {
     table = toml::parse(text, path);

@@ -108,6 +108,13 @@ BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
   BOOST_TEST(rejection(replace(kGood, "output = \"out\"\n", "")) ==
              "c.toml: output: missing (required)");
   BOOST_TEST(rejection("").rfind("c.toml: name: missing", 0) == 0u);
+  // Non-ASCII text (the TOML parser has undefined behaviour on some of it) and control bytes.
+  BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64\xcd\xbd, 128]")) ==
+             "c.toml:3: byte 0xcd: campaign files are plain ASCII text");
+  BOOST_TEST(rejection(kGood + "# \xc2\xa7\n") ==
+             "c.toml:10: byte 0xc2: campaign files are plain ASCII text");
+  BOOST_TEST(rejection(std::string("name = \"t\"\0\n", 11)) ==
+             "c.toml:1: byte 0x00: campaign files are plain ASCII text");
   // Syntax errors carry the line of the parser.
   BOOST_TEST(rejection(kGood + "dt = = 3\n").rfind("c.toml:10: ", 0) == 0u);
 }
