@@ -115,6 +115,9 @@ BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
              "c.toml:10: byte 0xc2: campaign files are plain ASCII text");
   BOOST_TEST(rejection(std::string("name = \"t\"\0\n", 11)) ==
              "c.toml:1: byte 0x00: campaign files are plain ASCII text");
+  // Malformed table headers (toml++ 3.3.0 asserts on these in debug builds; found by fuzzing).
+  BOOST_TEST(rejection(kGood + "[ # x\n").rfind("c.toml:10: Error while parsing key", 0) == 0u);
+  BOOST_TEST(rejection(kGood + "[[ =\n").rfind("c.toml:10: Error while parsing key", 0) == 0u);
   // Syntax errors carry the line of the parser.
   BOOST_TEST(rejection(kGood + "dt = = 3\n").rfind("c.toml:10: ", 0) == 0u);
 }

@@ -43,12 +43,12 @@ PairSet listed(const jam::NeighborList<D>& list) {
 
 template <int D>
 void neighbors_at_ratio(double ratio, double phi) {
-  auto sys = random_system<D>(400, phi, ratio, 1e-2);
+  auto sys = random_system<D>(256, phi, ratio, 1e-2);
   BOOST_TEST(sys.box.packing_fraction(0.0) == phi, boost::test_tools::tolerance(1e-12));
   BOOST_TEST(sys.species.max_contact_distance == std::max(1.0, ratio));
   jam::OverdampedEuler<D> stepper(sys.size());
   std::size_t builds = 0, contacts_seen = 0;
-  for (int k = 0; k < 300; ++k) {
+  for (int k = 0; k < 200; ++k) {
     const double t = k * 0.05, L = sys.box.length(t);
     sys.update_neighbors(L);
     if (sys.neighbors.builds() != builds) {
