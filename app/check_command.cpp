@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -46,6 +47,7 @@ int run_check_command(const CheckArgs& a) {
     o.set_a = checks::RunSetSelector::parse(a.set_a);
     o.set_b = checks::RunSetSelector::parse(a.set_b);
   }
+  const auto started = std::chrono::steady_clock::now();
   std::vector<checks::Verdict> verdicts;
   if (a.name != "lammps") verdicts = checks::run_check(a.name, checks::read_stats(a.directory), o);
   if (a.name == "lammps" || a.name == "all") {
@@ -66,7 +68,9 @@ int run_check_command(const CheckArgs& a) {
     std::fputs(text.c_str(), out.stream());
     out.commit();
   }
-  checks::write_curves((dir / "checks.h5").string(), verdicts);
+  checks::write_curves(
+      (dir / "checks.h5").string(), verdicts,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   fmt::print("wrote {}, {} and {}\n", (dir / "checks.json").string(), (dir / "checks.xml").string(),
              (dir / "checks.h5").string());
   return checks::exit_status(verdicts);
