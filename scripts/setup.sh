@@ -9,6 +9,7 @@ packages=(
   libcli11-dev libfmt-dev libhdf5-dev hdf5-tools libboost-test-dev
   libeigen3-dev libgsl-dev libtomlplusplus-dev
   lammps python3-h5py libopenmpi-dev openmpi-bin nlohmann-json3-dev
+  python3-matplotlib python3-numpy chromium
 )
 missing=()
 for p in "${packages[@]}"; do
