@@ -34,6 +34,16 @@ def _rate_label(log10_rate):
     return f"rate $10^{{{log10_rate:g}}}$"
 
 
+def _decorate(ax, xlabel, ylabel, log_y=False):
+    """Axis labels, legend and grid, the same on every single-panel figure."""
+    if log_y:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, which="both" if log_y else "major")
+
+
 def _save(fig, out_dir, file):
     path = os.path.join(out_dir, file)
     fig.savefig(path, dpi=DPI)
@@ -142,10 +152,7 @@ def sample_pairs_figure(c, out_dir):
             ax.plot(v.curves["grid"], p + offset, lw=0.7, color=colors[r], alpha=0.7,
                     label=f"phi_init {v.values.get('phi_init', 0):g}, {_rate_label(r)} "
                     f"(+{offset:.2g}), {v.status}" if j == 0 else None)
-    ax.set_xlabel(r"packing fraction $\phi$")
-    ax.set_ylabel(r"$\Delta p/p$ of sample pairs + offset")
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3)
+    _decorate(ax, r"packing fraction $\phi$", r"$\Delta p/p$ of sample pairs + offset")
     file = _save(fig, out_dir, "sample_pairs.png")
     return Figure(file, "Sample pairs",
                   "Each line is one pair (sample i of the smaller size against sample i of the "
@@ -172,11 +179,8 @@ def relative_error_figure(c, out_dir):
             okz = np.isfinite(z["pressure_relative_error"]) & (z["pressure_mean"] > 0)
             ax.plot(z["packing_fraction_mean"][okz], z["pressure_relative_error"][okz], "--",
                     color=colors[e.log10_rate], label=f"{_rate_label(e.log10_rate)}, constant Z")
-    ax.set_yscale("log")
-    ax.set_xlabel(r"packing fraction $\phi$ (constant Z: mean $\phi$ at that Z)")
-    ax.set_ylabel(r"relative error $\sigma_p / (p \sqrt{N_s})$")
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3, which="both")
+    _decorate(ax, r"packing fraction $\phi$ (constant Z: mean $\phi$ at that Z)",
+              r"relative error $\sigma_p / (p \sqrt{N_s})$", log_y=True)
     file = _save(fig, out_dir, "relative_errors.png")
     return Figure(file, "Relative errors: constant phi against constant Z",
                   f"N = {largest}, phi_init = {phi_init:g}. Averaging at constant Z (dashed) "
@@ -212,10 +216,7 @@ def jamming_figure(c, out_dir):
     if safe:
         ax.axvline(min(safe), color="tab:red", lw=1, ls="--",
                    label=f"largest safe phi_init = {min(safe):g}")
-    ax.set_xlabel(r"$\phi_{init}$")
-    ax.set_ylabel(r"$\langle\phi_{Ji}\rangle$ (error bars: standard error)")
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3)
+    _decorate(ax, r"$\phi_{init}$", r"$\langle\phi_{Ji}\rangle$ (error bars: standard error)")
     file = _save(fig, out_dir, "jamming_points.png")
     return Figure(file, "Jamming points against the initial packing",
                   "Mean jamming point of the runs of each (size, rate) for every phi_init, "
@@ -277,12 +278,9 @@ def collapse_figure(c, out_dir):
                         yerr=collapse["scaled_pressure_error"][sel], marker="o", ms=3, ls="none",
                         color=colors[r], mfc=colors[r] if in_fit else "none", alpha=1 if in_fit
                         else 0.5, label=f"{_rate_label(r)}{'' if in_fit else ' (not fitted)'}")
-    ax.set_yscale("log")
     ax.axvline(0, color="k", lw=0.5)
-    ax.set_xlabel(r"$x = (\phi - \phi_J)/\dot\epsilon^{1/z\nu}$")
-    ax.set_ylabel(r"$p / \dot\epsilon^{q}$")
-    ax.legend(fontsize=7)
-    ax.grid(alpha=0.3, which="both")
+    _decorate(ax, r"$x = (\phi - \phi_J)/\dot\epsilon^{1/z\nu}$", r"$p / \dot\epsilon^{q}$",
+              log_y=True)
     file = _save(fig, out_dir, "collapse.png")
     return Figure(file, "Scaling collapse",
                   f"phi_J = {rep.get('phi_j', float('nan')):.5f}, q = {rep.get('q', float('nan')):.4f}, "
