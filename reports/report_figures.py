@@ -67,17 +67,25 @@ def pressure_figure(c, out_dir):
     sizes = sorted({e.n for e in chosen})
     colors = _rate_colors([e.log10_rate for e in chosen])
     fig, axes = plt.subplots(1, 2, layout="constrained", figsize=(11, 4.2))
+    lowest = []
     for e in chosen:
         a = e.constant_phi
         phi, p, dp = a["packing_fraction"], a["pressure_mean"], a["pressure_error"]
         keep = p > 0
+        lowest.append(np.percentile(p[keep], 5) / e.compression_rate if keep.any() else np.inf)
         solid = e.n == sizes[0]
-        style = dict(marker="o", ms=3.5, lw=0.8, capsize=0, color=colors[e.log10_rate],
+        style = dict(marker="o", ms=4, lw=0.8, capsize=0, color=colors[e.log10_rate],
+                     markevery=max(1, int(keep.sum()) // 30), errorevery=max(1, len(p) // 30),
                      mfc=colors[e.log10_rate] if solid else "none",
                      label=f"N={e.n}, {_rate_label(e.log10_rate)}")
         axes[0].errorbar(phi[keep], p[keep], yerr=dp[keep], **style)
         rate = e.compression_rate
         axes[1].errorbar(phi[keep], p[keep] / rate, yerr=dp[keep] / rate, **style)
+    # The first points after the start carry the relaxed start's residual pressure, orders of
+    # magnitude below the compression's: the vertical range starts near the compression's.
+    floor = 0.3 * min(lowest)
+    axes[1].set_ylim(bottom=floor)
+    axes[0].set_ylim(bottom=floor * min(e.compression_rate for e in chosen))
     for ax, label in zip(axes, ["pressure $p$", r"bulk viscosity $\eta_p = p/\dot\epsilon$"]):
         ax.set_yscale("log")
         ax.set_xlabel(r"packing fraction $\phi$")
@@ -88,12 +96,13 @@ def pressure_figure(c, out_dir):
     return Figure(file, "Pressure and bulk viscosity",
                   f"Averages at constant phi over samples, phi_init = {phi_init:g}; solid symbols "
                   f"N = {sizes[0]}, open symbols larger sizes; error bars are standard errors "
-                  "(the paper's Fig. 1).")
+                  "(the paper's Fig. 1). The residual pressure of the relaxed start, right after "
+                  "phi_init, is below the vertical range.")
 
 
 def _offset_step(curves):
     """A vertical offset between rates that keeps the curves apart (robust to outliers)."""
-    spans = [np.nanpercentile(np.abs(d) + s, 90) for d, s in curves if len(d)]
+    spans = [np.nanpercentile((np.abs(d) + s)[len(d) // 20:], 90) for d, s in curves if len(d)]
     return float(np.clip(2.2 * max(spans, default=0.1), 0.02, 2.0))
 
 
@@ -189,16 +198,19 @@ def relative_error_figure(c, out_dir):
 
 
 def jamming_figure(c, out_dir):
-    """phi_Ji for each phi_init, with the largest phi_init the phi_init check allows."""
+    """phi_Ji for each phi_init (left) and the largest phi_init the phi_init check allows for
+    each size and rate (right)."""
     found = [e for e in c.ensembles if e.jamming and e.jamming.get("found", 0) > 0]
-    if not found:
+    safe = [v.values for v in c.verdicts
+            if v.check == "phi_init" and "largest_consistent_phi_init" in v.values]
+    if not found and not safe:
         return None
+    fig, (ax, right) = plt.subplots(1, 2, layout="constrained", figsize=(12, 4.5))
+    colors = _rate_colors([e.log10_rate for e in c.ensembles])
+    sizes = sorted({e.n for e in c.ensembles})
     groups = sorted({(e.n, e.log10_rate) for e in found}, key=lambda g: (g[0], -g[1]))
-    colors = _rate_colors([e.log10_rate for e in found])
-    sizes = sorted({e.n for e in found})
     starts = sorted({e.phi_init for e in found})
     width = 0.6 * (min(np.diff(starts)) if len(starts) > 1 else 0.1)
-    fig, ax = plt.subplots(layout="constrained", figsize=(7.5, 4.5))
     for k, (n, r) in enumerate(groups):
         mine = sorted([e for e in found if e.n == n and e.log10_rate == r],
                       key=lambda e: e.phi_init)
@@ -207,21 +219,36 @@ def jamming_figure(c, out_dir):
                     yerr=[e.jamming["error"] for e in mine], marker="o" if n == sizes[0] else "s",
                     mfc=colors[r] if n == sizes[0] else "none", color=colors[r], ls="none",
                     capsize=3, label=f"N={n}, {_rate_label(r)}")
-    paper = c.stats_attrs.get("paper", {})
-    if "phi_j" in paper:
-        ax.axhline(paper["phi_j"], color="k", ls=":", lw=1,
-                   label=f"paper phi_J = {paper['phi_j']:g} (N, 1/rate -> inf)")
-    safe = [v.values["largest_consistent_phi_init"] for v in c.verdicts
-            if v.check == "phi_init" and "largest_consistent_phi_init" in v.values]
-    if safe:
-        ax.axvline(min(safe), color="tab:red", lw=1, ls="--",
-                   label=f"largest safe phi_init = {min(safe):g}")
-    _decorate(ax, r"$\phi_{init}$", r"$\langle\phi_{Ji}\rangle$ (error bars: standard error)")
+    if found:
+        paper = c.stats_attrs.get("paper", {})
+        if "phi_j" in paper:
+            ax.axhline(paper["phi_j"], color="k", ls=":", lw=1,
+                       label=f"paper phi_J = {paper['phi_j']:g} (N, 1/rate -> inf)")
+        if safe:
+            ax.axvline(min(x["largest_consistent_phi_init"] for x in safe), color="tab:red",
+                       lw=1, ls="--", label="largest safe phi_init (all sizes and rates)")
+        _decorate(ax, r"$\phi_{init}$", r"$\langle\phi_{Ji}\rangle$ (error bars: standard error)")
+    else:
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "jamming points phi_Ji were not sought in this campaign\n"
+                "(campaign key jamming_point = true)", ha="center", va="center",
+                transform=ax.transAxes)
+    for n in sizes:
+        mine = sorted([x for x in safe if x.get("n") == n], key=lambda x: x["log10_rate"])
+        if mine:
+            right.plot([x["log10_rate"] for x in mine],
+                       [x["largest_consistent_phi_init"] for x in mine],
+                       marker="o" if n == sizes[0] else "s", mfc="none" if n != sizes[0] else None,
+                       ls="-", label=f"N={n}")
+    starts_all = sorted({e.phi_init for e in c.ensembles})
+    right.set_yticks(starts_all)
+    _decorate(right, r"$\log_{10}$ rate", "largest phi_init consistent with the lowest")
     file = _save(fig, out_dir, "jamming_points.png")
-    return Figure(file, "Jamming points against the initial packing",
-                  "Mean jamming point of the runs of each (size, rate) for every phi_init, "
-                  "shifted sideways for legibility; the dashed red line is the largest phi_init "
-                  "the phi_init check finds consistent with the lowest one at every size and rate.")
+    return Figure(file, "Jamming points and the largest safe initial packing",
+                  "Left: mean jamming point of the runs of each (size, rate) for every phi_init, "
+                  "shifted sideways for legibility, with the largest phi_init consistent at every "
+                  "size and rate (dashed red). Right: per size and rate, the largest phi_init whose "
+                  "pressure curve the phi_init check finds consistent with the lowest phi_init's.")
 
 
 def scan_figure(c, out_dir):
