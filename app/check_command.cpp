@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
+#include "checks/regression_check.hpp"
 #include "sim/io/atomic_file.hpp"
 
 namespace jam {
@@ -12,11 +14,15 @@ namespace jam {
 void add_check_command(CLI::App& app, CheckArgs& a) {
   CLI::App* c = app.add_subcommand(
       "check",
-      "Statistical verdicts from DIR/stats.h5: finite_size, sample_pairs, phi_init or all");
+      "Statistical verdicts from DIR/stats.h5: finite_size, sample_pairs, phi_init, lammps, "
+      "regression or all");
   c->option_defaults()->always_capture_default();
-  c->add_option("name", a.name, "finite_size, sample_pairs, phi_init, lammps or all")
+  c->add_option("name", a.name,
+                "finite_size, sample_pairs, phi_init, lammps, regression or all (all but "
+                "regression)")
       ->required()
-      ->check(CLI::IsMember({"finite_size", "sample_pairs", "phi_init", "lammps", "all"}));
+      ->check(CLI::IsMember(
+          {"finite_size", "sample_pairs", "phi_init", "lammps", "regression", "all"}));
   c->add_option("directory", a.directory, "Campaign directory (after `jam stats`)")->required();
   c->add_option("--alpha", a.options.alpha,
                 "False-alarm rate of each check (Bonferroni over its comparisons)");
@@ -29,6 +35,11 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
   c->add_option("--reference-dir", a.reference_dir, "lammps: LAMMPS inputs and stored results");
   c->add_flag("--no-lmp", a.no_lmp,
               "lammps: use the stored LAMMPS result even if lmp is installed");
+  c->add_option("--against", a.against,
+                "regression: baseline directory holding stats.h5 (e.g. a stored result in "
+                "reference/results/)");
+  c->add_option("--tolerance", a.regression.tolerance,
+                "regression: largest relative difference of rerun samples (0: bitwise)");
   c->add_flag("--regenerate-reference", a.regenerate,
               "lammps: run lmp and rewrite the stored LAMMPS result in --reference-dir");
 }
@@ -46,8 +57,18 @@ int run_check_command(const CheckArgs& a) {
     o.set_a = checks::RunSetSelector::parse(a.set_a);
     o.set_b = checks::RunSetSelector::parse(a.set_b);
   }
+  const auto started = std::chrono::steady_clock::now();
   std::vector<checks::Verdict> verdicts;
-  if (a.name != "lammps") verdicts = checks::run_check(a.name, checks::read_stats(a.directory), o);
+  if (a.name == "regression") {
+    if (a.against.empty())
+      throw std::runtime_error("regression: --against BASELINE_DIR is required");
+    if (!(a.regression.tolerance >= 0))
+      throw std::runtime_error(
+          fmt::format("--tolerance {:g}: must be >= 0", a.regression.tolerance));
+    verdicts = checks::regression_check(checks::read_stats(a.directory),
+                                        checks::read_stats(a.against), o, a.regression);
+  } else if (a.name != "lammps")
+    verdicts = checks::run_check(a.name, checks::read_stats(a.directory), o);
   if (a.name == "lammps" || a.name == "all") {
     checks::LammpsCheckOptions l;
     l.work_directory = (std::filesystem::path(a.directory) / "lammps-check").string();
@@ -58,17 +79,22 @@ int run_check_command(const CheckArgs& a) {
     verdicts.insert(verdicts.end(), v.begin(), v.end());
   }
   fmt::print("{}", checks::format_table(verdicts));
+  // `all` writes checks.*, the files reports read; a single check writes checks-NAME.*, so
+  // that it never replaces the full set.
   const std::filesystem::path dir(a.directory);
+  const std::string stem = a.name == "all" ? "checks" : "checks-" + a.name;
   for (const auto& [file, text] :
-       {std::pair{dir / "checks.json", checks::to_json(verdicts)},
-        std::pair{dir / "checks.xml", checks::to_junit_xml(verdicts, "jam.check." + a.name)}}) {
+       {std::pair{dir / (stem + ".json"), checks::to_json(verdicts)},
+        std::pair{dir / (stem + ".xml"), checks::to_junit_xml(verdicts, "jam.check." + a.name)}}) {
     AtomicFile out(file.string());
     std::fputs(text.c_str(), out.stream());
     out.commit();
   }
-  checks::write_curves((dir / "checks.h5").string(), verdicts);
-  fmt::print("wrote {}, {} and {}\n", (dir / "checks.json").string(), (dir / "checks.xml").string(),
-             (dir / "checks.h5").string());
+  checks::write_curves(
+      (dir / (stem + ".h5")).string(), verdicts,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  fmt::print("wrote {}.json, {}.xml and {}.h5\n", (dir / stem).string(), (dir / stem).string(),
+             (dir / stem).string());
   return checks::exit_status(verdicts);
 }
 

@@ -3,6 +3,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/lammps_check.hpp"
+#include "checks/regression_check.hpp"
 
 namespace jam {
 
@@ -12,13 +13,15 @@ struct CheckArgs {
   double phi_min = -1.0;
   std::string reference_dir = JAM_REFERENCE_DIR;
   bool no_lmp = false, regenerate = false;
+  std::string against;  // regression: baseline directory
+  checks::RegressionOptions regression;
 };
 
 /// Registers `jam check NAME DIR`.
 void add_check_command(CLI::App& app, CheckArgs& args);
 
-/// Runs the check, prints the table, writes DIR/checks.json and DIR/checks.xml; returns 1 if a
-/// check failed.
+/// Runs the check, prints the table, writes DIR/checks.{json,xml,h5} (`all`) or
+/// DIR/checks-NAME.{json,xml,h5}; returns 1 if a check failed.
 int run_check_command(const CheckArgs& args);
 
 }  // namespace jam

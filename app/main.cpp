@@ -7,6 +7,7 @@
 #include "app/campaign_command.hpp"
 #include "app/check_command.hpp"
 #include "app/import_command.hpp"
+#include "app/report_command.hpp"
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
 #include "sim/version.hpp"
@@ -30,6 +31,8 @@ int main(int argc, char** argv) {
   jam::add_check_command(app, check_args);
   jam::LammpsImport import_request;
   jam::add_import_command(app, import_request);
+  jam::ReportArgs report_args;
+  jam::add_report_command(app, report_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -49,6 +52,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("stats")) return jam::run_stats_command(stats_args);
     if (app.got_subcommand("check")) return jam::run_check_command(check_args);
     if (app.got_subcommand("import")) return jam::run_import_command(import_request);
+    if (app.got_subcommand("report")) return jam::run_report_command(report_args);
   } catch (const std::exception& e) {
     fmt::print(stderr, "jam: error: {}\n", e.what());
     return 1;

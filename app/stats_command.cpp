@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <filesystem>
 
 #include "sim/model/paper_values.hpp"
@@ -48,7 +49,9 @@ int run_stats_command(const StatsArgs& a) {
     o.fixed_q = paper_values(dim).q();
     o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
-  const stats::CampaignStats s = stats::compute_campaign_stats(a.directory, o);
+  const auto started = std::chrono::steady_clock::now();
+  stats::CampaignStats s = stats::compute_campaign_stats(a.directory, o);
+  s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const std::string out = (std::filesystem::path(a.directory) / "stats.h5").string();
   stats::write_stats_file(out, s, o);
   fmt::print("{}", stats::format_stats_summary(s));

@@ -32,6 +32,12 @@ Verdict judge(const Comparison& c, double alpha, int permutations) {
   v.check = "finite_size";
   v.case_name = c.label;
   v.statistic_name = "max |Delta p/p| / sigma";
+  // What was compared, as numbers, for the report (checks.json "values", checks.h5 attributes).
+  v.values = {{"n_a", static_cast<double>(c.a->n)},
+              {"n_b", static_cast<double>(c.b->n)},
+              {"phi_init", c.a->phi_init},
+              {"log10_rate", c.a->log10_rate},
+              {"constant_z", c.at_z ? 1.0 : 0.0}};
   const auto& ga = c.at_z ? c.a->z_grid : c.a->phi_grid;
   const auto& gb = c.at_z ? c.b->z_grid : c.b->phi_grid;
   const Aligned al = align(ga, c.at_z ? c.a->pressure_at_z : c.a->pressure_at_phi, gb,

@@ -48,6 +48,10 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
       v.case_name = fmt::format("n{} rate 1e{:g}: phi_init {:g} vs {:g}, phi >= {:.4f}", key.first,
                                 key.second, e->phi_init, low->phi_init, phi_min);
       v.statistic_name = "max |Delta p/p| / sigma";
+      v.values = {{"n", static_cast<double>(key.first)},
+                  {"log10_rate", key.second},
+                  {"phi_init", e->phi_init},
+                  {"lowest_phi_init", low->phi_init}};
       const Aligned al =
           align(e->phi_grid, e->pressure_at_phi, low->phi_grid, low->pressure_at_phi, phi_min);
       try {
@@ -76,6 +80,7 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
         j.case_name = fmt::format("n{} rate 1e{:g}: <phi_Ji> at phi_init {:g} vs {:g}", key.first,
                                   key.second, e->phi_init, low->phi_init);
         j.statistic_name = "|<phi_Ji>_a - <phi_Ji>_b| / sigma";
+        j.values = v.values;
         try {
           const double a_j = alpha_jamming(o, jamming_comparisons);
           const MeanDifference m =
@@ -98,11 +103,11 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
         " | n{} rate 1e{:g}: largest phi_init consistent with {:g} is {:g} "
         "(saves {:.0f}% of the compression time)",
         key.first, key.second, low->phi_init, largest_consistent, 100 * saved);
-    out.back().values = {{"n", static_cast<double>(key.first)},
-                         {"log10_rate", key.second},
-                         {"lowest_phi_init", low->phi_init},
-                         {"largest_consistent_phi_init", largest_consistent},
-                         {"compression_time_saved", saved}};
+    out.back().values.insert({{"n", static_cast<double>(key.first)},
+                              {"log10_rate", key.second},
+                              {"lowest_phi_init", low->phi_init},
+                              {"largest_consistent_phi_init", largest_consistent},
+                              {"compression_time_saved", saved}});
   }
   return out;
 }

@@ -63,6 +63,10 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     v.case_name = fmt::format("n{} #i vs n{} #i, phi_init {:g}, rate 1e{:g}", ea->n, eb->n,
                               key.first, key.second);
     v.statistic_name = "<Delta_pair^2> / (v_a + v_b)";
+    v.values = {{"n_a", static_cast<double>(ea->n)},
+                {"n_b", static_cast<double>(eb->n)},
+                {"phi_init", key.first},
+                {"log10_rate", key.second}};
     const Aligned al = align(ea->phi_grid, ea->pressure_at_phi, eb->phi_grid, eb->pressure_at_phi);
     // Points where every sample has a positive pressure.
     std::vector<std::size_t> keep;

@@ -8,6 +8,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/version.hpp"
 
 namespace jam::checks {
 namespace {
@@ -110,10 +111,12 @@ std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite
   return out.str();
 }
 
-void write_curves(const std::string& path, const std::vector<Verdict>& v) {
+void write_curves(const std::string& path, const std::vector<Verdict>& v, double wall_time) {
   const std::string temporary = AtomicFile::temporary_name(path);
   try {
     h5::File f = h5::File::create(temporary);
+    f.write_attribute("version", std::string(kVersion));
+    f.write_attribute("wall_time", wall_time);
     for (std::size_t k = 0; k < v.size(); ++k) {
       const std::string g = fmt::format("verdicts/{:03d}_{}", k, v[k].check);
       f.create_group(g);
@@ -122,6 +125,7 @@ void write_curves(const std::string& path, const std::vector<Verdict>& v) {
       f.write_attribute("status", v[k].status, g);
       f.write_attribute("statistic", v[k].statistic, g);
       f.write_attribute("threshold", v[k].threshold, g);
+      for (const auto& [name, value] : v[k].values) f.write_attribute(name, value, g);
       for (const auto& [name, values] : v[k].curves) f.write_dataset(g + "/" + name, values);
     }
     f.close();

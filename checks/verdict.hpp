@@ -42,7 +42,9 @@ std::string to_json(const std::vector<Verdict>& verdicts);
 std::string to_junit_xml(const std::vector<Verdict>& verdicts, const std::string& suite);
 
 /// Writes the curves of every verdict to an HDF5 file (schema in reference/schema.md).
-void write_curves(const std::string& path, const std::vector<Verdict>& verdicts);
+/// checks.h5: the verdicts' curves and values; root attributes `version` and `wall_time`
+/// (seconds the checks took).
+void write_curves(const std::string& path, const std::vector<Verdict>& verdicts, double wall_time);
 
 /// 1 if any verdict failed, else 0.
 int exit_status(const std::vector<Verdict>& verdicts);

@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libgsl-dev libtomlplusplus-dev
   lammps python3-h5py libopenmpi-dev openmpi-bin nlohmann-json3-dev
   clang-14 libclang-rt-14-dev llvm-14
+  python3-matplotlib python3-numpy chromium
 )
 missing=()
 for p in "${packages[@]}"; do

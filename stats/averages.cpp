@@ -29,10 +29,11 @@ std::vector<double> grid_between(double lo, double hi, double step) {
   std::vector<double> g;
   const auto first = static_cast<long long>(std::ceil(lo / step - 1e-9));
   const auto last = static_cast<long long>(std::floor(hi / step + 1e-9));
-  for (long long k = first; k <= last; ++k) {
-    // k * step can land an ulp outside [lo, hi] (0.86 = 430 * 0.002 + 1e-16): pull it in.
-    g.push_back(std::clamp(static_cast<double>(k) * step, lo, hi));
-  }
+  // Grid values are exactly k * step, whatever the samples: the same run then gives the same
+  // numbers in any set of samples (a regression baseline compares them bitwise). k * step can
+  // land an ulp outside [lo, hi] (0.86 = 430 * 0.002 + 1e-16); interpolate() takes such a
+  // point as the end point.
+  for (long long k = first; k <= last; ++k) g.push_back(static_cast<double>(k) * step);
   return g;
 }
 
@@ -51,7 +52,12 @@ const std::vector<SampleMean>& GridAverage::mean(const std::string& name) const 
 }
 
 double interpolate(const std::vector<double>& x, const std::vector<double>& y, double x0) {
-  if (x.empty() || x0 < x.front() || x0 > x.back()) return kNaN;
+  if (x.empty()) return kNaN;
+  // Within round-off of an end point counts as the end point (grid values k * step).
+  const double slack = 1e-12 * std::max(std::abs(x.front()), std::abs(x.back()));
+  if (x0 < x.front() && x0 >= x.front() - slack) return y.front();
+  if (x0 > x.back() && x0 <= x.back() + slack) return y.back();
+  if (x0 < x.front() || x0 > x.back()) return kNaN;
   const auto it = std::upper_bound(x.begin(), x.end(), x0);
   if (it == x.end()) return y.back();
   const std::size_t i = static_cast<std::size_t>(it - x.begin());
@@ -112,7 +118,7 @@ GridAverage average_at_constant_z(const std::vector<RunCurves>& samples, double 
   GridAverage a;
   a.grid_name = no_rattlers ? "contacts_per_particle_no_rattlers" : "contacts_per_particle";
   for (double g : grid_between(lo, hi, z_step))
-    if (g > lo) a.grid.push_back(g);
+    if (g > lo && g <= hi) a.grid.push_back(g);
   a.names = {"packing_fraction", "pressure"};
   a.tables.assign(2, {});
   for (const auto& r : samples) {

@@ -52,6 +52,7 @@ struct CampaignStats {
   std::vector<ScanRow> scan;
   double fit_phi_init = 0.0;
   std::int64_t fit_size = 0;  // 0: pooled
+  double wall_time = 0.0;     // seconds spent reading and averaging (provenance for reports)
 };
 
 CampaignStats compute_campaign_stats(const std::string& directory, const StatsOptions& options);

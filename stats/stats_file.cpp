@@ -103,6 +103,16 @@ void write_stats_file(const std::string& path, const CampaignStats& s, const Sta
     f.write_attribute("pooled_sizes", std::int64_t{o.pool_sizes});
     f.write_attribute("z_step", o.z_step);
     f.write_attribute("constant_z_without_rattlers", std::int64_t{o.no_rattlers});
+    f.write_attribute("wall_time", s.wall_time);
+    // The published values, for reports to compare with (one source: paper_values.hpp).
+    const PaperValues paper = paper_values(s.data.dim);
+    f.create_group("paper");
+    for (const auto& [name, value] :
+         {std::pair{"phi_j", paper.phi_j}, std::pair{"phi_j_error", paper.phi_j_error},
+          std::pair{"beta", paper.beta}, std::pair{"beta_error", paper.beta_error},
+          std::pair{"y", paper.y}, std::pair{"y_error", paper.y_error}}) {
+      f.write_attribute(name, value, "paper");
+    }
     for (const auto& e : s.ensembles) {
       const std::string g = "ensembles/" + ensemble_name(e.key);
       f.create_group(g);

@@ -117,6 +117,14 @@ BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
   BOOST_TEST(run_jam("check finite_size " + dir + " --set-a size=3 --set-b n=128", &out) != 0);
   BOOST_TEST(out.find("size=3") != std::string::npos, out);
   BOOST_TEST(run_jam("check nonsense " + dir, &out) != 0);
+  // Regression of the campaign against itself: every sample a bitwise-identical rerun. Its
+  // verdicts go to checks-regression.*, leaving the full set in checks.* untouched.
+  BOOST_TEST(run_jam("check regression " + dir + " --against " + dir, &out) == 0, out);
+  BOOST_TEST(out.find("rerun samples identical") != std::string::npos, out);
+  BOOST_TEST(fs::exists(kDir / "ci" / "checks-regression.json"));
+  BOOST_TEST(slurp(kDir / "ci" / "checks.json") == json);
+  BOOST_TEST(run_jam("check regression " + dir, &out) != 0);
+  BOOST_TEST(out.find("--against") != std::string::npos, out);
 }
 
 BOOST_AUTO_TEST_CASE(no_finished_runs_is_an_error) {

@@ -1,0 +1,70 @@
+#include "app/report_command.hpp"
+
+#include <fmt/format.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+namespace jam {
+namespace fs = std::filesystem;
+
+void add_report_command(CLI::App& app, ReportArgs& a) {
+  CLI::App* c = app.add_subcommand(
+      "report",
+      "HTML report with figures of a campaign directory (after `jam stats` and `jam check`)");
+  c->add_option("directory", a.directory, "Campaign directory")->required();
+  c->add_option("--out", a.out, "Report directory (default reports/<campaign name>)");
+  c->add_flag("--quiet", a.quiet, "No summary on stdout");
+}
+
+namespace {
+
+// The plotting code lives in reports/ of the source tree (JAM_REPORTS_DIR, set at build time);
+// JAM_REPORTS_DIR in the environment points elsewhere, e.g. for an installed copy.
+std::string report_script() {
+  const char* from_env = std::getenv("JAM_REPORTS_DIR");
+  const fs::path dir = from_env ? fs::path(from_env) : fs::path(JAM_REPORTS_DIR);
+  const fs::path script = dir / "jam_report.py";
+  if (!fs::exists(script))
+    throw std::runtime_error(
+        fmt::format("report script {} not found (set JAM_REPORTS_DIR to the reports/ folder)",
+                    script.string()));
+  return script.string();
+}
+
+// Debian's interpreter has python3-matplotlib and python3-h5py; another python3 first on the
+// PATH (a virtualenv, pyenv) usually has neither. JAM_PYTHON overrides.
+std::string python() {
+  if (const char* from_env = std::getenv("JAM_PYTHON")) return from_env;
+  return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+}
+
+}  // namespace
+
+int run_report_command(const ReportArgs& a) {
+  std::vector<std::string> args{python(), report_script(), a.directory};
+  if (!a.out.empty()) {
+    args.push_back("--out");
+    args.push_back(a.out);
+  }
+  if (a.quiet) args.push_back("--quiet");
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  const pid_t child = fork();
+  if (child < 0) throw std::runtime_error("report: fork failed");
+  if (child == 0) {
+    execvp(argv[0], argv.data());
+    fmt::print(stderr, "jam: error: report: cannot run {} (install python3)\n", args[0]);
+    _exit(127);
+  }
+  int status = 0;
+  if (waitpid(child, &status, 0) < 0) throw std::runtime_error("report: waitpid failed");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+}  // namespace jam

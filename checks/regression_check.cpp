@@ -1,0 +1,144 @@
+#include "checks/regression_check.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "checks/relative_difference.hpp"
+
+namespace jam::checks {
+namespace {
+
+const EnsembleTables* find_match(const StatsData& d, const EnsembleTables& e) {
+  for (const auto& x : d.ensembles) {
+    if (x.n == e.n && std::abs(x.phi_init - e.phi_init) < 1e-9 &&
+        std::abs(x.log10_rate - e.log10_rate) < 1e-9)
+      return &x;
+  }
+  return nullptr;
+}
+
+std::string describe(const EnsembleTables& e) {
+  return fmt::format("n{} phi_init {:g} rate 1e{:g}", e.n, e.phi_init, e.log10_rate);
+}
+
+// Largest relative difference between two curves of the same run on the common grid; a point
+// finite in one and not in the other counts as an infinite difference.
+double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (std::isnan(a[k]) && std::isnan(b[k])) continue;
+    if (!std::isfinite(a[k]) || !std::isfinite(b[k]))
+      return std::numeric_limits<double>::infinity();
+    if (a[k] == b[k]) continue;
+    worst = std::max(worst, std::abs(a[k] - b[k]) / std::max(std::abs(a[k]), std::abs(b[k])));
+  }
+  return worst;
+}
+
+Verdict rerun_verdict(const EnsembleTables& now, const EnsembleTables& base, const Aligned& al,
+                      double tolerance) {
+  Verdict v;
+  v.check = "regression";
+  v.case_name = describe(now) + ": rerun samples identical to the baseline";
+  v.statistic_name = "max |p_now / p_baseline - 1|";
+  v.values = {{"n", static_cast<double>(now.n)},
+              {"phi_init", now.phi_init},
+              {"log10_rate", now.log10_rate}};
+  double worst = 0.0;
+  int compared = 0;
+  std::uint32_t worst_sample = 0;
+  for (std::size_t i = 0; i < now.sample_ids.size(); ++i) {
+    const auto it = std::find(base.sample_ids.begin(), base.sample_ids.end(), now.sample_ids[i]);
+    if (it == base.sample_ids.end()) continue;
+    const double d =
+        largest_difference(al.a[i], al.b[static_cast<std::size_t>(it - base.sample_ids.begin())]);
+    ++compared;
+    if (d >= worst) {
+      worst = d;
+      worst_sample = now.sample_ids[i];
+    }
+  }
+  if (compared == 0 || al.grid.empty()) {
+    v.status = "skipped";
+    v.reason = "no sample of the baseline was rerun (or no common grid points)";
+    return v;
+  }
+  v.statistic = worst;
+  v.threshold = tolerance;
+  v.detectable = tolerance;
+  v.status = worst <= tolerance ? "pass" : "fail";
+  v.reason =
+      fmt::format("{} rerun samples on {} grid points; largest difference {:.3g} (sample {})",
+                  compared, al.grid.size(), worst, worst_sample);
+  return v;
+}
+
+}  // namespace
+
+std::vector<Verdict> regression_check(const StatsData& now, const StatsData& baseline,
+                                      const CheckOptions& o, const RegressionOptions& r) {
+  if (now.dim != baseline.dim)
+    return {skipped("regression", "all",
+                    fmt::format("dimension {} against a {}D baseline", now.dim, baseline.dim))};
+  struct Pair {
+    const EnsembleTables* now;
+    const EnsembleTables* base;
+  };
+  std::vector<Pair> pairs;
+  std::vector<Verdict> out;
+  for (const auto& e : now.ensembles) {
+    if (const auto* b = find_match(baseline, e))
+      pairs.push_back({&e, b});
+    else
+      out.push_back(skipped("regression", describe(e), "the baseline has no such ensemble"));
+  }
+  // The statistical comparisons share alpha (Bonferroni over the ensembles with new samples).
+  auto is_new = [](const EnsembleTables& base, std::uint32_t id) {
+    return std::find(base.sample_ids.begin(), base.sample_ids.end(), id) == base.sample_ids.end();
+  };
+  std::size_t with_new = 0;
+  for (const auto& p : pairs) {
+    std::size_t n_new = 0;
+    for (auto id : p.now->sample_ids) n_new += is_new(*p.base, id);
+    with_new += n_new >= 2;
+  }
+  const double alpha = o.alpha / static_cast<double>(std::max<std::size_t>(1, with_new));
+  for (const auto& p : pairs) {
+    const Aligned al =
+        align(p.now->phi_grid, p.now->pressure_at_phi, p.base->phi_grid, p.base->pressure_at_phi);
+    out.push_back(rerun_verdict(*p.now, *p.base, al, r.tolerance));
+    std::vector<std::vector<double>> fresh;
+    for (std::size_t i = 0; i < p.now->sample_ids.size(); ++i)
+      if (is_new(*p.base, p.now->sample_ids[i])) fresh.push_back(al.a[i]);
+    Verdict v;
+    v.check = "regression";
+    v.case_name = describe(*p.now) + ": new samples against the baseline";
+    v.statistic_name = "max |Delta p/p| / sigma";
+    v.values = out.back().values;
+    if (fresh.size() < 2 || al.b.size() < 2 || al.grid.empty()) {
+      out.push_back(skipped("regression", v.case_name,
+                            "fewer than 2 new samples (or 2 baseline samples) on a common grid"));
+      continue;
+    }
+    try {
+      const RelativeDifference t = compare_run_sets(fresh, al.b, alpha, o.permutations);
+      record_test(v, t, alpha);
+      v.curves = {{"grid", {}}, {"delta", t.delta}, {"sigma", t.sigma}};
+      for (auto k : t.points) v.curves[0].second.push_back(al.grid[k]);
+      v.reason = fmt::format(
+          "{} new vs {} baseline samples: permutation p = {:.3g} (alpha {:.3g}); "
+          "|Delta p/p| > {:.3g} excluded",
+          fresh.size(), al.b.size(), t.p_value, alpha, t.excluded_above);
+    } catch (const std::invalid_argument& e) {
+      v = skipped("regression", v.case_name, e.what());
+    }
+    out.push_back(v);
+  }
+  if (out.empty()) return {skipped("regression", "all", "no ensembles to compare")};
+  return out;
+}
+
+}  // namespace jam::checks

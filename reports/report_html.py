@@ -1,0 +1,143 @@
+"""The report's HTML page and its plain-text summary, from a loaded Campaign and its figures."""
+
+import html
+import math
+
+STYLE = """
+body { font-family: sans-serif; max-width: 1200px; margin: 2em auto; color: #222; }
+h1 { margin-bottom: 0.2em; }
+table { border-collapse: collapse; font-size: 0.85em; margin: 1em 0; }
+th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: left; vertical-align: top; }
+td.num { text-align: right; font-family: monospace; }
+tr.pass td.status { background: #d8f0d8; }
+tr.fail td.status { background: #f6caca; font-weight: bold; }
+tr.skipped td.status { background: #eee; color: #666; }
+.reason { color: #555; font-size: 0.9em; }
+figure { margin: 1.5em 0; }
+figure img { max-width: 100%; border: 1px solid #ddd; }
+figcaption { font-size: 0.9em; color: #444; }
+pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 0.85em; }
+.summary { font-size: 1.1em; }
+"""
+
+
+def _fmt(x):
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "-"
+    return f"{x:.4g}"
+
+
+def counts(verdicts):
+    out = {"pass": 0, "fail": 0, "skipped": 0}
+    for v in verdicts:
+        out[v.status] = out.get(v.status, 0) + 1
+    return out
+
+
+def verdict_table_html(verdicts):
+    rows = ["<table id='verdicts'><tr><th>status</th><th>check</th><th>case</th>"
+            "<th>statistic</th><th>value</th><th>threshold</th>"
+            "<th>smallest detectable effect</th></tr>"]
+    for v in verdicts:
+        rows.append(
+            f"<tr class='{html.escape(v.status)}'><td class='status'>{html.escape(v.status)}</td>"
+            f"<td>{html.escape(v.check)}</td><td>{html.escape(v.case)}"
+            f"<div class='reason'>{html.escape(v.reason)}</div></td>"
+            f"<td>{html.escape(v.statistic_name)}</td><td class='num'>{_fmt(v.statistic)}</td>"
+            f"<td class='num'>{_fmt(v.threshold)}</td><td class='num'>{_fmt(v.detectable)}</td>"
+            "</tr>")
+    rows.append("</table>")
+    return "\n".join(rows)
+
+
+def fit_rows(c):
+    """(parameter, this campaign, error, paper, paper error) of the representative fit."""
+    rep = (c.fit or {}).get("representative")
+    if not rep:
+        return []
+    paper = c.stats_attrs.get("paper", {})
+    out = []
+    for name in ("phi_j", "beta", "y", "q", "inv_znu"):
+        if name in rep:
+            out.append((name, rep[name], rep.get(name + "_error"), paper.get(name),
+                        paper.get(name + "_error")))
+    return out
+
+
+def fit_table_html(c):
+    rows = fit_rows(c)
+    if not rows:
+        failure = (c.fit or {}).get("attrs", {}).get("failure", "no fit in stats.h5")
+        return f"<p>No scaling fit: {html.escape(str(failure))}</p>"
+    rep = c.fit["representative"]
+    out = ["<table><tr><th>parameter</th><th>this campaign</th><th>paper</th></tr>"]
+    for name, value, error, paper, paper_error in rows:
+        paper_text = "-" if paper is None else f"{paper:g} &plusmn; {paper_error:g}"
+        out.append(f"<tr><td>{name}</td><td class='num'>{value:.5g} &plusmn; {_fmt(error)}</td>"
+                   f"<td class='num'>{paper_text}</td></tr>")
+    out.append("</table>")
+    out.append(
+        f"<p>Window phi in [{rep.get('phi_min', 0):.4f}, {rep.get('phi_max', 0):.4f}], rates up "
+        f"to {rep.get('rate_max', 0):.3g}, {rep.get('points', 0)} points, "
+        f"{rep.get('samples', 0)} samples; held fixed: {html.escape(str(rep.get('fixed')))}; "
+        f"chi^2/dof {_fmt(rep.get('chi2_diag_per_dof'))} (diagonal), "
+        f"{_fmt(rep.get('chi2_cov_per_dof'))} (with covariance); errors: "
+        f"{html.escape(str(rep.get('error_method', '')))}.</p>")
+    return "\n".join(out)
+
+
+def provenance_html(c, provenance):
+    items = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>"
+                    for k, v in provenance.items())
+    campaign = html.escape(c.campaign_text or "(campaign.toml not found)")
+    return f"<table>{items}</table>\n<h3>Campaign file</h3>\n<pre>{campaign}</pre>"
+
+
+def page(c, figures, provenance):
+    n = counts(c.verdicts)
+    sections = []
+    fit_section = f"<section><h2>Scaling fit (Eq. 1)</h2>{fit_table_html(c)}</section>"
+    for f in figures:
+        if f.file in ("fit_scan.png", "collapse.png") and fit_section:
+            sections.append(fit_section)
+            fit_section = ""
+        sections.append(
+            f"<section><h2>{html.escape(f.title)}</h2><figure><img src='{html.escape(f.file)}' "
+            f"alt='{html.escape(f.title)}'><figcaption>{html.escape(f.caption)}</figcaption>"
+            "</figure></section>")
+    verdict_word = "FAIL" if n["fail"] else "PASS"
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><link rel="icon" href="data:,">
+<title>jam report: {html.escape(c.name)}</title><style>{STYLE}</style></head>
+<body>
+<h1>Campaign <code>{html.escape(c.name)}</code>, {c.dim}D</h1>
+<p class="summary"><b>{verdict_word}</b>: {n['pass']} passed, {n['fail']} failed,
+{n['skipped']} skipped.</p>
+<h2>Verdicts</h2>
+{verdict_table_html(c.verdicts)}
+{''.join(sections)}
+{fit_section}
+<section><h2>Provenance</h2>{provenance_html(c, provenance)}</section>
+</body></html>
+"""
+
+
+def text_summary(c, report_path):
+    """The terminal/CI-log summary: the verdict table, the fit against the paper, the path."""
+    n = counts(c.verdicts)
+    lines = [f"jam report: campaign {c.name} ({c.dim}D), {len(c.ensembles)} ensembles", ""]
+    width = max([len(v.case) for v in c.verdicts] + [4])
+    check_width = max([len(v.check) for v in c.verdicts] + [5])
+    lines.append(f"{'status':<8}{'check':<{check_width + 2}}{'case':<{width + 2}}"
+                 f"{'value':>11}{'threshold':>11}{'detectable':>11}")
+    for v in c.verdicts:
+        lines.append(f"{v.status:<8}{v.check:<{check_width + 2}}{v.case:<{width + 2}}"
+                     f"{_fmt(v.statistic):>11}{_fmt(v.threshold):>11}{_fmt(v.detectable):>11}")
+    lines.append(f"{n['pass']} passed, {n['fail']} failed, {n['skipped']} skipped")
+    lines.append("")
+    for name, value, error, paper, paper_error in fit_rows(c):
+        if name in ("phi_j", "beta", "y"):
+            ref = "" if paper is None else f"   (paper {paper:g} +- {paper_error:g})"
+            lines.append(f"fit {name:<6} {value:.5g} +- {_fmt(error)}{ref}")
+    lines.append(f"report: {report_path}")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,176 @@
+#!/usr/bin/python3
+"""The report end to end: the tiny CI campaign -> stats -> checks -> `jam report`, then the page
+is checked the way a reader would meet it: every figure it references exists and is a non-empty
+PNG with something drawn on it, the verdict table has one row per verdict of checks.json, and
+the page opens in headless Chromium without console errors and renders non-blank.
+
+The two detectors this relies on (console errors, a blank screenshot) are themselves tested on
+pages with a planted fault, so a detector that can never fire would fail here.
+
+Usage (ctest runs it): test_report.py --jam build/jam --source .
+"""
+
+import argparse
+import html.parser
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import matplotlib.image
+import numpy as np
+
+ARGS = None
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                  "--no-first-run", "--disable-background-networking",
+                  "--disable-component-update", "--disable-sync", "--enable-logging=stderr",
+                  "--v=0", "--hide-scrollbars"]
+
+
+def run(cmd, cwd, expect=(0,)):
+    r = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=900)
+    if r.returncode not in expect:
+        raise AssertionError(f"{' '.join(cmd)} exited {r.returncode}\n{r.stdout}\n{r.stderr}")
+    return r
+
+
+def chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    raise AssertionError("headless Chromium not found (scripts/setup.sh installs Debian's "
+                         "chromium package)")
+
+
+def render(url, screenshot, workdir):
+    """Opens url in headless Chromium; returns the console messages it logged."""
+    profile = tempfile.mkdtemp(dir=workdir, prefix="chromium-profile-")
+    r = subprocess.run([chromium(), *CHROMIUM_FLAGS, f"--user-data-dir={profile}",
+                        "--window-size=1280,2400", f"--screenshot={screenshot}", url],
+                       capture_output=True, text=True, timeout=120)
+    if not os.path.exists(screenshot):
+        raise AssertionError(f"Chromium wrote no screenshot (exit {r.returncode}):\n{r.stderr}")
+    return [line for line in r.stderr.splitlines() if ":CONSOLE" in line]
+
+
+def drawn_fraction(png):
+    """Fraction of pixels that are not (nearly) the background colour of the image."""
+    image = matplotlib.image.imread(png)[..., :3]
+    background = np.median(image.reshape(-1, 3), axis=0)
+    return float(np.mean(np.abs(image - background).sum(axis=2) > 0.1))
+
+
+class PageParser(html.parser.HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.images, self.verdict_rows, self._in_verdicts = [], 0, False
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "img":
+            self.images.append(a.get("src", ""))
+        if tag == "table" and a.get("id") == "verdicts":
+            self._in_verdicts = True
+        if tag == "tr" and self._in_verdicts and a.get("class") in ("pass", "fail", "skipped"):
+            self.verdict_rows += 1
+
+    def handle_endtag(self, tag):
+        if tag == "table":
+            self._in_verdicts = False
+
+
+class Report(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = tempfile.mkdtemp(prefix="jam-report-test-")
+        jam, src = ARGS.jam, ARGS.source
+        run([jam, "campaign", "run", os.path.join(src, "reference/campaigns/ci.toml"),
+             "--quiet"], cls.work)
+        run([jam, "stats", "runs/ci"], cls.work)
+        # Status 1 is a failed verdict, still a complete set of checks to report on.
+        run([jam, "check", "all", "runs/ci", "--no-lmp", "--reference-dir",
+             os.path.join(src, "reference")], cls.work, expect=(0, 1))
+        cls.result = run([jam, "report", "runs/ci"], cls.work)
+        cls.out = os.path.join(cls.work, "reports", "ci")
+        with open(os.path.join(cls.out, "index.html")) as f:
+            cls.page = f.read()
+        cls.parser = PageParser()
+        cls.parser.feed(cls.page)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.work, ignore_errors=True)
+
+    def test_every_figure_exists_and_shows_something(self):
+        # The CI campaign has 2 samples per ensemble: sample_pairs needs 3 and is skipped, so its
+        # figure is absent; every other section of the report must be there.
+        expected = {"pressure.png", "finite_size.png", "relative_errors.png",
+                    "jamming_points.png", "fit_scan.png", "collapse.png", "lammps.png"}
+        self.assertEqual(set(self.parser.images), expected)
+        for src in self.parser.images:
+            path = os.path.join(self.out, src)
+            self.assertTrue(os.path.isfile(path), src)
+            with open(path, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n", src)
+            # An empty matplotlib canvas is all background; axes, labels and data cover well
+            # over 2% of any of these figures (measured 5-20%).
+            self.assertGreater(drawn_fraction(path), 0.02, src)
+
+    def test_verdict_table_has_every_verdict(self):
+        with open(os.path.join(self.work, "runs", "ci", "checks.json")) as f:
+            verdicts = json.load(f)
+        self.assertGreater(len(verdicts), 10)
+        self.assertEqual(self.parser.verdict_rows, len(verdicts))
+        # The table comes first, before any figure.
+        self.assertLess(self.page.index("id='verdicts'"), self.page.index("<img"))
+
+    def test_text_summary_and_provenance(self):
+        self.assertIn("passed", self.result.stdout)
+        self.assertIn(os.path.join("reports", "ci", "index.html"), self.result.stdout)
+        with open(os.path.join(self.out, "summary.txt")) as f:
+            self.assertEqual(f.read(), self.result.stdout)
+        for field in ("code version", "wall time: runs", "wall time: stats", "wall time: checks",
+                      "dependencies", "machine", "Campaign file"):
+            self.assertIn(field, self.page)
+        self.assertIn("paper", self.page)  # the fit table compares with the paper
+
+    def test_no_partial_directories_left(self):
+        left = [d for d in os.listdir(os.path.join(self.work, "reports")) if d != "ci"]
+        self.assertEqual(left, [])
+
+    def test_page_opens_in_chromium_without_console_errors(self):
+        shot = os.path.join(self.work, "screenshot.png")
+        console = render("file://" + os.path.join(self.out, "index.html"), shot, self.work)
+        self.assertEqual(console, [])
+        # The top of the page: title, verdict table (coloured status cells) and text.
+        self.assertGreater(drawn_fraction(shot), 0.03)
+
+    def test_detectors_fire_on_planted_faults(self):
+        bad = os.path.join(self.work, "bad.html")
+        with open(bad, "w") as f:
+            f.write("<!DOCTYPE html><html><body><script>console.error('planted')</script>"
+                    "</body></html>")
+        console = render("file://" + bad, os.path.join(self.work, "bad.png"), self.work)
+        self.assertTrue(any("planted" in line for line in console), console)
+        self.assertLess(drawn_fraction(os.path.join(self.work, "bad.png")), 0.001)
+
+    def test_missing_statistics_is_a_one_line_error_and_no_report(self):
+        empty = os.path.join(self.work, "runs", "empty")
+        os.makedirs(empty)
+        r = run([ARGS.jam, "report", empty, "--out", os.path.join(self.work, "reports", "x")],
+                self.work, expect=(1,))
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertIn("stats.h5", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.work, "reports", "x")))
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--jam", required=True)
+    parser.add_argument("--source", required=True)
+    ARGS, rest = parser.parse_known_args()
+    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)
