@@ -23,7 +23,7 @@ def rows_of(path):
 def throughput(rows, png):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for dim, marker in (("2", "o"), ("3", "s")):
-        for mode, style in (("1 core", "-"), ("2 cores, campaign", "--"), ("2 cores, one run", ":")):
+        for mode, style in (("1 core", "-"), ("2 cores: campaign", "--"), ("2 cores: one run", ":")):
             sel = [r for r in rows if r["dim"] == dim and r["mode"] == mode]
             if not sel:
                 continue
@@ -31,7 +31,7 @@ def throughput(rows, png):
             for engine, col, color in (("jam", "jam_particle_steps_per_s", "C0"),
                                        ("LAMMPS", "lammps_particle_steps_per_s", "C3")):
                 y = [float(r[col]) for r in sel]
-                if engine == "jam" and mode == "2 cores, one run":
+                if engine == "jam" and mode == "2 cores: one run":
                     continue  # jam's single run is single-threaded: its 1-core curve
                 if max(y) <= 0:
                     continue

@@ -70,9 +70,9 @@ void measure_size(const ThroughputOptions& o, std::int64_t n, const fs::path& wo
   one.mode = "1 core";
   one.steps = steps;
   ThroughputRow campaign = one, single = one;
-  campaign.mode = "2 cores, campaign";
+  campaign.mode = "2 cores: campaign";
   campaign.cores = 2;
-  single.mode = "2 cores, one run";
+  single.mode = "2 cores: one run";
   single.cores = 2;
   LammpsRequest r;
   if (o.lammps) {
@@ -199,7 +199,7 @@ void write_throughput_report(const ThroughputOptions& o, const std::vector<Throu
       "Particle-steps per second (all runs of a mode together), median of {} repeats; ratio = jam "
       "/ LAMMPS in the same "
       "run. jam: overdamped Euler, dt 0.01; LAMMPS: inertial Q = 0.1 at 0.8 x its stability "
-      "bound. jam's single run is single-threaded, so its '2 cores, one run' entry is its "
+      "bound. jam's single run is single-threaded, so its '2 cores: one run' entry is its "
       "one-core number.\n\n"
       "| D | N | mode | jam | LAMMPS | ratio | jam B/particle | LAMMPS B/particle |\n"
       "|---|---|---|---|---|---|---|---|\n",

@@ -9,8 +9,8 @@
 // at dt 0.01 compressing at rate 1e-4. The same configuration is written as a LAMMPS data file
 // and LAMMPS runs its inertial model at Q = 0.1, dt = 0.8 x its stability bound 4 Q^2/D (its
 // best setting in the accuracy benchmark), rate 1e-4, timed by its own "Loop time".
-// Modes: "1 core" (one run), "2 cores, campaign" (two independent runs at once: jam two
-// threads, LAMMPS two processes; the sum of both), "2 cores, one run" (LAMMPS on 2 MPI ranks;
+// Modes: "1 core" (one run), "2 cores: campaign" (two independent runs at once: jam two
+// threads, LAMMPS two processes; the sum of both), "2 cores: one run" (LAMMPS on 2 MPI ranks;
 // jam's single run uses one thread, so its one-core number is shown).
 #include <cstdint>
 #include <string>
