@@ -8,7 +8,7 @@ packages=(
   cmake g++ make git pkg-config
   libcli11-dev libfmt-dev libhdf5-dev hdf5-tools libboost-test-dev
   libeigen3-dev libgsl-dev libtomlplusplus-dev
-  lammps python3-h5py libopenmpi-dev openmpi-bin nlohmann-json3-dev
+  lammps python3-h5py python3-matplotlib libopenmpi-dev openmpi-bin nlohmann-json3-dev
 )
 missing=()
 for p in "${packages[@]}"; do
