@@ -150,6 +150,8 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       for (int s = 0; s < o.seeds; ++s)
         tasks.push_back([&, d, s] {
           Start st = relaxed_start(d, o.n, static_cast<std::uint64_t>(1000 + s));
+          fmt::print(stderr, "  {}D start {}: energy per particle {:.2g}\n", d, s,
+                     st.energy_per_particle);
           std::lock_guard lock(m);
           starts[{d, s}] = std::move(st);
         });

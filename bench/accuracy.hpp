@@ -3,7 +3,8 @@
 // time step, jam and LAMMPS, on fixed relaxed starts compressed through jamming.
 //
 // Per dimension and seed: N random particles at phi_start (2D 0.80, 3D 0.60), relaxed at zero
-// rate with Euler (dt 0.01) to an energy per particle <= 1e-12. Per rate: every method
+// rate with Euler (dt 0.01) to an energy per particle <= 1e-10 or for 500 t0 (the start only
+// has to be the same for every method). Per rate: every method
 // compresses that start to the last of three packings, phi_J - 0.01, phi_J and phi_J + 0.015
 // (phi_J the paper's), landing on each exactly (the step before it is shortened), where the
 // virial pressure is read. LAMMPS (bench_compress.in, inertial, same start, zero velocities)

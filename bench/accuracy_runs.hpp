@@ -18,6 +18,7 @@ struct Start {
   std::vector<std::uint8_t> type;
   std::vector<std::uint32_t> id;
   double box_length = 0.0;
+  double energy_per_particle = 0.0;  // left after the relaxation
 };
 
 Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed);

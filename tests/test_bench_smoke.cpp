@@ -56,7 +56,9 @@ int run_jam(const std::string& args) {
   return WEXITSTATUS(std::system(cmd.c_str()));
 }
 
-bool have_lmp() { return std::system("command -v lmp > /dev/null 2>&1") == 0; }
+bool have_lmp() {
+  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+}
 
 struct Cleanup {
   Cleanup() { fs::create_directories(kDir); }
@@ -69,7 +71,8 @@ BOOST_GLOBAL_FIXTURE(Cleanup);
 BOOST_AUTO_TEST_CASE(throughput_table_is_complete_and_positive) {
   const fs::path out = kDir / "throughput";
   BOOST_REQUIRE_EQUAL(run_jam("bench throughput --dims 2,3 --n-min 256 --n-max 256 --seconds 0.02 "
-                          "--repeats 1 --out-dir " + out.string()),
+                              "--repeats 1 --out-dir " +
+                              out.string()),
                       0);
   const Csv csv = read_csv(out / "throughput.csv");
   // 2 dimensions x 1 size x 3 modes.
@@ -94,8 +97,8 @@ BOOST_AUTO_TEST_CASE(accuracy_table_is_complete_and_the_reference_converges) {
   const fs::path out = kDir / "accuracy";
   BOOST_REQUIRE_EQUAL(
       run_jam("bench accuracy --dims 2 --n 128 --rates 1e-2 --seeds 2 --euler-dt 0.02 0.05 "
-          "--heun-dt 0.05 --verlet-q 0.1 --reference-dt 0.02 --jobs 2 --out-dir " +
-          out.string()),
+              "--heun-dt 0.05 --verlet-q 0.1 --reference-dt 0.02 --jobs 2 --out-dir " +
+              out.string()),
       0);
   const Csv csv = read_csv(out / "accuracy.csv");
   // 3 reference levels, 2 Euler, 1 Heun, jam Verlet, and with lmp LAMMPS read two ways.
