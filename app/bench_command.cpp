@@ -56,6 +56,10 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
                 "LAMMPS time steps as fractions of the same bound");
   c->add_option("--reference-dt", o.reference_dt,
                 "Heun reference: dt, dt/2, dt/4 (Richardson from the last two)");
+  c->add_option("--phi-start-2d", o.phi_start_2d, "Packing of the 2D starts");
+  c->add_option("--phi-start-3d", o.phi_start_3d, "Packing of the 3D starts");
+  c->add_option("--relax-time", o.relax_time,
+                "Relaxation of the starts stops after this time (t0) or at 1e-10 per particle");
   c->add_flag("!--no-lammps", o.lammps, "Without LAMMPS");
   c->add_option("--jobs", o.jobs, "Runs at once (timings are cleanest with 1)");
   c->add_option("--out-dir", o.out_dir, "Where the report files go");

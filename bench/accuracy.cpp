@@ -27,10 +27,6 @@ std::array<double, 3> accuracy_packings(int dim) {
   return {j - 0.01, j, j + 0.015};
 }
 
-double accuracy_start_packing(int dim) {
-  return dim == 2 ? 0.80 : 0.60;
-}
-
 namespace {
 
 /// Runs the tasks on `jobs` threads; the first exception is rethrown after all stopped.
@@ -65,6 +61,14 @@ void validate(const AccuracyOptions& o) {
   if (o.n < 64 || o.n % 2) throw std::runtime_error(fmt::format("--n {}: even, >= 64", o.n));
   if (o.seeds < 1) throw std::runtime_error(fmt::format("--seeds {}: at least 1", o.seeds));
   if (o.jobs < 1) throw std::runtime_error(fmt::format("--jobs {}: at least 1", o.jobs));
+  for (int d : {2, 3}) {
+    const double phi = o.start_packing(d);
+    if (!(phi > 0 && phi < accuracy_packings(d)[0]))
+      throw std::runtime_error(fmt::format("--phi-start-{}d {:g}: must be in (0, {:g})", d, phi,
+                                           accuracy_packings(d)[0]));
+  }
+  if (!(o.relax_time >= 0))
+    throw std::runtime_error(fmt::format("--relax-time {:g}: must be >= 0", o.relax_time));
   if (!(o.reference_dt > 0))
     throw std::runtime_error(fmt::format("--reference-dt {:g}: must be positive", o.reference_dt));
   for (double r : o.rates)
@@ -149,7 +153,8 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     for (int d : o.dims)
       for (int s = 0; s < o.seeds; ++s)
         tasks.push_back([&, d, s] {
-          Start st = relaxed_start(d, o.n, static_cast<std::uint64_t>(1000 + s));
+          Start st = relaxed_start(d, o.n, static_cast<std::uint64_t>(1000 + s), o.start_packing(d),
+                                   o.relax_time);
           fmt::print(stderr, "  {}D start {}: energy per particle {:.2g}\n", d, s,
                      st.energy_per_particle);
           std::lock_guard lock(m);
@@ -210,7 +215,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     for (int s = 0; s < o.seeds; ++s) {
       Method& m = res.methods[mi];
       const double t_end =
-          std::log(accuracy_packings(m.dim)[2] / accuracy_start_packing(m.dim)) / (m.dim * m.rate);
+          std::log(accuracy_packings(m.dim)[2] / o.start_packing(m.dim)) / (m.dim * m.rate);
       const bool two_evals = m.integrator != "euler" && m.integrator != "verlet";
       cost.push_back(t_end / m.dt * (two_evals ? 2 : 1) * (m.engine == "lammps" ? 3 : 1) *
                      (m.dim == 3 ? 2 : 1));
@@ -219,10 +224,9 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
         const auto phi = accuracy_packings(m.dim);
         RunResult r;
         if (m.engine == "lammps") {
-          r = run_lammps_compression(work, o.reference_dir,
-                                     fmt::format("start_{}d_s{}_q{:g}.data", m.dim, s, m.q),
-                                     fmt::format("m{}_s{}.log", mi, s), m.dim, m.rate, m.dt,
-                                     accuracy_start_packing(m.dim), phi);
+          r = run_lammps_compression(
+              work, o.reference_dir, fmt::format("start_{}d_s{}_q{:g}.data", m.dim, s, m.q),
+              fmt::format("m{}_s{}.log", mi, s), m.dim, m.rate, m.dt, o.start_packing(m.dim), phi);
         } else {
           const std::string integrator = m.is_reference ? std::string("heun") : m.integrator;
           r = run_jam(starts.at({m.dim, s}), m.rate, integrator, m.q, m.dt, phi);

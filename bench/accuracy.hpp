@@ -2,11 +2,12 @@
 // `jam bench accuracy`: run time against the error of the pressure, for every integrator and
 // time step, jam and LAMMPS, on fixed relaxed starts compressed through jamming.
 //
-// Per dimension and seed: N random particles at phi_start (2D 0.80, 3D 0.60), relaxed at zero
-// rate with Euler (dt 0.01) to an energy per particle <= 1e-10 or for 500 t0 (the start only
-// has to be the same for every method). Per rate: every method
-// compresses that start to the last of three packings, phi_J - 0.01, phi_J and phi_J + 0.015
-// (phi_J the paper's), landing on each exactly (the step before it is shortened), where the
+// Per dimension and seed: N random particles at phi_start (default 2D 0.80, 3D 0.60), relaxed at
+// zero rate with Euler (dt 0.01) to an energy per particle <= 1e-10 or for relax_time (default 500
+// t0; the start only has to be the same for every method, but an unrelaxed start carries a
+// residual stress into the pressure: start lower and relax longer to probe slow rates). Per rate:
+// every method compresses that start to the last of three packings, phi_J - 0.01, phi_J and phi_J +
+// 0.015 (phi_J the paper's), landing on each exactly (the step before it is shortened), where the
 // virial pressure is read. LAMMPS (bench_compress.in, inertial, same start, zero velocities)
 // prints its pressure every ~0.05 t0, interpolated (quadratic in time) to the packings. Its
 // line for step m has the forces of the box before the step's deformation and the volume after
@@ -37,6 +38,9 @@ struct AccuracyOptions {
   std::vector<double> verlet_fraction{0.8};
   std::vector<double> lammps_fraction{0.8};
   double reference_dt = 0.01;
+  double phi_start_2d = 0.80, phi_start_3d = 0.60;  // packing of the starts
+  double relax_time = 500.0;  // relaxation of the starts stops here (or at 1e-10 per particle)
+  double start_packing(int dim) const { return dim == 2 ? phi_start_2d : phi_start_3d; }
   bool lammps = true;
   int jobs = 1;
   std::string out_dir = "reports/benchmarks";
@@ -83,6 +87,5 @@ void write_accuracy_report(const AccuracyOptions& o, const AccuracyResult& r);
 
 /// The packings of the benchmark: phi_J - 0.01, phi_J, phi_J + 0.015 (phi_J the paper's).
 std::array<double, 3> accuracy_packings(int dim);
-double accuracy_start_packing(int dim);
 
 }  // namespace jam::bench

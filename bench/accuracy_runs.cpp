@@ -19,9 +19,9 @@ namespace jam::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-// The start only has to be the same for every method; relaxing it fully near jamming takes
-// thousands of t0, so the relaxation stops at 1e-10 per particle or after 500 t0.
-constexpr double kRelaxDt = 0.01, kRelaxEnergy = 1e-10, kRelaxTimeMax = 500.0;
+// The relaxation stops at 1e-10 per particle or after the given time (near jamming a full
+// relaxation takes thousands of t0).
+constexpr double kRelaxDt = 0.01, kRelaxEnergy = 1e-10;
 
 template <int D>
 ParticleData<D> particles_of(const Start& start) {
@@ -33,11 +33,11 @@ ParticleData<D> particles_of(const Start& start) {
 }
 
 template <int D>
-Start relaxed(std::int64_t n, std::uint64_t seed) {
+Start relaxed(std::int64_t n, std::uint64_t seed, double phi, double relax_time) {
   const Species<D> species;
   ParticleData<D> p = random_configuration<D>(static_cast<std::size_t>(n), seed);
   const double volume = total_particle_volume(p, species);
-  const double length = CompressingBox<D>::length_for_packing(volume, accuracy_start_packing(D));
+  const double length = CompressingBox<D>::length_for_packing(volume, phi);
   sort_spatially(p, species, length);
   for (std::size_t i = 0; i < p.size(); ++i) p.id[i] = static_cast<std::uint32_t>(i + 1);
   System<D> sys(std::move(p), species, CompressingBox<D>{length, 0.0, volume}, 0.3);
@@ -45,7 +45,7 @@ Start relaxed(std::int64_t n, std::uint64_t seed) {
   for (long k = 0;; ++k) {
     if (k % 100 == 0) {
       const double e = measure(sys, 0.0, false).energy_per_particle;
-      if (e <= kRelaxEnergy || k * kRelaxDt >= kRelaxTimeMax) break;
+      if (e <= kRelaxEnergy || k * kRelaxDt >= relax_time) break;
     }
     stepper.step(sys, 0.0, kRelaxDt);
   }
@@ -117,8 +117,8 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
 
 }  // namespace
 
-Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed) {
-  return dim == 2 ? relaxed<2>(n, seed) : relaxed<3>(n, seed);
+Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed, double phi, double relax_time) {
+  return dim == 2 ? relaxed<2>(n, seed, phi, relax_time) : relaxed<3>(n, seed, phi, relax_time);
 }
 
 void write_start(const Start& start, double q, const std::string& path) {

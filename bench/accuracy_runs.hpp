@@ -21,7 +21,7 @@ struct Start {
   double energy_per_particle = 0.0;  // left after the relaxation
 };
 
-Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed);
+Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed, double phi, double relax_time);
 
 /// Writes the start as a LAMMPS data file with the masses of quality factor q.
 void write_start(const Start& start, double q, const std::string& path);
