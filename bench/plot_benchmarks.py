@@ -61,13 +61,15 @@ def accuracy(rows, png):
         for r in sel:
             key = (r["engine"], r["integrator"], r["q"])
             groups.setdefault(key, []).append(r)
-        for (engine, integ, q), g in sorted(groups.items()):
+        colors = {}
+        for k, ((engine, integ, q), g) in enumerate(sorted(groups.items())):
+            colors[(engine, integ, q)] = f"C{k % 10}"
             g.sort(key=lambda r: float(r["dt"]))
-            err = [max(float(r["max_error"]), 1e-6) for r in g]
+            err = [max(float(r["max_error"]), 1e-12) for r in g]
             wall = [float(r["wall_median_s"]) for r in g]
             lbl = f"{engine} {integ}" + (f" Q={q}" if integ == "verlet" else "")
             ax.loglog(err, wall, "-" if engine == "jam" else "--", marker=markers.get(integ, "x"),
-                      color="C3" if engine == "lammps" else None, label=lbl)
+                      color=colors[(engine, integ, q)], label=lbl)
         for target in (0.01, 0.001):
             ax.axvline(target, color="grey", lw=0.5)
         ax.set_title(f"{dim}D, rate {rate:g}")
