@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 
+#include "app/bench_command.hpp"
 #include "app/campaign_command.hpp"
 #include "app/check_command.hpp"
 #include "app/import_command.hpp"
@@ -33,6 +34,10 @@ int main(int argc, char** argv) {
   jam::add_import_command(app, import_request);
   jam::ReportArgs report_args;
   jam::add_report_command(app, report_args);
+  jam::BenchArgs bench_args;
+  bench_args.throughput.reference_dir = JAM_REFERENCE_DIR_FOR_BENCH;
+  bench_args.accuracy.reference_dir = JAM_REFERENCE_DIR_FOR_BENCH;
+  jam::add_bench_command(app, bench_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -53,6 +58,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("check")) return jam::run_check_command(check_args);
     if (app.got_subcommand("import")) return jam::run_import_command(import_request);
     if (app.got_subcommand("report")) return jam::run_report_command(report_args);
+    if (app.got_subcommand("bench")) return jam::run_bench_command(app, bench_args, argc, argv);
   } catch (const std::exception& e) {
     fmt::print(stderr, "jam: error: {}\n", e.what());
     return 1;

@@ -7,6 +7,7 @@
 #endif
 
 namespace jam {
+#ifdef JAM_HAVE_MPI
 namespace {
 bool mpi_active = false;
 
@@ -17,6 +18,7 @@ bool launched_by_mpi() {
   return false;
 }
 }  // namespace
+#endif
 
 Ranks start_ranks([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   Ranks r;

@@ -34,6 +34,16 @@ struct System {
 
   std::size_t size() const { return particles.size(); }
 
+  /// Bytes held by the particles, forces and neighbor list (capacities of their arrays).
+  std::size_t memory_bytes() const {
+    std::size_t b = neighbors.memory_bytes() + particles.type.capacity() +
+                    particles.id.capacity() * sizeof(std::uint32_t);
+    for (int d = 0; d < D; ++d) {
+      b += (particles.s[d].capacity() + force[d].capacity()) * sizeof(double);
+    }
+    return b;
+  }
+
   /// Makes the neighbor list valid for box length L.
   ///
   /// Guard against an unstable time step: explicit integration beyond its stability bound

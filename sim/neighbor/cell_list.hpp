@@ -67,6 +67,13 @@ class CellList {
   /// Particle indices ordered cell by cell: a locality-improving permutation.
   const std::vector<std::uint32_t>& members() const { return members_; }
 
+  /// Bytes held by the cell list (capacities of its arrays).
+  std::size_t memory_bytes() const {
+    return cell_of_.capacity() * sizeof(std::uint32_t) +
+           members_.capacity() * sizeof(std::uint32_t) +
+           (cell_start_.capacity() + fill_.capacity()) * sizeof(std::size_t);
+  }
+
  private:
   int m_ = 0;
   std::vector<std::uint32_t> cell_of_;

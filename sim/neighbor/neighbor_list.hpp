@@ -37,6 +37,14 @@ class NeighborList {
   const std::vector<std::uint32_t>& neighbors() const { return neighbors_; }
   std::size_t pair_count() const { return neighbors_.size(); }
 
+  /// Bytes held by the list, its cell list and the positions at the build (capacities).
+  std::size_t memory_bytes() const {
+    std::size_t b = cells_.memory_bytes() + offsets_.capacity() * sizeof(std::uint32_t) +
+                    neighbors_.capacity() * sizeof(std::uint32_t);
+    for (const auto& s : s_at_build_) b += s.capacity() * sizeof(double);
+    return b;
+  }
+
   /// Number of cells per side for a box of length L: cells at least d_max + skin wide.
   int cells_per_side(const Species<D>& species, double box_length) const {
     return static_cast<int>(std::floor(box_length / (species.max_contact_distance + skin_)));

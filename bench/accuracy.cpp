@@ -1,0 +1,262 @@
+#include "bench/accuracy.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "bench/accuracy_runs.hpp"
+#include "bench/lammps_bench.hpp"
+#include "bench/report_files.hpp"
+#include "sim/model/paper_values.hpp"
+
+namespace jam::bench {
+namespace fs = std::filesystem;
+
+std::array<double, 3> accuracy_packings(int dim) {
+  const double j = paper_values(dim).phi_j;
+  return {j - 0.01, j, j + 0.015};
+}
+
+namespace {
+
+/// Runs the tasks on `jobs` threads; the first exception is rethrown after all stopped.
+void run_pool(std::vector<std::function<void()>>& tasks, int jobs) {
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex m;
+  auto worker = [&] {
+    for (std::size_t k; (k = next++) < tasks.size();) {
+      try {
+        tasks[k]();
+      } catch (...) {
+        std::lock_guard lock(m);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t k = v.size() / 2;
+  return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
+}
+
+void validate(const AccuracyOptions& o) {
+  if (o.n < 64 || o.n % 2) throw std::runtime_error(fmt::format("--n {}: even, >= 64", o.n));
+  if (o.seeds < 1) throw std::runtime_error(fmt::format("--seeds {}: at least 1", o.seeds));
+  if (o.jobs < 1) throw std::runtime_error(fmt::format("--jobs {}: at least 1", o.jobs));
+  for (int d : {2, 3}) {
+    const double phi = o.start_packing(d);
+    if (!(phi > 0 && phi < accuracy_packings(d)[0]))
+      throw std::runtime_error(fmt::format("--phi-start-{}d {:g}: must be in (0, {:g})", d, phi,
+                                           accuracy_packings(d)[0]));
+  }
+  if (!(o.relax_time >= 0))
+    throw std::runtime_error(fmt::format("--relax-time {:g}: must be >= 0", o.relax_time));
+  if (!(o.reference_dt > 0))
+    throw std::runtime_error(fmt::format("--reference-dt {:g}: must be positive", o.reference_dt));
+  for (double r : o.rates)
+    if (!(r > 0)) throw std::runtime_error(fmt::format("--rates {:g}: must be positive", r));
+  for (const auto* list : {&o.euler_dt, &o.heun_dt})
+    for (double dt : *list)
+      if (!(dt > 0)) throw std::runtime_error(fmt::format("time step {:g}: must be positive", dt));
+  for (double q : o.verlet_q)
+    if (!(q > 0)) throw std::runtime_error(fmt::format("--verlet-q {:g}: must be positive", q));
+  for (const auto* list : {&o.verlet_fraction, &o.lammps_fraction})
+    for (double f : *list)
+      if (!(f > 0 && f < 1))
+        throw std::runtime_error(fmt::format("dt fraction {:g}: must be in (0, 1)", f));
+}
+
+void analyse(AccuracyResult& res) {
+  // Reference per (dim, rate) and seed: Richardson from the two finest Heun runs.
+  std::map<std::pair<int, double>, std::vector<std::array<double, 3>>> p_ref;
+  for (auto& ref : res.references) {
+    const Method* h[3] = {nullptr, nullptr, nullptr};
+    for (const auto& m : res.methods) {
+      if (m.dim != ref.dim || m.rate != ref.rate || !m.is_reference) continue;
+      const int level = m.integrator == "reference-h" ? 0 : m.integrator == "reference-h/2" ? 1 : 2;
+      h[level] = &m;
+    }
+    const std::size_t seeds = h[2]->pressure.size();
+    auto& pr = p_ref[{ref.dim, ref.rate}];
+    pr.resize(seeds);
+    for (int k = 0; k < 3; ++k) {
+      double d01 = 0, d12 = 0, rem = 0, mean = 0;
+      for (std::size_t s = 0; s < seeds; ++s) {
+        const double p0 = h[0]->pressure[s][k], p1 = h[1]->pressure[s][k],
+                     p2 = h[2]->pressure[s][k];
+        pr[s][k] = p2 + (p2 - p1) / 3.0;
+        d01 += std::abs(p0 - p1);
+        d12 += std::abs(p1 - p2);
+        rem += std::abs(pr[s][k] - p2) / pr[s][k];
+        mean += pr[s][k];
+      }
+      ref.p[k] = mean / seeds;
+      ref.ratio[k] = d12 > 0 ? d01 / d12 : std::numeric_limits<double>::infinity();
+      ref.remaining[k] = rem / seeds;
+    }
+  }
+  for (auto& m : res.methods) {
+    m.wall_median = median(m.wall);
+    const auto& pr = p_ref[{m.dim, m.rate}];
+    const std::size_t seeds = m.pressure.size();
+    m.max_error = 0;
+    for (int k = 0; k < 3; ++k) {
+      double mean = 0, ss = 0;
+      for (std::size_t s = 0; s < seeds; ++s) mean += (m.pressure[s][k] / pr[s][k] - 1) / seeds;
+      for (std::size_t s = 0; s < seeds; ++s) {
+        const double e = m.pressure[s][k] / pr[s][k] - 1 - mean;
+        ss += e * e;
+      }
+      m.error[k] = std::abs(mean);
+      m.error_se[k] = seeds > 1 ? std::sqrt(ss / (seeds - 1) / seeds) : 0.0;
+      if (m.error[k] >= m.max_error) {
+        m.max_error = m.error[k];
+        m.max_error_se = m.error_se[k];
+      }
+    }
+  }
+}
+
+}  // namespace
+
+AccuracyResult run_accuracy(const AccuracyOptions& o) {
+  validate(o);
+  const bool lammps = o.lammps && lmp_available();
+  if (o.lammps && !lammps) fmt::print(stderr, "jam bench: no lmp on the PATH, jam only\n");
+  const fs::path work =
+      fs::temp_directory_path() / fmt::format("jam-bench-accuracy-{}", ::getpid());
+  fs::create_directories(work);
+
+  // Relaxed starts, one per (dimension, seed), shared by every rate and method.
+  std::map<std::pair<int, int>, Start> starts;
+  {
+    std::vector<std::function<void()>> tasks;
+    std::mutex m;
+    for (int d : o.dims)
+      for (int s = 0; s < o.seeds; ++s)
+        tasks.push_back([&, d, s] {
+          Start st = relaxed_start(d, o.n, static_cast<std::uint64_t>(1000 + s), o.start_packing(d),
+                                   o.relax_time);
+          fmt::print(stderr, "  {}D start {}: energy per particle {:.2g}\n", d, s,
+                     st.energy_per_particle);
+          std::lock_guard lock(m);
+          starts[{d, s}] = std::move(st);
+        });
+    fmt::print(stderr, "jam bench accuracy: relaxing {} starts\n", tasks.size());
+    run_pool(tasks, o.jobs);
+  }
+
+  AccuracyResult res;
+  for (int d : o.dims) {
+    const double bound_unit = 4.0 / d;  // stability bound of Verlet: 4 Q^2 / D
+    for (double rate : o.rates) {
+      res.references.push_back({d, rate, accuracy_packings(d), {}, {}, {}});
+      auto add = [&](const std::string& engine, const std::string& integrator, double q, double dt,
+                     bool reference) {
+        Method m;
+        m.dim = d;
+        m.rate = rate;
+        m.engine = engine;
+        m.integrator = integrator;
+        m.q = q;
+        m.dt = dt;
+        m.is_reference = reference;
+        m.wall.resize(o.seeds);
+        m.pressure.resize(o.seeds);
+        res.methods.push_back(m);
+      };
+      add("jam", "reference-h", 0, o.reference_dt, true);
+      add("jam", "reference-h/2", 0, o.reference_dt / 2, true);
+      add("jam", "reference-h/4", 0, o.reference_dt / 4, true);
+      for (double dt : o.euler_dt) add("jam", "euler", 0, dt, false);
+      for (double dt : o.heun_dt) add("jam", "heun", 0, dt, false);
+      for (double q : o.verlet_q) {
+        for (double f : o.verlet_fraction) add("jam", "verlet", q, f * bound_unit * q * q, false);
+        if (lammps)
+          for (double f : o.lammps_fraction) {
+            add("lammps", "verlet", q, f * bound_unit * q * q, false);
+            add("lammps-shifted", "verlet", q, f * bound_unit * q * q, false);  // same runs
+          }
+      }
+    }
+  }
+  // LAMMPS data files: one per (dimension, seed, Q).
+  if (lammps) {
+    for (const auto& [key, start] : starts)
+      for (double q : o.verlet_q)
+        write_start(
+            start, q,
+            (work / fmt::format("start_{}d_s{}_q{:g}.data", key.first, key.second, q)).string());
+  }
+  // Every (method, seed) is a task; longest first so that the pool ends together.
+  std::vector<std::function<void()>> tasks;
+  std::vector<double> cost;
+  std::atomic<int> done{0};
+  for (std::size_t mi = 0; mi < res.methods.size(); ++mi) {
+    if (res.methods[mi].engine == "lammps-shifted") continue;  // filled by the run before
+    for (int s = 0; s < o.seeds; ++s) {
+      Method& m = res.methods[mi];
+      const double t_end =
+          std::log(accuracy_packings(m.dim)[2] / o.start_packing(m.dim)) / (m.dim * m.rate);
+      const bool two_evals = m.integrator != "euler" && m.integrator != "verlet";
+      cost.push_back(t_end / m.dt * (two_evals ? 2 : 1) * (m.engine == "lammps" ? 3 : 1) *
+                     (m.dim == 3 ? 2 : 1));
+      tasks.push_back([&, mi, s] {
+        Method& m = res.methods[mi];
+        const auto phi = accuracy_packings(m.dim);
+        RunResult r;
+        if (m.engine == "lammps") {
+          r = run_lammps_compression(
+              work, o.reference_dir, fmt::format("start_{}d_s{}_q{:g}.data", m.dim, s, m.q),
+              fmt::format("m{}_s{}.log", mi, s), m.dim, m.rate, m.dt, o.start_packing(m.dim), phi);
+        } else {
+          const std::string integrator = m.is_reference ? std::string("heun") : m.integrator;
+          r = run_jam(starts.at({m.dim, s}), m.rate, integrator, m.q, m.dt, phi);
+        }
+        m.wall[s] = r.wall;
+        m.pressure[s] = r.pressure;
+        if (m.engine == "lammps") {
+          res.methods[mi + 1].wall[s] = r.wall;
+          res.methods[mi + 1].pressure[s] = r.pressure_shifted;
+        }
+        fmt::print(stderr, "  [{}] {}D rate {:g} {} {} q {:g} dt {:g} seed {}: {:.2f} s\n", ++done,
+                   m.dim, m.rate, m.engine, m.integrator, m.q, m.dt, s, r.wall);
+      });
+    }
+  }
+  std::vector<std::size_t> order(tasks.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+  std::vector<std::function<void()>> sorted;
+  for (auto k : order) sorted.push_back(std::move(tasks[k]));
+  try {
+    run_pool(sorted, o.jobs);
+  } catch (...) {
+    fs::remove_all(work);
+    throw;
+  }
+  fs::remove_all(work);
+  analyse(res);
+  return res;
+}
+
+}  // namespace jam::bench

@@ -1,0 +1,88 @@
+#include "bench/lammps_bench.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace jam::bench {
+namespace fs = std::filesystem;
+
+bool lmp_available() {
+  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+}
+
+std::string lammps_command(const LammpsRequest& r) {
+  // Species of the paper: gamma_s = k_d V_s = 2/D, V_b/V_s = 1.4^D, d_sb = 1.2, d_bb = 1.4.
+  const std::string mpi =
+      r.ranks > 1 ? fmt::format("mpirun --allow-run-as-root --oversubscribe -np {} ", r.ranks) : "";
+  return fmt::format(
+      "cd '{}' && {}lmp -log '{}' -screen none -in bench_compress.in -var data '{}' -var table "
+      "harmonic_contact.table -var dim {} -var rate {:.17g} -var dt {:.17g} -var steps {} -var "
+      "every {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} -var d_sb 1.2 -var "
+      "d_bb 1.4 > /dev/null 2>&1",
+      r.directory.string(), mpi, r.log, r.data, r.dim, r.rate, r.dt, r.steps, r.every, 2.0 / r.dim,
+      std::pow(1.4, r.dim));
+}
+
+LammpsResult run_lammps(const LammpsRequest& r) {
+  for (const char* f : {"bench_compress.in", "harmonic_contact.table"}) {
+    fs::copy_file(r.reference / f, r.directory / f, fs::copy_options::overwrite_existing);
+  }
+  const std::string cmd = lammps_command(r);
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);
+  return read_lammps_log(r.directory / r.log);
+}
+
+LammpsResult read_lammps_log(const fs::path& log) {
+  std::ifstream in(log);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot read LAMMPS log", log.string()));
+  LammpsResult res;
+  bool in_thermo = false;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream w(line);
+    std::string first;
+    w >> first;
+    if (first == "Step") {
+      in_thermo = true;
+      continue;
+    }
+    if (first == "Loop") {
+      // Loop time of 1.234 on 1 procs for 100 steps with 4096 atoms
+      std::string time, of, on, procs, for_, steps, with;
+      w >> time >> of >> res.loop_seconds >> on >> res.procs >> procs >> for_ >> res.steps >>
+          steps >> with >> res.atoms;
+      in_thermo = false;
+      continue;
+    }
+    if (line.find("Per MPI rank memory allocation") != std::string::npos) {
+      // Per MPI rank memory allocation (min/avg/max) = 3.1 | 3.1 | 3.1 Mbytes
+      const auto eq = line.find('=');
+      std::istringstream m(line.substr(eq + 1));
+      double a = 0, b = 0, c = 0;
+      std::string bar;
+      m >> a >> bar >> b >> bar >> c;
+      res.memory_mbytes = c;
+      continue;
+    }
+    if (!in_thermo) continue;
+    std::istringstream t(line);
+    double step = 0, time = 0, p = 0;
+    if (t >> step >> time >> p) {
+      res.step.push_back(step);
+      res.time.push_back(time);
+      res.pressure.push_back(p);
+    } else {
+      in_thermo = false;
+    }
+  }
+  if (!(res.loop_seconds > 0) || res.steps <= 0 || res.atoms <= 0) {
+    throw std::runtime_error(fmt::format("{}: no 'Loop time' line (LAMMPS failed?)", log.string()));
+  }
+  return res;
+}
+
+}  // namespace jam::bench

@@ -1,0 +1,53 @@
+#include "bench/report_files.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <thread>
+
+#include "sim/io/atomic_file.hpp"
+
+#ifndef JAM_BENCH_SCRIPT
+#define JAM_BENCH_SCRIPT "bench/plot_benchmarks.py"
+#endif
+
+namespace jam::bench {
+
+std::string machine_description() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string model = "unknown CPU";
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  return fmt::format("{}, {} cores", model, std::thread::hardware_concurrency());
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+  AtomicFile f(path);
+  std::fputs(text.c_str(), f.stream());
+  f.commit();
+}
+
+bool plot(const std::string& kind, const std::string& csv, const std::string& png) {
+  const std::string cmd =
+      fmt::format("/usr/bin/python3 '{}' {} '{}' '{}'", JAM_BENCH_SCRIPT, kind, csv, png);
+  if (std::system(cmd.c_str()) != 0) {
+    fmt::print(stderr, "jam bench: no plot ({} failed; needs python3-matplotlib)\n", cmd);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace jam::bench

@@ -1,0 +1,129 @@
+// `jam bench throughput` and `jam bench accuracy` at tiny sizes: they run, write their tables,
+// and every number in them is finite and positive where it must be. No timing is asserted
+// (timings on a shared machine are not reproducible); the benchmarks' results live in
+// reports/benchmarks/.
+#define BOOST_TEST_MODULE bench_smoke
+#include <unistd.h>
+
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "process.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-bench-smoke-" + std::to_string(::getpid()));
+
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::size_t column(const std::string& name) const {
+    for (std::size_t k = 0; k < header.size(); ++k)
+      if (header[k] == name) return k;
+    BOOST_FAIL("no column " + name);
+    return 0;
+  }
+};
+
+Csv read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  Csv csv;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::istringstream s(line);
+    for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
+    if (csv.header.empty()) {
+      csv.header = cells;
+    } else {
+      BOOST_REQUIRE_EQUAL(cells.size(), csv.header.size());
+      csv.rows.push_back(cells);
+    }
+  }
+  return csv;
+}
+
+int run_jam(const std::string& args) {
+  const std::string cmd =
+      std::string(JAM_EXECUTABLE) + " " + args + " > " + (kDir / "out.txt").string() + " 2>&1";
+  return WEXITSTATUS(std::system(cmd.c_str()));
+}
+
+bool have_lmp() {
+  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+}
+
+struct Cleanup {
+  Cleanup() { fs::create_directories(kDir); }
+  ~Cleanup() { fs::remove_all(kDir); }
+};
+BOOST_GLOBAL_FIXTURE(Cleanup);
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(throughput_table_is_complete_and_positive) {
+  const fs::path out = kDir / "throughput";
+  BOOST_REQUIRE_EQUAL(run_jam("bench throughput --dims 2,3 --n-min 256 --n-max 256 --seconds 0.02 "
+                              "--repeats 1 --out-dir " +
+                              out.string()),
+                      0);
+  const Csv csv = read_csv(out / "throughput.csv");
+  // 2 dimensions x 1 size x 3 modes.
+  BOOST_REQUIRE_EQUAL(csv.rows.size(), 6u);
+  const bool lmp = have_lmp();
+  for (const auto& row : csv.rows) {
+    const double jam_speed = std::stod(row[csv.column("jam_particle_steps_per_s")]);
+    const double bytes = std::stod(row[csv.column("jam_bytes_per_particle")]);
+    BOOST_TEST((std::isfinite(jam_speed) && jam_speed > 0));
+    // Positions, forces, types, ids and a half list of ~2-6 neighbours: tens to hundreds of
+    // bytes per particle; outside [20, 2000] the accounting itself would be broken.
+    BOOST_TEST((bytes > 20 && bytes < 2000));
+    if (lmp) {
+      const double l = std::stod(row[csv.column("lammps_particle_steps_per_s")]);
+      BOOST_TEST((std::isfinite(l) && l > 0));
+    }
+  }
+  BOOST_TEST(fs::file_size(out / "throughput.md") > 0);
+}
+
+BOOST_AUTO_TEST_CASE(accuracy_table_is_complete_and_the_reference_converges) {
+  const fs::path out = kDir / "accuracy";
+  BOOST_REQUIRE_EQUAL(
+      run_jam("bench accuracy --dims 2 --n 128 --rates 1e-2 --seeds 2 --euler-dt 0.02 0.05 "
+              "--heun-dt 0.05 --verlet-q 0.1 --reference-dt 0.02 --jobs 2 --out-dir " +
+              out.string()),
+      0);
+  const Csv csv = read_csv(out / "accuracy.csv");
+  // 3 reference levels, 2 Euler, 1 Heun, jam Verlet, and with lmp LAMMPS read two ways.
+  BOOST_REQUIRE_EQUAL(csv.rows.size(), have_lmp() ? 9u : 7u);
+  double euler_coarse = 0, euler_fine = 0;
+  for (const auto& row : csv.rows) {
+    const double wall = std::stod(row[csv.column("wall_median_s")]);
+    const double err = std::stod(row[csv.column("max_error")]);
+    BOOST_TEST((std::isfinite(wall) && wall > 0));
+    BOOST_TEST((std::isfinite(err) && err >= 0 && err < 0.5));
+    if (row[csv.column("integrator")] == "euler") {
+      (std::stod(row[csv.column("dt")]) > 0.03 ? euler_coarse : euler_fine) = err;
+    }
+  }
+  // Euler is first order: 2.5x the step gives about 2.5x the error. Both are systematic
+  // errors far above the seeds' noise at this rate (1e-3 and above); a factor 1.5 allows
+  // for the mixture of orders that chaotic divergence adds.
+  BOOST_TEST(euler_coarse > 1.5 * euler_fine);
+  BOOST_TEST(fs::file_size(out / "accuracy.md") > 0);
+}
+
+BOOST_AUTO_TEST_CASE(bad_options_are_rejected_in_one_line) {
+  BOOST_TEST(run_jam("bench throughput --n-min 3 --out-dir " + (kDir / "bad").string()) != 0);
+  BOOST_TEST(!fs::exists(kDir / "bad" / "throughput.csv"));
+  BOOST_TEST(run_jam("bench accuracy --seeds 0 --out-dir " + (kDir / "bad").string()) != 0);
+  BOOST_TEST(run_jam("bench accuracy --dims 4 --out-dir " + (kDir / "bad").string()) != 0);
+  BOOST_TEST(!fs::exists(kDir / "bad" / "accuracy.csv"));
+}
