@@ -14,7 +14,7 @@ seconds="${JAM_FUZZ_SECONDS:-20}"
 flags="-O1 -gline-tables-only -DNDEBUG"
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=None \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" \
-  -DJAM_FUZZ=ON -DJAM_WERROR=OFF -DCMAKE_DISABLE_FIND_PACKAGE_MPI=ON \
+  -DJAM_FUZZ=ON -DJAM_WERROR=ON -DCMAKE_DISABLE_FIND_PACKAGE_MPI=ON \
   -DJAM_FUZZ_SECONDS="$seconds" >/dev/null
 targets=(jam fuzz_campaign_file fuzz_lammps_data)
 while read -r t; do targets+=("$t"); done < <(
