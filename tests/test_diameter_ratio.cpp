@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <set>
 
+#include "pair_sets.hpp"
 #include "sim/dynamics/overdamped_euler.hpp"
 #include "sim/dynamics/stability.hpp"
 #include "sim/initial_state.hpp"
@@ -19,7 +20,8 @@
 #include "sim/neighbor/brute_force_pairs.hpp"
 
 namespace fs = std::filesystem;
-using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
+using jam::testing::listed_pairs;
+using jam::testing::PairSet;
 
 namespace {
 
@@ -30,15 +32,6 @@ jam::System<D> random_system(std::size_t n, double phi, double ratio, double rat
   const double volume = jam::total_particle_volume(p, species);
   jam::CompressingBox<D> box{jam::CompressingBox<D>::length_for_packing(volume, phi), rate, volume};
   return jam::System<D>(std::move(p), species, box, 0.3);
-}
-
-template <int D>
-PairSet listed(const jam::NeighborList<D>& list) {
-  PairSet s;
-  const auto& off = list.offsets();
-  for (std::uint32_t i = 0; i + 1 < off.size(); ++i)
-    for (std::uint32_t k = off[i]; k < off[i + 1]; ++k) s.emplace(i, list.neighbors()[k]);
-  return s;
 }
 
 template <int D>
@@ -54,10 +47,10 @@ void neighbors_at_ratio(double ratio, double phi) {
     if (sys.neighbors.builds() != builds) {
       builds = sys.neighbors.builds();
       const auto v = jam::brute_force_pairs(sys.particles, sys.species, L, 0.3);
-      BOOST_TEST_REQUIRE((listed(sys.neighbors) == PairSet(v.begin(), v.end())));
+      BOOST_TEST_REQUIRE((listed_pairs(sys.neighbors) == PairSet(v.begin(), v.end())));
     }
     const auto c = jam::brute_force_pairs(sys.particles, sys.species, L, 0.0);
-    const PairSet l = listed(sys.neighbors);
+    const PairSet l = listed_pairs(sys.neighbors);
     contacts_seen += c.size();
     BOOST_TEST_REQUIRE(std::all_of(c.begin(), c.end(), [&](auto pr) { return l.count(pr); }));
     stepper.step(sys, t, 0.05);

@@ -6,22 +6,15 @@
 #include <set>
 
 #include "helpers.hpp"
+#include "pair_sets.hpp"
 #include "sim/dynamics/overdamped_euler.hpp"
 #include "sim/neighbor/brute_force_pairs.hpp"
 
 using namespace jam;
-using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
+using jam::testing::listed_pairs;
+using jam::testing::PairSet;
 
 namespace {
-
-template <int D>
-PairSet listed_pairs(const NeighborList<D>& list) {
-  PairSet s;
-  const auto& off = list.offsets();
-  for (std::uint32_t i = 0; i + 1 < off.size(); ++i)
-    for (std::uint32_t k = off[i]; k < off[i + 1]; ++k) s.emplace(i, list.neighbors()[k]);
-  return s;
-}
 
 template <int D>
 PairSet oracle(const System<D>& sys, double L, double extra) {

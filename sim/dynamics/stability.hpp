@@ -29,30 +29,40 @@ namespace jam {
 /// rates) or the mass m (inertial, eigenvalues are omega^2).
 using ModeInertia = std::array<double, 2>;
 
+/// Calls contact(i, j, dr, r2, d_ij) for every listed pair in contact (r < d_ij) at box
+/// length L, dr the minimum-image separation. Diagnostics only: not the force loop.
+template <int D, class Contact>
+void for_each_contact(const System<D>& sys, double box_length, Contact&& contact) {
+  const auto& offsets = sys.neighbors.offsets();
+  const auto& nbr = sys.neighbors.neighbors();
+  const auto& type = sys.particles.type;
+  for (std::size_t i = 0; i < sys.size(); ++i) {
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = nbr[k];
+      std::array<double, D> dr;
+      const double r2 = pair_separation(sys.particles, i, j, box_length, dr);
+      const double d = sys.species.contact_distance[type[i] + type[j]];
+      if (r2 < d * d) contact(i, static_cast<std::size_t>(j), dr, r2, d);
+    }
+  }
+}
+
 /// Gershgorin bound on lambda_max(W^-1/2 H_n W^-1/2): max over particles of
 /// sum_j k_ij (1/w_i + 1/sqrt(w_i w_j)), k_ij = 1/d_ij^2 over the contacts of i. One pass over
 /// the neighbor list, which must be valid for box length L (the last force evaluation).
 template <int D>
 double stiffest_mode_bound(const System<D>& sys, double box_length, const ModeInertia& w) {
   const std::size_t n = sys.size();
-  const auto& offsets = sys.neighbors.offsets();
-  const auto& nbr = sys.neighbors.neighbors();
   const auto& type = sys.particles.type;
   std::vector<double> row(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const std::uint32_t j = nbr[k];
-      std::array<double, D> dr;
-      const int pair = type[i] + type[j];
-      const double r2 = pair_separation(sys.particles, i, j, box_length, dr);
-      const double d = sys.species.contact_distance[pair];
-      if (!(r2 < d * d)) continue;
-      const double kij = 1.0 / (d * d);
-      const double cross = kij / std::sqrt(w[type[i]] * w[type[j]]);
-      row[i] += kij / w[type[i]] + cross;
-      row[j] += kij / w[type[j]] + cross;
-    }
-  }
+  for_each_contact(
+      sys, box_length,
+      [&](std::size_t i, std::size_t j, const std::array<double, D>&, double, double d) {
+        const double kij = 1.0 / (d * d);
+        const double cross = kij / std::sqrt(w[type[i]] * w[type[j]]);
+        row[i] += kij / w[type[i]] + cross;
+        row[j] += kij / w[type[j]] + cross;
+      });
   return n ? *std::max_element(row.begin(), row.end()) : 0.0;
 }
 
@@ -63,8 +73,6 @@ template <int D>
 double stiffest_mode(const System<D>& sys, double box_length, const ModeInertia& w,
                      int iterations = 60) {
   const std::size_t n = sys.size();
-  const auto& offsets = sys.neighbors.offsets();
-  const auto& nbr = sys.neighbors.neighbors();
   const auto& type = sys.particles.type;
   std::array<std::vector<double>, D> x, y;
   std::uint64_t h = 0x9e3779b97f4a7c15ULL;
@@ -87,25 +95,20 @@ double stiffest_mode(const System<D>& sys, double box_length, const ModeInertia&
   // y = W^-1/2 H_n W^-1/2 x
   auto apply = [&]() {
     for (int d = 0; d < D; ++d) std::fill(y[d].begin(), y[d].end(), 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double si = 1.0 / std::sqrt(w[type[i]]);
-      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-        const std::uint32_t j = nbr[k];
-        std::array<double, D> dr;
-        const int pair = type[i] + type[j];
-        const double r2 = pair_separation(sys.particles, i, j, box_length, dr);
-        const double d = sys.species.contact_distance[pair];
-        if (!(r2 < d * d) || r2 == 0.0) continue;  // r = 0: no direction, no radial stiffness
-        const double sj = 1.0 / std::sqrt(w[type[j]]);
-        double proj = 0.0;
-        for (int a = 0; a < D; ++a) proj += dr[a] * (si * x[a][i] - sj * x[a][j]);
-        const double c = proj / (r2 * d * d);  // k (n . u) / r
-        for (int a = 0; a < D; ++a) {
-          y[a][i] += si * c * dr[a];
-          y[a][j] -= sj * c * dr[a];
-        }
-      }
-    }
+    for_each_contact(
+        sys, box_length,
+        [&](std::size_t i, std::size_t j, const std::array<double, D>& dr, double r2, double d) {
+          if (r2 == 0.0) return;  // r = 0: no direction, no radial stiffness
+          const double si = 1.0 / std::sqrt(w[type[i]]);
+          const double sj = 1.0 / std::sqrt(w[type[j]]);
+          double proj = 0.0;
+          for (int a = 0; a < D; ++a) proj += dr[a] * (si * x[a][i] - sj * x[a][j]);
+          const double c = proj / (r2 * d * d);  // k (n . u) / r
+          for (int a = 0; a < D; ++a) {
+            y[a][i] += si * c * dr[a];
+            y[a][j] -= sj * c * dr[a];
+          }
+        });
   };
   double lambda = 0.0;
   for (int it = 0; it < iterations; ++it) {
