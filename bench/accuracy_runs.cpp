@@ -35,12 +35,9 @@ ParticleData<D> particles_of(const Start& start) {
 template <int D>
 Start relaxed(std::int64_t n, std::uint64_t seed, double phi, double relax_time) {
   const Species<D> species;
-  ParticleData<D> p = random_configuration<D>(static_cast<std::size_t>(n), seed);
-  const double volume = total_particle_volume(p, species);
-  const double length = CompressingBox<D>::length_for_packing(volume, phi);
-  sort_spatially(p, species, length);
-  for (std::size_t i = 0; i < p.size(); ++i) p.id[i] = static_cast<std::uint32_t>(i + 1);
-  System<D> sys(std::move(p), species, CompressingBox<D>{length, 0.0, volume}, 0.3);
+  RandomStart<D> r = random_start<D>(static_cast<std::size_t>(n), seed, species, phi);
+  System<D> sys(std::move(r.particles), species,
+                CompressingBox<D>{r.box_length, 0.0, r.particle_volume}, 0.3);
   OverdampedEuler<D> stepper(sys.size());
   for (long k = 0;; ++k) {
     if (k % 100 == 0) {
@@ -55,7 +52,7 @@ Start relaxed(std::int64_t n, std::uint64_t seed, double phi, double relax_time)
   for (int d = 0; d < D; ++d) start.s.push_back(sys.particles.s[d]);
   start.type = sys.particles.type;
   start.id = sys.particles.id;
-  start.box_length = length;
+  start.box_length = r.box_length;
   return start;
 }
 

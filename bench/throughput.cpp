@@ -34,13 +34,10 @@ constexpr double kRate = 1e-4, kDt = 0.01, kLammpsQ = 0.1;
 template <int D>
 System<D> near_jamming(std::int64_t n) {
   const double phi = D == 2 ? 0.84 : 0.64;
-  ParticleData<D> p = random_configuration<D>(static_cast<std::size_t>(n), 1);
   const Species<D> species;
-  const double volume = total_particle_volume(p, species);
-  const double length = CompressingBox<D>::length_for_packing(volume, phi);
-  sort_spatially(p, species, length);
-  for (std::size_t i = 0; i < p.size(); ++i) p.id[i] = static_cast<std::uint32_t>(i + 1);
-  System<D> sys(std::move(p), species, CompressingBox<D>{length, 0.0, volume}, 0.3);
+  RandomStart<D> r = random_start<D>(static_cast<std::size_t>(n), 1, species, phi);
+  System<D> sys(std::move(r.particles), species,
+                CompressingBox<D>{r.box_length, 0.0, r.particle_volume}, 0.3);
   OverdampedEuler<D> warm(sys.size());
   for (int k = 0; k < 150; ++k) warm.step(sys, 0.0, 0.05);
   sys.box.compression_rate = kRate;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sim/model/compressing_box.hpp"
 #include "sim/model/particles.hpp"
 #include "sim/model/species.hpp"
 
@@ -29,6 +30,28 @@ double total_particle_volume(const ParticleData<D>& p, const Species<D>& species
   double v = 0.0;
   for (auto t : p.type) v += species.volume[t];
   return v;
+}
+
+/// A random start at packing phi: random_configuration, the box length that gives phi, the
+/// particles sorted cell by cell and numbered 1..N in that order (the LAMMPS atom ids).
+template <int D>
+struct RandomStart {
+  ParticleData<D> particles;
+  double box_length = 0.0;
+  double particle_volume = 0.0;
+};
+
+template <int D>
+RandomStart<D> random_start(std::size_t n, std::uint64_t seed, const Species<D>& species,
+                            double phi) {
+  RandomStart<D> r;
+  r.particles = random_configuration<D>(n, seed);
+  r.particle_volume = total_particle_volume(r.particles, species);
+  r.box_length = CompressingBox<D>::length_for_packing(r.particle_volume, phi);
+  sort_spatially(r.particles, species, r.box_length);
+  for (std::size_t i = 0; i < r.particles.size(); ++i)
+    r.particles.id[i] = static_cast<std::uint32_t>(i + 1);
+  return r;
 }
 
 }  // namespace jam

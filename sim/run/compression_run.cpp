@@ -51,14 +51,10 @@ Start<D> make_start(const SimConfig& c, const Species<D>& species) {
     start.description = c.read_lammps_data;
     sort_spatially(start.particles, species, start.box_length);
   } else {
-    start.particles = random_configuration<D>(static_cast<std::size_t>(c.n), c.seed);
-    start.box_length = CompressingBox<D>::length_for_packing(
-        total_particle_volume(start.particles, species), c.phi_init);
+    RandomStart<D> r = random_start<D>(static_cast<std::size_t>(c.n), c.seed, species, c.phi_init);
+    start.particles = std::move(r.particles);
+    start.box_length = r.box_length;
     start.description = "random";
-    sort_spatially(start.particles, species, start.box_length);
-    for (std::size_t i = 0; i < start.particles.size(); ++i) {
-      start.particles.id[i] = static_cast<std::uint32_t>(i + 1);
-    }
   }
   return start;
 }
