@@ -67,7 +67,7 @@ void prepare_campaign_directory(const Campaign& c) {
     if (!differences.empty()) {
       throw CampaignError(fmt::format(
           "{}: refusing to mix runs: {} was run with a campaign that differs in {} (only sizes, "
-          "phi_init, log10_rates and samples may change)",
+          "phi_init, log10_rates, samples and first_sample may change)",
           c.source_path, dir.string(), differences));
     }
   }

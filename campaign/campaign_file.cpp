@@ -140,6 +140,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.phi_init = r.numbers("phi_init");
   c.log10_rates = r.numbers("log10_rates");
   c.samples = r.integer("samples", true, 0);
+  c.first_sample = r.integer("first_sample", false, c.first_sample);
   c.phi_stop = r.number("phi_stop", true, 0.0);
   c.phi_step = r.number("phi_step", false, c.phi_step);
   c.dynamics = r.string("dynamics", false, c.dynamics);
@@ -179,6 +180,9 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   }
   if (c.samples < 1 || c.samples > 1000000) {
     r.fail("samples", fmt::format("{} (must be in [1, 10^6])", c.samples));
+  }
+  if (c.first_sample < 0 || c.first_sample > 1000000) {
+    r.fail("first_sample", fmt::format("{} (must be in [0, 10^6])", c.first_sample));
   }
   if (seed < 0) r.fail("seed", fmt::format("{} (must be >= 0)", seed));
   c.seed = static_cast<std::uint64_t>(seed);

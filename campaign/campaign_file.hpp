@@ -20,6 +20,9 @@ struct Campaign {
   std::vector<double> phi_init;
   std::vector<double> log10_rates;
   std::int64_t samples = 0;
+  // Samples are numbered first_sample ... first_sample + samples - 1: a rerun of part of a
+  // campaign (first_sample inside it) or new samples of it (first_sample past its end).
+  std::int64_t first_sample = 0;
   double phi_stop = 0.0;
   double phi_step = 0.001;
   std::string dynamics = "overdamped";

@@ -79,7 +79,7 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
   for (auto n : c.sizes) {
     for (double phi : c.phi_init) {
       for (double lr : c.log10_rates) {
-        for (std::int64_t k = 0; k < c.samples; ++k) {
+        for (std::int64_t k = c.first_sample; k < c.first_sample + c.samples; ++k) {
           PlannedRun r;
           r.n = n;
           r.phi_init = phi;

@@ -141,6 +141,28 @@ BOOST_AUTO_TEST_CASE(seeds_do_not_depend_on_rate_or_sample_count) {
   }
 }
 
+BOOST_AUTO_TEST_CASE(first_sample_reruns_part_of_a_campaign_or_adds_samples) {
+  std::map<std::string, std::uint64_t> whole;
+  for (const auto& r : plan_runs(parse_campaign(kGood, "a.toml"))) whole[r.name] = r.config.seed;
+  // Samples 2, 3, 4: sample 2 is the whole campaign's run (same name, same seed), 3 and 4
+  // are new.
+  const Campaign part = parse_campaign(kGood + "first_sample = 2\n", "b.toml");
+  BOOST_TEST(part.first_sample == 2);
+  std::set<std::int64_t> numbers;
+  for (const auto& r : plan_runs(part)) {
+    numbers.insert(r.sample);
+    if (r.sample == 2) {
+      BOOST_TEST_REQUIRE(whole.count(r.name) == 1u, r.name);
+      BOOST_TEST(whole[r.name] == r.config.seed);
+    } else {
+      BOOST_TEST(whole.count(r.name) == 0u, r.name);
+    }
+  }
+  BOOST_TEST((numbers == std::set<std::int64_t>{2, 3, 4}));
+  BOOST_TEST(rejection(kGood + "first_sample = -1\n") ==
+             "c.toml:10: first_sample: -1 (must be in [0, 10^6])");
+}
+
 BOOST_AUTO_TEST_CASE(plan_is_complete_and_longest_first) {
   const Campaign c = parse_campaign(kGood, "c.toml");
   const auto plan = plan_runs(c);
