@@ -20,7 +20,7 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
   sim->add_option("--dt", c.dt, "Time step (units of t0)");
   sim->add_option("--dynamics", c.dynamics, "overdamped (Q -> 0) or inertial");
   sim->add_option("--integrator", c.integrator,
-                  "euler or heun (overdamped; default euler), verlet (inertial)");
+                  "euler or heun (overdamped; default heun), verlet (inertial)");
   sim->add_option("--q", c.q, "Quality factor Q (inertial dynamics only)");
   sim->add_option("--seed", c.seed, "Seed of the random initial configuration");
   sim->add_option("--skin", c.skin, "Neighbor-list skin (units of d_s)");

@@ -28,6 +28,8 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
   s->add_option("--fix-inv-znu", a.fix_inv_znu, "Hold 1/(z nu) at this value");
   s->add_flag("--fix-paper-exponents", a.fix_paper_exponents,
               "Hold q and 1/(z nu) at the paper's values for the dimension");
+  s->add_flag("--fix-paper-q", a.fix_paper_q,
+              "Hold q at the paper's value for the dimension (phi_J and 1/(z nu) fitted)");
   s->add_flag(
       "--no-fit", [&a](std::int64_t) { a.options.fit = false; }, "Averages only");
 }
@@ -43,11 +45,11 @@ int run_stats_command(const StatsArgs& a) {
   }
   if (!(o.z_step > 0))
     throw std::runtime_error(fmt::format("--z-step {:g}: must be > 0", o.z_step));
-  if (a.fix_paper_exponents) {
+  if (a.fix_paper_exponents || a.fix_paper_q) {
     // Needs the dimension: read it with the data.
     const auto dim = stats::read_campaign_runs(a.directory).dim;
     o.fixed_q = paper_values(dim).q();
-    o.fixed_inv_znu = paper_values(dim).inv_znu();
+    if (a.fix_paper_exponents) o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
   const auto started = std::chrono::steady_clock::now();
   stats::CampaignStats s = stats::compute_campaign_stats(a.directory, o);

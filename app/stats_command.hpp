@@ -10,6 +10,7 @@ struct StatsArgs {
   stats::StatsOptions options;
   double fit_phi_init = -1.0, fix_phi_j = -1.0, fix_q = -1.0, fix_inv_znu = -1.0;
   bool fix_paper_exponents = false;
+  bool fix_paper_q = false;
 };
 
 /// Registers `jam stats DIR`.

@@ -10,10 +10,14 @@
 
 #include "bench/accuracy.hpp"
 #include "bench/report_files.hpp"
+#include "sim/run/sim_config.hpp"
 
 namespace jam::bench {
 namespace fs = std::filesystem;
 namespace {
+
+// The default integrator and dt of `jam sim` and of campaigns: the "jam default" column.
+const SimConfig kDefaults;
 
 std::string label(const Method& m) {
   if (m.integrator == "verlet") return fmt::format("{} verlet Q={:g}", m.engine, m.q);
@@ -60,13 +64,15 @@ void write_accuracy_report(const AccuracyOptions& o, const AccuracyResult& r) {
       o.command, machine_description(), utc_now(), o.n, o.seeds, o.jobs);
 
   md +=
-      "## Time to 1% and 0.1% error\n\n"
-      "| D | rate | target | jam default (euler dt 0.01) | jam best | LAMMPS best | "
-      "LAMMPS best / jam best |\n|---|---|---|---|---|---|---|\n";
+      "## Time to 1% and 0.1% error\n\n" +
+      fmt::format("| D | rate | target | jam default ({} dt {:g}) | jam best | LAMMPS best | "
+                  "LAMMPS best / jam best |\n|---|---|---|---|---|---|---|\n",
+                  kDefaults.resolved_integrator(), kDefaults.dt);
   for (const auto& ref : r.references) {
     for (double target : {0.01, 0.001}) {
       auto is_default = [](const Method& m) {
-        return m.engine == "jam" && m.integrator == "euler" && std::abs(m.dt - 0.01) < 1e-12;
+        return m.engine == "jam" && m.integrator == kDefaults.resolved_integrator() &&
+               std::abs(m.dt - kDefaults.dt) < 1e-12;
       };
       const auto def = fastest(r, ref.dim, ref.rate, target, is_default);
       const bool default_run =

@@ -26,8 +26,8 @@ struct Campaign {
   double phi_stop = 0.0;
   double phi_step = 0.001;
   std::string dynamics = "overdamped";
-  std::string integrator;  // empty: euler (overdamped) or verlet (inertial)
-  double dt = 0.01;
+  std::string integrator;  // empty: heun (overdamped) or verlet (inertial), as SimConfig
+  double dt = 0.1;         // as SimConfig (the overdamped default)
   double q = 0.03;
   std::uint64_t seed = 0;
   std::string output;  // campaign directory

@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
 # The reduced-scale reproduction of the paper, end to end, and its stored result:
 #
-#   scripts/reproduce.sh reduced-2d     # about 35 minutes on 2 cores
-#   scripts/reproduce.sh reduced-3d     # about 40 minutes
+#   scripts/reproduce.sh reduced-2d     # about 30 minutes on 2 cores
+#   scripts/reproduce.sh reduced-3d     # about 15 minutes
 #
 # 1. the phi_init check campaign (reference/campaigns/NAME-phi-init.toml) that chose the start,
 # 2. the campaign (reference/campaigns/NAME.toml) in runs/NAME,
-# 3. stats with a free three-parameter scaling fit (kept as stats-free-fit.h5), then with the
-#    paper's exponents q and 1/(z nu) held fixed (stats.h5, the result), cubic ln f,
-# 4. all checks, the report (reports/NAME/, paper exponents; reports/NAME-free-fit/, fitted),
-# 5. the stored result reference/results/NAME/: stats.h5, stats-free-fit.h5, checks.json,
-#    phi-init-checks.json, campaign.toml and provenance.json (code version, machine, date, wall
-#    time of every stage), written to a temporary directory and renamed into place.
+# 3. stats, cubic ln f, three times: all three parameters free (kept as fit-free.json), the
+#    paper's q held (fit-q-fixed.json), and both exponents held (stats.h5, the result),
+# 4. all checks, the reports (reports/NAME/: exponents held; reports/NAME-q-fixed/: the
+#    collapse with the fitted 1/(z nu)),
+# 5. the stored result reference/results/NAME/: stats.h5, fit-free.json, fit-q-fixed.json,
+#    checks.json, phi-init-checks.json, campaign.toml and provenance.json (code version,
+#    machine, date, wall time of every stage), written to a temporary directory and renamed
+#    into place.
 #
 # Runs that are already done are not redone (a campaign resumes), so running it again after an
 # interruption finishes the work; the wall times then cover only this invocation.
@@ -27,6 +29,8 @@ jam=build/jam
 [ -x "$jam" ] || { echo "reproduce: $jam missing: run scripts/setup.sh first" >&2; exit 2; }
 quiet=""
 [ -t 1 ] || quiet="--quiet"
+commit=$(git rev-parse HEAD 2>/dev/null || echo unknown)
+mkdir -p reference/results
 
 declare -A wall
 stage() {  # stage KEY command...: runs it and records its wall time in seconds
@@ -52,23 +56,27 @@ stage phi_init_check verdicts "runs/$name-phi-init/checks-phi_init.json" \
   $jam check phi_init "runs/$name-phi-init"
 
 stage campaign $jam campaign run "$campaign" $quiet
+fits=$(mktemp -d)
 stage stats_free_fit $jam stats "runs/$name" --order 3 >/dev/null
-cp "runs/$name/stats.h5" "runs/$name/stats-free-fit.h5"
+scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-free.json" "jam stats --order 3"
+stage stats_q_fixed $jam stats "runs/$name" --order 3 --fix-paper-q >/dev/null
+scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-q-fixed.json" \
+  "jam stats --order 3 --fix-paper-q"
+# The q-fixed report reads a copy of the directory's stats and checks, not the runs.
+qfixed=runs/$name-q-fixed
+rm -rf "$qfixed" && mkdir -p "$qfixed"
+cp "runs/$name"/{campaign.toml,manifest.toml,stats.h5} "$qfixed/"
 stage stats $jam stats "runs/$name" --order 3 --fix-paper-exponents >/dev/null
 stage checks verdicts "runs/$name/checks.json" $jam check all "runs/$name"
-
-# The free-fit report reads a copy of the directory's stats and checks, not the runs.
-free=runs/$name-free-fit
-rm -rf "$free" && mkdir -p "$free"
-cp "runs/$name"/{campaign.toml,manifest.toml,checks.json,checks.h5} "$free/"
-cp "runs/$name/stats-free-fit.h5" "$free/stats.h5"
+cp "runs/$name"/{checks.json,checks.h5} "$qfixed/"
 stage report $jam report "runs/$name" --out "reports/$name" --quiet
-$jam report "$free" --out "reports/$name-free-fit" --quiet
+$jam report "$qfixed" --out "reports/$name-q-fixed" --quiet
 
 out=reference/results/$name
 tmp=$(mktemp -d "reference/results/.$name.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
-cp "runs/$name/stats.h5" "runs/$name/stats-free-fit.h5" "runs/$name/checks.json" "$tmp/"
+cp "runs/$name/stats.h5" "runs/$name/checks.json" "$fits"/fit-*.json "$tmp/"
+rm -rf "$fits"
 cp "runs/$name-phi-init/checks-phi_init.json" "$tmp/phi-init-checks.json"
 cp "$campaign" "$tmp/campaign.toml"
 core_seconds=$(/usr/bin/python3 -c '
@@ -82,7 +90,7 @@ cat >"$tmp/provenance.json" <<EOF
   "name": "$name",
   "command": "scripts/reproduce.sh $name",
   "code_version": "$($jam --version)",
-  "git_commit": "$(git rev-parse HEAD 2>/dev/null || echo unknown)",
+  "git_commit": "$commit",
   "date": "$(date -u +%Y-%m-%dT%H:%M:%SZ)",
   "machine": "$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB",
   "os": "$(. /etc/os-release && echo "$PRETTY_NAME")",
@@ -93,7 +101,6 @@ cat >"$tmp/provenance.json" <<EOF
 }
 EOF
 /usr/bin/python3 -m json.tool "$tmp/provenance.json" >/dev/null
-mkdir -p reference/results
 rm -rf "$out.old"
 [ -d "$out" ] && mv "$out" "$out.old"
 mv "$tmp" "$out"

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -47,6 +48,21 @@ inline int wait_for(pid_t pid) {
 inline std::string slurp(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
+}
+
+struct Outcome {
+  int status;  // exit status, -1 when killed
+  std::string output;  // stdout and stderr together
+};
+
+/// Runs `jam <args>` through the shell and waits; its output goes through `log`. `prefix` is
+/// put before the command (ulimit, traps).
+inline Outcome run_jam_logged(const std::filesystem::path& log, const std::string& args,
+                              const std::string& prefix = "") {
+  const std::string cmd = "sh -c '" + prefix + std::string(JAM_EXECUTABLE) + " " + args + " > " +
+                          log.string() + " 2>&1'";
+  const int raw = std::system(cmd.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(log)};
 }
 
 }  // namespace jam::test

@@ -76,10 +76,12 @@ BOOST_AUTO_TEST_CASE(bad_numbers) {
 }
 
 BOOST_AUTO_TEST_CASE(grossly_unstable_time_step) {
-  // Far beyond Euler's stability bound: an error naming --dt and the safe bound within a
-  // bounded number of steps (here at the start), not a quietly wrong run file. The bound itself
-  // is tested in test_stability.
+  // Far beyond the stability bound of either integrator: an error naming --dt and the safe
+  // bound within a bounded number of steps (here at the start), not a quietly wrong run file.
+  // The bound itself is tested in test_stability.
   expect_rejected("--n 256 --phi-init 0.8 --phi-stop 0.86 --rate 1e-3 --dt 5",
+                  "--dt 5: unstable for heun");  // the default integrator
+  expect_rejected("--n 256 --phi-init 0.8 --phi-stop 0.86 --rate 1e-3 --dt 5 --integrator euler",
                   "--dt 5: unstable for euler");
 }
 

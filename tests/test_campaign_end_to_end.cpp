@@ -29,16 +29,10 @@ const fs::path kDir = fs::temp_directory_path() / ("jam-campaign-" + std::to_str
 
 using jam::test::slurp;
 
-struct Outcome {
-  int status;
-  std::string output;
-};
+using jam::test::Outcome;
 
 Outcome run_jam(const std::string& args) {
-  const fs::path log = kDir / "output.txt";
-  const std::string cmd = std::string(JAM_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1";
-  const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(log)};
+  return jam::test::run_jam_logged(kDir / "output.txt", args);
 }
 
 fs::path write_campaign(const std::string& name, const std::string& body) {

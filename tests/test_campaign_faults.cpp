@@ -28,18 +28,11 @@ namespace {
 
 const fs::path kDir = fs::temp_directory_path() / ("jam-faults-" + std::to_string(::getpid()));
 
-struct Outcome {
-  int status;
-  std::string output;
-};
+using jam::test::Outcome;
 
 /// Runs `jam <args>` through the shell; `prefix` goes before it (ulimit, traps).
 Outcome run_jam(const std::string& args, const std::string& prefix = "") {
-  const fs::path log = kDir / "output.txt";
-  const std::string cmd = "sh -c '" + prefix + std::string(JAM_EXECUTABLE) + " " + args + " > " +
-                          log.string() + " 2>&1'";
-  const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(log)};
+  return jam::test::run_jam_logged(kDir / "output.txt", args, prefix);
 }
 
 fs::path write_campaign(const std::string& name, const std::string& body, const fs::path& out) {

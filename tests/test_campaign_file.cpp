@@ -46,7 +46,7 @@ BOOST_AUTO_TEST_CASE(good_file_parses) {
   BOOST_TEST(c.name == "t");
   BOOST_TEST(c.sizes.size() == 2u);
   BOOST_TEST(c.log10_rates[1] == -3.5);
-  BOOST_TEST(c.dt == 0.01);  // default
+  BOOST_TEST(c.dt == 0.1);  // default (Heun)
   BOOST_TEST(c.samples == 3);
 }
 
@@ -171,11 +171,11 @@ BOOST_AUTO_TEST_CASE(plan_is_complete_and_longest_first) {
     BOOST_TEST(plan[k - 1].estimated_particle_steps >= plan[k].estimated_particle_steps);
   }
   // The longest is the largest size, lowest phi_init, slowest rate: its compression alone is
-  // N ln(phi_stop/phi_init) / (D rate dt) particle-steps.
+  // N ln(phi_stop/phi_init) / (D rate dt) steps of two force evaluations (Heun, the default).
   BOOST_TEST(plan.front().n == 128);
   BOOST_TEST(plan.front().phi_init == 0.7);
   BOOST_TEST(plan.front().log10_rate == -3.5);
-  const double compression = 128 * std::log(0.86 / 0.7) / (2 * std::pow(10.0, -3.5) * 0.01);
+  const double compression = 2 * 128 * std::log(0.86 / 0.7) / (2 * std::pow(10.0, -3.5) * 0.1);
   BOOST_TEST(plan.front().estimated_particle_steps > compression);
   BOOST_TEST(plan.front().config.out == "out/runs/n128_phi0.7000_r-3.50_s000.h5");
 }

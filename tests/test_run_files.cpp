@@ -77,7 +77,7 @@ BOOST_AUTO_TEST_CASE(schema_and_output_grid) {
     BOOST_TEST(f.read_attribute_int("complete") == 1);
     BOOST_TEST(f.read_attribute_int("seed") == 3);
     BOOST_TEST(f.read_attribute_double("compression_rate") == 1e-2);
-    BOOST_TEST(f.read_attribute_string("integrator") == "euler");
+    BOOST_TEST(f.read_attribute_string("integrator") == "heun");  // the overdamped default
     BOOST_TEST(f.read_attribute_string("dynamics") == "overdamped");
     BOOST_TEST(!f.read_attribute_string("version").empty());
     for (const char* a : {"phi_init", "phi_stop", "dt", "q", "diameter_ratio"}) {

@@ -97,6 +97,22 @@ BOOST_AUTO_TEST_CASE(pooled_sizes_and_held_exponents) {
   }
 }
 
+BOOST_AUTO_TEST_CASE(paper_q_held_alone) {
+  std::string out;
+  BOOST_TEST_REQUIRE(
+      run_jam("stats --fix-paper-q --order 3 " + (kDir / "ci").string(), &out) == 0, out);
+  const jam::h5::File f = jam::h5::File::open_read((kDir / "ci" / "stats.h5").string());
+  if (f.has_dataset("fit/representative/coefficients")) {
+    BOOST_TEST(f.read_attribute_string("fixed", "fit/representative") == "q");
+    BOOST_TEST(f.read_attribute_double("q", "fit/representative") == 1.12 / 3.75,
+               boost::test_tools::tolerance(1e-12));
+    // 1/(z nu) was fitted: it carries a jackknife error, a held one has none.
+    BOOST_TEST(f.read_attribute_double("inv_znu_error", "fit/representative") > 0.0);
+  } else {
+    BOOST_TEST(f.read_attribute_string("failure", "fit").size() > 0u);
+  }
+}
+
 BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
   const std::string dir = (kDir / "ci").string();
   std::string out;
