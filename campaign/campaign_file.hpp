@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/run/sim_config.hpp"
+
 namespace jam {
 
 struct CampaignError : std::runtime_error {
@@ -24,24 +26,25 @@ struct Campaign {
   // campaign (first_sample inside it) or new samples of it (first_sample past its end).
   std::int64_t first_sample = 0;
   double phi_stop = 0.0;
-  double phi_step = 0.001;
-  std::string dynamics = "overdamped";
-  std::string integrator;  // empty: heun (overdamped) or verlet (inertial), as SimConfig
-  double dt = 0.1;         // as SimConfig (the overdamped default)
-  double q = 0.03;
+  // Per-run keys default to what `jam sim` does (one source: SimConfig).
+  double phi_step = SimConfig{}.phi_step;
+  std::string dynamics = SimConfig{}.dynamics;
+  std::string integrator;  // empty: the dynamics' default (SimConfig::resolved_integrator)
+  double dt = SimConfig{}.dt;
+  double q = SimConfig{}.q;
   std::uint64_t seed = 0;
   std::string output;  // campaign directory
-  double skin = 0.3;
-  double diameter_ratio = 1.4;
+  double skin = SimConfig{}.skin;
+  double diameter_ratio = SimConfig{}.diameter_ratio;
   bool relax = true;
   // Fixed (not "auto", which depends on the rate) so that every rate of a sample shares one
   // relaxed start, cached in <output>/starts/.
   std::string relax_energy = "1e-14";
-  double relax_time_max = 1e4;
+  double relax_time_max = SimConfig{}.relax_time_max;
   bool rattlers = false;
   bool stress = false;
   bool jamming_point = false;          // find each run's phi_Ji (FIRE), for the phi_init check
-  double checkpoint_interval = 300.0;  // seconds
+  double checkpoint_interval = SimConfig{}.checkpoint_interval;  // seconds
 
   std::string source_path;  // the file it was read from
   std::string source_text;  // its text, stored with the results
