@@ -43,9 +43,15 @@ inline double wrap_unit(double x) {
 }
 
 /// Minimum-image separation of two scaled coordinates in [0,1): result in [-1/2, 1/2].
-/// Branch-free so that the force loop has no data-dependent branches.
+/// ds - nearest_integer(ds), with the rounding done by adding and subtracting 1.5 * 2^52: for
+/// |ds| < 2^51 the sum has no fraction bits left, so round-to-nearest-even does the rounding
+/// (ties at |ds| = 1/2 go to 0, as ds > 1/2 ? 1 : 0 would). No comparison, so no branch the
+/// compiler could introduce, and the same bits as ds - 1, ds or ds + 1 would give.
+/// (Needs the default rounding mode and no -ffast-math, which could cancel the two constants.)
 inline double minimum_image(double ds) {
-  return ds - static_cast<double>(ds > 0.5) + static_cast<double>(ds < -0.5);
+  constexpr double kRoundingShift = 6755399441055744.0;  // 1.5 * 2^52
+  const double nearest = (ds + kRoundingShift) - kRoundingShift;
+  return ds - nearest;
 }
 
 /// Physical minimum-image separation r_i - r_j at box length L into dr; returns |dr|^2.
