@@ -51,15 +51,15 @@ class CellList {
     return k;
   }
 
-  /// Linear index of the periodic image of integer cell coordinates.
-  std::size_t index(const std::array<int, D>& k) const {
+  /// Linear index of integer cell coordinates already in [0, m).
+  std::size_t index_of_wrapped(const std::array<int, D>& k) const {
     std::size_t c = 0;
-    for (int d = D - 1; d >= 0; --d) {
-      const int w = ((k[d] % m_) + m_) % m_;
-      c = c * static_cast<std::size_t>(m_) + static_cast<std::size_t>(w);
-    }
+    for (int d = D - 1; d >= 0; --d)
+      c = c * static_cast<std::size_t>(m_) + static_cast<std::size_t>(k[d]);
     return c;
   }
+
+  std::size_t size(std::size_t c) const { return cell_start_[c + 1] - cell_start_[c]; }
 
   const std::uint32_t* begin(std::size_t c) const { return members_.data() + cell_start_[c]; }
   const std::uint32_t* end(std::size_t c) const { return members_.data() + cell_start_[c + 1]; }

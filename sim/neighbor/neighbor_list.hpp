@@ -72,21 +72,38 @@ class NeighborList {
     used_cells_ = m >= 3;  // a 3^D stencil with fewer cells would visit a cell twice
     if (used_cells_) {
       cells_.build(p, m);
+      // Candidates are written unconditionally and kept by advancing the count: whether a
+      // candidate is a neighbor is a coin flip, which as a branch would be mispredicted often.
+      std::size_t count = 0;
+      std::size_t last_home = static_cast<std::size_t>(-1);
+      std::array<std::size_t, kStencilCells> stencil{};
+      std::size_t candidates = 0;
       for (std::size_t i = 0; i < n; ++i) {
-        const auto home = cells_.coordinates(cells_.cell_of(i));
-        for_each_stencil_cell(home, [&](std::size_t c) {
+        const std::size_t home = cells_.cell_of(i);
+        if (home != last_home) {  // consecutive particles mostly share a cell (sorted start)
+          stencil_of(cells_.coordinates(home), stencil);
+          candidates = 0;
+          for (std::size_t c : stencil) candidates += cells_.size(c);
+          last_home = home;
+        }
+        if (neighbors_.size() < count + candidates) neighbors_.resize(2 * (count + candidates));
+        std::uint32_t* row = neighbors_.data();
+        const int ti = p.type[i];
+        for (std::size_t c : stencil) {
           for (const std::uint32_t* it = cells_.begin(c); it != cells_.end(c); ++it) {
             const std::uint32_t j = *it;
-            if (j > i && distance2(p, i, j, box_length) < cut2[p.type[i] + p.type[j]]) {
-              neighbors_.push_back(j);
-            }
+            row[count] = j;
+            count +=
+                static_cast<std::size_t>(j > i) &
+                static_cast<std::size_t>(distance2(p, i, j, box_length) < cut2[ti + p.type[j]]);
           }
-        });
+        }
         // Ascending j within each row: the list, and so the force summation order, depends
         // only on the configuration, not on the cell traversal.
-        std::sort(neighbors_.begin() + offsets_[i], neighbors_.end());
-        offsets_[i + 1] = static_cast<std::uint32_t>(neighbors_.size());
+        insertion_sort(row + offsets_[i], row + count);
+        offsets_[i + 1] = static_cast<std::uint32_t>(count);
       }
+      neighbors_.resize(count);
     } else {
       for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t j = i + 1; j < n; ++j) {
@@ -137,22 +154,38 @@ class NeighborList {
     return pair_separation(p, i, j, L, dr);
   }
 
-  template <class F>
-  void for_each_stencil_cell(const std::array<int, D>& home, F&& visit) const {
-    std::array<int, D> k{};
+  static constexpr std::size_t kStencilCells = D == 2 ? 9 : 27;
+
+  /// The 3^D cells around (and including) the cell at integer coordinates home, periodic.
+  void stencil_of(const std::array<int, D>& home,
+                  std::array<std::size_t, kStencilCells>& out) const {
+    const int m = cells_.cells_per_side();
+    std::array<std::array<int, 3>, D> wrapped;  // home[d] - 1, home[d], home[d] + 1 wrapped
+    for (int d = 0; d < D; ++d) {
+      wrapped[d] = {home[d] == 0 ? m - 1 : home[d] - 1, home[d],
+                    home[d] == m - 1 ? 0 : home[d] + 1};
+    }
+    std::size_t k = 0;
     if constexpr (D == 2) {
-      for (int a = -1; a <= 1; ++a)
-        for (int b = -1; b <= 1; ++b) {
-          k = {home[0] + a, home[1] + b};
-          visit(cells_.index(k));
-        }
+      for (int b : wrapped[1])
+        for (int a : wrapped[0]) out[k++] = cells_.index_of_wrapped({a, b});
     } else {
-      for (int a = -1; a <= 1; ++a)
-        for (int b = -1; b <= 1; ++b)
-          for (int c = -1; c <= 1; ++c) {
-            k = {home[0] + a, home[1] + b, home[2] + c};
-            visit(cells_.index(k));
-          }
+      for (int c : wrapped[2])
+        for (int b : wrapped[1])
+          for (int a : wrapped[0]) out[k++] = cells_.index_of_wrapped({a, b, c});
+    }
+  }
+
+  /// Rows hold a few to a few tens of entries: insertion sort beats std::sort's set-up.
+  static void insertion_sort(std::uint32_t* first, std::uint32_t* last) {
+    for (std::uint32_t* it = first + (first != last); it < last; ++it) {
+      const std::uint32_t v = *it;
+      std::uint32_t* hole = it;
+      while (hole != first && *(hole - 1) > v) {
+        *hole = *(hole - 1);
+        --hole;
+      }
+      *hole = v;
     }
   }
 
