@@ -23,6 +23,9 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
                   "euler or heun (overdamped; default heun), verlet (inertial)");
   sim->add_option("--q", c.q, "Quality factor Q (inertial dynamics only)");
   sim->add_option("--seed", c.seed, "Seed of the random initial configuration");
+  sim->add_option("--threads", c.threads,
+                  "Threads of this run; bitwise reproducible for a given count (campaigns run one "
+                  "single-threaded run per core instead)");
   sim->add_option("--skin", c.skin, "Neighbor-list skin (units of d_s)");
   sim->add_option("--diameter-ratio", c.diameter_ratio, "Big/small diameter ratio");
   sim->add_option("--relax", c.relax,

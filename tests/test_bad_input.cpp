@@ -73,6 +73,8 @@ BOOST_AUTO_TEST_CASE(bad_numbers) {
   expect_rejected("--integrator rk4", "--integrator rk4");
   expect_rejected("--relax-energy -1", "--relax-energy -1");
   expect_rejected("--skin 0", "--skin 0");
+  expect_rejected("--threads 0", "--threads 0");
+  expect_rejected("--threads 100000", "--threads 100000");
 }
 
 BOOST_AUTO_TEST_CASE(grossly_unstable_time_step) {

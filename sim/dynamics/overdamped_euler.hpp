@@ -8,6 +8,7 @@
 
 #include "sim/dynamics/stepper_state.hpp"
 #include "sim/dynamics/system.hpp"
+#include "sim/parallel.hpp"
 
 namespace jam {
 
@@ -30,10 +31,12 @@ class OverdampedEuler {
                                      dt * sys.species.mobility[1] / box_length};
     const std::size_t n = sys.size();
     const auto* type = sys.particles.type.data();
-    for (int d = 0; d < D; ++d) {
-      double* s = sys.particles.s[d].data();
-      const double* f = sys.force[d].data();
-      for (std::size_t i = 0; i < n; ++i) s[i] = wrap_unit(s[i] + c[type[i]] * f[i]);
+    const int threads = sys.threads();
+    JAM_PARALLEL_FOR
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int d = 0; d < D; ++d) {
+        sys.particles.s[d][i] = wrap_unit(sys.particles.s[d][i] + c[type[i]] * sys.force[d][i]);
+      }
     }
   }
 };

@@ -8,6 +8,7 @@
 
 #include "sim/dynamics/stepper_state.hpp"
 #include "sim/dynamics/system.hpp"
+#include "sim/parallel.hpp"
 
 namespace jam {
 
@@ -36,13 +37,14 @@ class OverdampedHeun {
     sys.compute_elastic_forces(length0);
     const std::array<double, 2> c0 = {sys.species.mobility[0] / length0,
                                       sys.species.mobility[1] / length0};
-    for (int d = 0; d < D; ++d) {
-      double* s = sys.particles.s[d].data();
-      const double* f = sys.force[d].data();
-      for (std::size_t i = 0; i < n; ++i) {
-        s0_[d][i] = s[i];
-        slope0_[d][i] = c0[type[i]] * f[i];
-        s[i] = wrap_unit(s[i] + dt * slope0_[d][i]);
+    const int threads = sys.threads();
+    JAM_PARALLEL_FOR
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int d = 0; d < D; ++d) {
+        double& s = sys.particles.s[d][i];
+        s0_[d][i] = s;
+        slope0_[d][i] = c0[type[i]] * sys.force[d][i];
+        s = wrap_unit(s + dt * slope0_[d][i]);
       }
     }
 
@@ -50,11 +52,11 @@ class OverdampedHeun {
     const std::array<double, 2> c1 = {sys.species.mobility[0] / length1,
                                       sys.species.mobility[1] / length1};
     const double half_dt = 0.5 * dt;
-    for (int d = 0; d < D; ++d) {
-      double* s = sys.particles.s[d].data();
-      const double* f = sys.force[d].data();
-      for (std::size_t i = 0; i < n; ++i) {
-        s[i] = wrap_unit(s0_[d][i] + half_dt * (slope0_[d][i] + c1[type[i]] * f[i]));
+    JAM_PARALLEL_FOR
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int d = 0; d < D; ++d) {
+        sys.particles.s[d][i] =
+            wrap_unit(s0_[d][i] + half_dt * (slope0_[d][i] + c1[type[i]] * sys.force[d][i]));
       }
     }
   }

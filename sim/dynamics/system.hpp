@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "sim/model/compressing_box.hpp"
@@ -11,6 +12,7 @@
 #include "sim/model/particles.hpp"
 #include "sim/model/species.hpp"
 #include "sim/neighbor/neighbor_list.hpp"
+#include "sim/parallel.hpp"
 
 namespace jam {
 
@@ -40,6 +42,7 @@ struct System {
                     particles.id.capacity() * sizeof(std::uint32_t);
     for (int d = 0; d < D; ++d) {
       b += (particles.s[d].capacity() + force[d].capacity()) * sizeof(double);
+      for (const auto& partial : partial_force_) b += partial[d].capacity() * sizeof(double);
     }
     return b;
   }
@@ -67,23 +70,73 @@ struct System {
     }
   }
 
+  /// Threads used by the force loop and the integrators' particle loops (1: serial).
+  int threads() const { return threads_; }
+
+  /// Sets the thread count (>= 1; at most available_threads()). Results are bitwise
+  /// reproducible for a given count; see parallel.hpp.
+  void set_threads(int threads) {
+    if (threads < 1 || threads > available_threads()) {
+      throw std::invalid_argument("threads must be between 1 and " +
+                                  std::to_string(available_threads()));
+    }
+    threads_ = threads;
+    neighbors.set_threads(threads);
+    partial_force_.resize(static_cast<std::size_t>(threads - 1));
+    for (auto& f : partial_force_)
+      for (auto& c : f) c.assign(size(), 0.0);
+    block_builds_ = 0;
+  }
+
   /// f_i^el = sum_j f_ij^el at box length L (paper, "Model"). Half list, Newton's third law,
-  /// branch-free pair evaluation, no allocation.
+  /// branch-free pair evaluation, no allocation. With T > 1 threads, thread t takes the list
+  /// rows of block t (blocks of equal pair count) into its own force array, and the arrays are
+  /// summed in the order t = 0, 1, ..., T-1, so the sum does not depend on scheduling.
   void compute_elastic_forces(double box_length) {
     update_neighbors(box_length);
-    const HarmonicContact contact(species);
+    if (threads_ == 1) {
+      std::array<double*, D> f;
+      for (int d = 0; d < D; ++d) {
+        std::fill(force[d].begin(), force[d].end(), 0.0);
+        f[d] = force[d].data();
+      }
+      accumulate_pair_forces(0, size(), f, box_length);
+      return;
+    }
+#if defined(_OPENMP)
+    if (block_builds_ != neighbors.builds()) split_rows_into_blocks();
     const std::size_t n = size();
-    for (int d = 0; d < D; ++d) std::fill(force[d].begin(), force[d].end(), 0.0);
+#pragma omp parallel num_threads(threads_)
+    {
+      const int t = thread_number();
+      std::array<double*, D> f;
+      for (int d = 0; d < D; ++d) {
+        f[d] = t == 0 ? force[d].data() : partial_force_[static_cast<std::size_t>(t - 1)][d].data();
+        std::fill(f[d], f[d] + n, 0.0);
+      }
+      accumulate_pair_forces(block_start_[static_cast<std::size_t>(t)],
+                             block_start_[static_cast<std::size_t>(t) + 1], f, box_length);
+#pragma omp barrier
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        for (const auto& partial : partial_force_)
+          for (int d = 0; d < D; ++d) force[d][i] += partial[d][i];
+      }
+    }
+#endif
+  }
+
+ private:
+  /// Adds the forces of the pairs in list rows [first, last) into f (both partners).
+  void accumulate_pair_forces(std::size_t first, std::size_t last, const std::array<double*, D>& f,
+                              double box_length) const {
+    const HarmonicContact contact(species);
     const std::uint32_t* offsets = neighbors.offsets().data();
     const std::uint32_t* nbr = neighbors.neighbors().data();
     const std::uint8_t* type = particles.type.data();
     std::array<const double*, D> s;
-    std::array<double*, D> f;
-    for (int d = 0; d < D; ++d) {
-      s[d] = particles.s[d].data();
-      f[d] = force[d].data();
-    }
-    for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < D; ++d) s[d] = particles.s[d].data();
+    for (std::size_t i = first; i < last; ++i) {
       std::array<double, D> si, fi{};
       for (int d = 0; d < D; ++d) si[d] = s[d][i];
       const int ti = type[i];
@@ -104,6 +157,27 @@ struct System {
       for (int d = 0; d < D; ++d) f[d][i] += fi[d];
     }
   }
+
+  /// Block t of rows starts where the list has t/T of its pairs (depends on the list only).
+  void split_rows_into_blocks() {
+    const auto& offsets = neighbors.offsets();
+    const std::size_t n = size();
+    const std::size_t threads = static_cast<std::size_t>(threads_);
+    block_start_.assign(threads + 1, n);
+    block_start_[0] = 0;
+    std::size_t i = 0;
+    for (std::size_t t = 1; t < threads; ++t) {
+      const std::size_t target = offsets[n] * t / threads;
+      while (i < n && offsets[i] < target) ++i;
+      block_start_[t] = i;
+    }
+    block_builds_ = neighbors.builds();
+  }
+
+  int threads_ = 1;
+  std::vector<std::array<std::vector<double>, D>> partial_force_;  // threads 1 .. T-1
+  std::vector<std::size_t> block_start_;
+  std::size_t block_builds_ = 0;
 };
 
 }  // namespace jam

@@ -95,6 +95,7 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
     f.write_attribute("q", c.dynamics == "inertial" ? c.q : 0.0);
     f.write_attribute("diameter_ratio", c.diameter_ratio);
     f.write_attribute("skin", c.skin);
+    f.write_attribute("threads", std::int64_t{c.threads});
     f.write_attribute("initial_box_length", meta.initial_box_length);
     f.write_attribute("initial_configuration", meta.initial_configuration);
     f.write_attribute("relax", std::int64_t{c.relax});

@@ -20,6 +20,7 @@
 #include "sim/model/particles.hpp"
 #include "sim/model/species.hpp"
 #include "sim/neighbor/cell_list.hpp"
+#include "sim/parallel.hpp"
 
 namespace jam {
 
@@ -32,6 +33,9 @@ class NeighborList {
   std::size_t builds() const { return builds_; }
   bool built() const { return builds_ > 0; }
   bool used_cells() const { return used_cells_; }
+
+  /// Threads for builds and rebuild tests (the list itself does not depend on it).
+  void set_threads(int threads) { threads_ = threads; }
 
   const std::vector<std::uint32_t>& offsets() const { return offsets_; }
   const std::vector<std::uint32_t>& neighbors() const { return neighbors_; }
@@ -72,38 +76,11 @@ class NeighborList {
     used_cells_ = m >= 3;  // a 3^D stencil with fewer cells would visit a cell twice
     if (used_cells_) {
       cells_.build(p, m);
-      // Candidates are written unconditionally and kept by advancing the count: whether a
-      // candidate is a neighbor is a coin flip, which as a branch would be mispredicted often.
-      std::size_t count = 0;
-      std::size_t last_home = static_cast<std::size_t>(-1);
-      std::array<std::size_t, kStencilCells> stencil{};
-      std::size_t candidates = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t home = cells_.cell_of(i);
-        if (home != last_home) {  // consecutive particles mostly share a cell (sorted start)
-          stencil_of(cells_.coordinates(home), stencil);
-          candidates = 0;
-          for (std::size_t c : stencil) candidates += cells_.size(c);
-          last_home = home;
-        }
-        if (neighbors_.size() < count + candidates) neighbors_.resize(2 * (count + candidates));
-        std::uint32_t* row = neighbors_.data();
-        const int ti = p.type[i];
-        for (std::size_t c : stencil) {
-          for (const std::uint32_t* it = cells_.begin(c); it != cells_.end(c); ++it) {
-            const std::uint32_t j = *it;
-            row[count] = j;
-            count +=
-                static_cast<std::size_t>(j > i) &
-                static_cast<std::size_t>(distance2(p, i, j, box_length) < cut2[ti + p.type[j]]);
-          }
-        }
-        // Ascending j within each row: the list, and so the force summation order, depends
-        // only on the configuration, not on the cell traversal.
-        insertion_sort(row + offsets_[i], row + count);
-        offsets_[i + 1] = static_cast<std::uint32_t>(count);
+      if (threads_ == 1) {
+        neighbors_.resize(build_rows(p, box_length, cut2, 0, n, neighbors_, offsets_.data() + 1));
+      } else {
+        build_rows_in_parallel(p, box_length, cut2);
       }
-      neighbors_.resize(count);
     } else {
       for (std::size_t i = 0; i < n; ++i) {
         for (std::size_t j = i + 1; j < n; ++j) {
@@ -127,31 +104,139 @@ class NeighborList {
     const double lambda = box_length / length_at_build_;
     const double margin = lambda * skin_ - (1.0 - lambda) * max_contact_distance_;
     if (margin <= 0.0) return true;
-    double first = 0.0, second = 0.0;  // two largest squared scaled displacements
-    bool not_finite = false;
+    LargestTwo all;
     const std::size_t n = p.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      double d2 = 0.0;
-      for (int d = 0; d < D; ++d) {
-        const double ds = minimum_image(p.s[d][i] - s_at_build_[d][i]);
-        d2 += ds * ds;
+    if (threads_ == 1) {
+      all = largest_displacements(p, 0, n);
+    } else {
+#if defined(_OPENMP)
+      // Per-thread largest two of contiguous blocks, merged: the same two values.
+      std::array<LargestTwo, 64> block{};
+      const auto threads = static_cast<std::size_t>(std::min(threads_, 64));
+#pragma omp parallel num_threads(static_cast <int>(threads))
+      {
+        const auto t = static_cast<std::size_t>(thread_number());
+        block[t] = largest_displacements(p, n * t / threads, n * (t + 1) / threads);
       }
+      for (std::size_t t = 0; t < threads; ++t) all.merge(block[t]);
+#endif
+    }
+    return all.not_finite || box_length * (std::sqrt(all.first) + std::sqrt(all.second)) > margin;
+  }
+
+  /// Forget the build (after particles were reordered or replaced).
+  void invalidate() {
+    valid_ = false;
+  }
+
+ private:
+  static double distance2(const ParticleData<D>& p, std::size_t i, std::size_t j, double L) {
+    std::array<double, D> dr;
+    return pair_separation(p, i, j, L, dr);
+  }
+
+  /// The two largest squared scaled displacements since the build, and whether any is NaN.
+  struct LargestTwo {
+    double first = 0.0, second = 0.0;
+    bool not_finite = false;
+    void add(double d2) {
       not_finite |= !(d2 == d2);  // NaN: force a build, which reports it
       if (d2 > second) {
         second = std::min(d2, first);
         first = std::max(d2, first);
       }
     }
-    return not_finite || box_length * (std::sqrt(first) + std::sqrt(second)) > margin;
+    void merge(const LargestTwo& o) {
+      add(o.first);
+      add(o.second);
+      not_finite |= o.not_finite;
+    }
+  };
+
+  LargestTwo largest_displacements(const ParticleData<D>& p, std::size_t first,
+                                   std::size_t last) const {
+    LargestTwo out;
+    for (std::size_t i = first; i < last; ++i) {
+      double d2 = 0.0;
+      for (int d = 0; d < D; ++d) {
+        const double ds = minimum_image(p.s[d][i] - s_at_build_[d][i]);
+        d2 += ds * ds;
+      }
+      out.add(d2);
+    }
+    return out;
   }
 
-  /// Forget the build (after particles were reordered or replaced).
-  void invalidate() { valid_ = false; }
+  /// Rows first .. last-1 of the list into out (grown as needed), starting at out[0]; row i
+  /// ends at row_end[i - first]. Returns the number of entries written.
+  ///
+  /// Candidates are written unconditionally and kept by advancing the count: whether a
+  /// candidate is a neighbor is a coin flip, which as a branch would be mispredicted often.
+  std::size_t build_rows(const ParticleData<D>& p, double box_length,
+                         const std::array<double, 3>& cut2, std::size_t first, std::size_t last,
+                         std::vector<std::uint32_t>& out, std::uint32_t* row_end) const {
+    std::size_t count = 0;
+    std::size_t last_home = static_cast<std::size_t>(-1);
+    std::array<std::size_t, kStencilCells> stencil{};
+    std::size_t candidates = 0;
+    for (std::size_t i = first; i < last; ++i) {
+      const std::size_t home = cells_.cell_of(i);
+      if (home != last_home) {  // consecutive particles mostly share a cell (sorted start)
+        stencil_of(cells_.coordinates(home), stencil);
+        candidates = 0;
+        for (std::size_t c : stencil) candidates += cells_.size(c);
+        last_home = home;
+      }
+      if (out.size() < count + candidates) out.resize(2 * (count + candidates));
+      std::uint32_t* row = out.data();
+      const std::size_t row_start = count;
+      const int ti = p.type[i];
+      for (std::size_t c : stencil) {
+        for (const std::uint32_t* it = cells_.begin(c); it != cells_.end(c); ++it) {
+          const std::uint32_t j = *it;
+          row[count] = j;
+          count += static_cast<std::size_t>(j > i) &
+                   static_cast<std::size_t>(distance2(p, i, j, box_length) < cut2[ti + p.type[j]]);
+        }
+      }
+      // Ascending j within each row: the list, and so the force summation order, depends
+      // only on the configuration, not on the cell traversal.
+      insertion_sort(row + row_start, row + count);
+      row_end[i - first] = static_cast<std::uint32_t>(count);
+    }
+    return count;
+  }
 
- private:
-  static double distance2(const ParticleData<D>& p, std::size_t i, std::size_t j, double L) {
-    std::array<double, D> dr;
-    return pair_separation(p, i, j, L, dr);
+  /// The same list as build_rows over all particles: thread t builds a contiguous block of
+  /// rows into its own buffer, and the blocks are then joined in order.
+  void build_rows_in_parallel(const ParticleData<D>& p, double box_length,
+                              const std::array<double, 3>& cut2) {
+#if defined(_OPENMP)
+    const std::size_t n = p.size();
+    const auto threads = static_cast<std::size_t>(threads_);
+    block_rows_.resize(threads);
+    std::vector<std::size_t> first(threads + 1), count(threads), base(threads + 1, 0);
+    for (std::size_t t = 0; t <= threads; ++t) first[t] = n * t / threads;
+#pragma omp parallel num_threads(threads_)
+    {
+      const auto t = static_cast<std::size_t>(thread_number());
+      count[t] = build_rows(p, box_length, cut2, first[t], first[t + 1], block_rows_[t],
+                            offsets_.data() + 1 + first[t]);
+#pragma omp barrier
+#pragma omp single
+      {
+        for (std::size_t u = 0; u < threads; ++u) base[u + 1] = base[u] + count[u];
+        neighbors_.resize(base[threads]);
+      }
+      std::copy(block_rows_[t].begin(),
+                block_rows_[t].begin() + static_cast<std::ptrdiff_t>(count[t]),
+                neighbors_.begin() + static_cast<std::ptrdiff_t>(base[t]));
+      for (std::size_t i = first[t]; i < first[t + 1]; ++i)
+        offsets_[i + 1] += static_cast<std::uint32_t>(base[t]);
+    }
+#else
+    (void)p, (void)box_length, (void)cut2;
+#endif
   }
 
   static constexpr std::size_t kStencilCells = D == 2 ? 9 : 27;
@@ -199,6 +284,8 @@ class NeighborList {
   std::array<std::vector<double>, D> s_at_build_;
   std::vector<std::uint32_t> offsets_;
   std::vector<std::uint32_t> neighbors_;
+  int threads_ = 1;
+  std::vector<std::vector<std::uint32_t>> block_rows_;  // per-thread rows of a parallel build
 };
 
 }  // namespace jam

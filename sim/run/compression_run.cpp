@@ -273,6 +273,7 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
 
   if (c.jamming_point) {
     System<D> scratch(sys.particles, sys.species, sys.box, c.skin);
+    scratch.set_threads(c.threads);
     const JammingPoint j = find_jamming_point(scratch, st.saved);
     meta.jamming_packing_fraction = j.packing_fraction;
     meta.jamming_minimizations = j.minimizations;
@@ -326,6 +327,7 @@ RunSummary run_dimension(const SimConfig& c, const RunControl& control) {
                species.max_contact_distance);
 
   System<D> sys(std::move(start.particles), species, box, c.skin);
+  sys.set_threads(c.threads);
   const std::size_t n = sys.size();
   if (meta.integrator == "euler") {
     OverdampedEuler<D> stepper(n);

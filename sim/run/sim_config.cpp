@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "sim/parallel.hpp"
+
 namespace jam {
 namespace {
 
@@ -65,6 +67,11 @@ void validate(const SimConfig& c) {
   require_finite_positive("rate", c.compression_rate);
   require_finite_positive("dt", c.dt);
   require_finite_positive("skin", c.skin);
+  if (c.threads < 1 || c.threads > available_threads()) {
+    reject(
+        "threads", str(c.threads),
+        fmt::format("must be between 1 and {} (the threads available here)", available_threads()));
+  }
   if (!std::isfinite(c.diameter_ratio) || c.diameter_ratio < 1.0 || c.diameter_ratio > 2.0) {
     reject("diameter-ratio", str(c.diameter_ratio), "must be in [1, 2]");
   }
@@ -98,27 +105,43 @@ void validate(const SimConfig& c) {
   if (c.out.empty()) throw ConfigError("--out: a run file name is required");
 }
 
+namespace {
+// The thread count changes the force summation order, so it is part of a fingerprint; one
+// thread adds nothing, so that single-threaded fingerprints are those of earlier versions.
+std::string threads_suffix(const SimConfig& c) {
+  return c.threads == 1 ? std::string() : fmt::format(" threads={}", c.threads);
+}
+}  // namespace
+
 std::string fingerprint(const SimConfig& c) {
   return fmt::format(
-      "dim={} n={} phi_init={:.17g} phi_stop={:.17g} phi_step={:.17g} rate={:.17g} dt={:.17g} "
-      "dynamics={} integrator={} q={:.17g} seed={} skin={:.17g} diameter_ratio={:.17g} relax={} "
-      "relax_energy={:.17g} relax_time_max={:.17g} rattlers={} stress={} read={} jamming_point={} "
-      "from={:.17g}",
-      c.dim, c.read_lammps_data.empty() ? c.n : 0, c.read_lammps_data.empty() ? c.phi_init : 0.0,
-      c.phi_stop, c.phi_step, c.compression_rate, c.dt, c.dynamics, c.resolved_integrator(),
-      c.dynamics == "inertial" ? c.q : 0.0, c.seed, c.skin, c.diameter_ratio, c.relax,
-      c.resolved_relax_energy(), c.relax_time_max, c.rattlers, c.stress, c.read_lammps_data,
-      c.jamming_point, c.jamming_search_from);
+             "dim={} n={} phi_init={:.17g} phi_stop={:.17g} phi_step={:.17g} rate={:.17g} "
+             "dt={:.17g} "
+             "dynamics={} integrator={} q={:.17g} seed={} skin={:.17g} diameter_ratio={:.17g} "
+             "relax={} "
+             "relax_energy={:.17g} relax_time_max={:.17g} rattlers={} stress={} read={} "
+             "jamming_point={} "
+             "from={:.17g}",
+             c.dim, c.read_lammps_data.empty() ? c.n : 0,
+             c.read_lammps_data.empty() ? c.phi_init : 0.0, c.phi_stop, c.phi_step,
+             c.compression_rate, c.dt, c.dynamics, c.resolved_integrator(),
+             c.dynamics == "inertial" ? c.q : 0.0, c.seed, c.skin, c.diameter_ratio, c.relax,
+             c.resolved_relax_energy(), c.relax_time_max, c.rattlers, c.stress, c.read_lammps_data,
+             c.jamming_point, c.jamming_search_from) +
+         threads_suffix(c);
 }
 
 std::string relaxation_fingerprint(const SimConfig& c) {
   return fmt::format(
-      "relaxation dim={} n={} phi_init={:.17g} seed={} dt={:.17g} dynamics={} integrator={} "
-      "q={:.17g} skin={:.17g} diameter_ratio={:.17g} relax_energy={:.17g} relax_time_max={:.17g} "
-      "read={}",
-      c.dim, c.read_lammps_data.empty() ? c.n : 0, c.read_lammps_data.empty() ? c.phi_init : 0.0,
-      c.seed, c.dt, c.dynamics, c.resolved_integrator(), c.dynamics == "inertial" ? c.q : 0.0,
-      c.skin, c.diameter_ratio, c.resolved_relax_energy(), c.relax_time_max, c.read_lammps_data);
+             "relaxation dim={} n={} phi_init={:.17g} seed={} dt={:.17g} dynamics={} integrator={} "
+             "q={:.17g} skin={:.17g} diameter_ratio={:.17g} relax_energy={:.17g} "
+             "relax_time_max={:.17g} "
+             "read={}",
+             c.dim, c.read_lammps_data.empty() ? c.n : 0,
+             c.read_lammps_data.empty() ? c.phi_init : 0.0, c.seed, c.dt, c.dynamics,
+             c.resolved_integrator(), c.dynamics == "inertial" ? c.q : 0.0, c.skin,
+             c.diameter_ratio, c.resolved_relax_energy(), c.relax_time_max, c.read_lammps_data) +
+         threads_suffix(c);
 }
 
 void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance) {

@@ -29,6 +29,10 @@ struct SimConfig {
   double q = 0.03;                      // quality factor, inertial dynamics only
   std::uint64_t seed = 1;
   double skin = 0.3;
+  // Threads of this one run (a campaign runs one single-threaded run per core instead). The
+  // numbers are bitwise the same for the same thread count; with another count they agree to
+  // round-off, then drift apart chaotically (sim/parallel.hpp).
+  int threads = 1;
   double diameter_ratio = 1.4;
   bool relax = true;  // relax the start at zero rate (paper's protocol)
   // ... until the energy per particle is at or below this; "auto" = 1e-4 rate^2, so that the
@@ -38,7 +42,8 @@ struct SimConfig {
   double relax_time_max = 1e4;  // ... or this much time has passed
   bool stress = false;
   bool rattlers = false;
-  bool jamming_point = false;  // find phi_Ji (FIRE minimizations, see observables/jamming_point.hpp)
+  bool jamming_point =
+      false;  // find phi_Ji (FIRE minimizations, see observables/jamming_point.hpp)
   double jamming_search_from = 0.0;  // lowest packing searched; 0: the paper's phi_J - 0.04
   std::string out;
   std::string read_lammps_data;
