@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/dynamics/pair_forces.hpp"
 #include "sim/model/compressing_box.hpp"
-#include "sim/model/harmonic_contact.hpp"
 #include "sim/model/particles.hpp"
 #include "sim/model/species.hpp"
 #include "sim/neighbor/neighbor_list.hpp"
@@ -130,34 +130,24 @@ struct System {
   /// Adds the forces of the pairs in list rows [first, last) into f (both partners).
   void accumulate_pair_forces(std::size_t first, std::size_t last, const std::array<double*, D>& f,
                               double box_length) const {
-    const HarmonicContact contact(species);
-    const std::uint32_t* offsets = neighbors.offsets().data();
-    const std::uint32_t* nbr = neighbors.neighbors().data();
-    const std::uint8_t* type = particles.type.data();
-    std::array<const double*, D> s;
-    for (int d = 0; d < D; ++d) s[d] = particles.s[d].data();
-    for (std::size_t i = first; i < last; ++i) {
-      std::array<double, D> si, fi{};
-      for (int d = 0; d < D; ++d) si[d] = s[d][i];
-      const int ti = type[i];
-      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-        const std::uint32_t j = nbr[k];
-        std::array<double, D> dr;
-        double r2 = 0.0;
-        for (int d = 0; d < D; ++d) {
-          dr[d] = box_length * minimum_image(si[d] - s[d][j]);
-          r2 += dr[d] * dr[d];
-        }
-        const double c = contact.force_over_r(r2, ti + type[j]);
-        for (int d = 0; d < D; ++d) {
-          fi[d] += c * dr[d];
-          f[d][j] -= c * dr[d];
-        }
-      }
-      for (int d = 0; d < D; ++d) f[d][i] += fi[d];
-    }
+    jam::accumulate_pair_forces(pair_loop_input(box_length), first, last, f);
   }
 
+ public:
+  /// The pair loop's view of the system at box length L (pair_forces.hpp).
+  PairLoopInput<D> pair_loop_input(double box_length) const {
+    PairLoopInput<D> in{neighbors.offsets().data(),
+                        neighbors.neighbors().data(),
+                        neighbors.row_of_pair().data(),
+                        particles.type.data(),
+                        {},
+                        species.inv_contact_distance,
+                        box_length};
+    for (int d = 0; d < D; ++d) in.s[d] = particles.s[d].data();
+    return in;
+  }
+
+ private:
   /// Block t of rows starts where the list has t/T of its pairs (depends on the list only).
   void split_rows_into_blocks() {
     const auto& offsets = neighbors.offsets();

@@ -24,6 +24,7 @@ inline double positive_part(double x) {
 struct HarmonicContact {
   std::array<double, 3> inv_d{};  // 1/d_ij by pair index type_i + type_j
 
+  HarmonicContact() = default;
   template <class SpeciesT>
   explicit HarmonicContact(const SpeciesT& species) : inv_d(species.inv_contact_distance) {}
 

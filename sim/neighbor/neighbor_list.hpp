@@ -39,12 +39,15 @@ class NeighborList {
 
   const std::vector<std::uint32_t>& offsets() const { return offsets_; }
   const std::vector<std::uint32_t>& neighbors() const { return neighbors_; }
+  /// The row i of every entry of neighbors() (the pair loop takes pairs two at a time across
+  /// rows).
+  const std::vector<std::uint32_t>& row_of_pair() const { return row_of_pair_; }
   std::size_t pair_count() const { return neighbors_.size(); }
 
   /// Bytes held by the list, its cell list and the positions at the build (capacities).
   std::size_t memory_bytes() const {
     std::size_t b = cells_.memory_bytes() + offsets_.capacity() * sizeof(std::uint32_t) +
-                    neighbors_.capacity() * sizeof(std::uint32_t);
+                    (neighbors_.capacity() + row_of_pair_.capacity()) * sizeof(std::uint32_t);
     for (const auto& s : s_at_build_) b += s.capacity() * sizeof(double);
     return b;
   }
@@ -90,6 +93,11 @@ class NeighborList {
         }
         offsets_[i + 1] = static_cast<std::uint32_t>(neighbors_.size());
       }
+    }
+    row_of_pair_.resize(neighbors_.size());
+    for (std::size_t i = 0; i < n; ++i) {
+      std::fill(row_of_pair_.begin() + offsets_[i], row_of_pair_.begin() + offsets_[i + 1],
+                static_cast<std::uint32_t>(i));
     }
     for (int d = 0; d < D; ++d) s_at_build_[d] = p.s[d];
     length_at_build_ = box_length;
@@ -284,6 +292,7 @@ class NeighborList {
   std::array<std::vector<double>, D> s_at_build_;
   std::vector<std::uint32_t> offsets_;
   std::vector<std::uint32_t> neighbors_;
+  std::vector<std::uint32_t> row_of_pair_;
   int threads_ = 1;
   std::vector<std::vector<std::uint32_t>> block_rows_;  // per-thread rows of a parallel build
 };
