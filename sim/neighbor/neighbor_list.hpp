@@ -21,6 +21,9 @@
 #include "sim/model/species.hpp"
 #include "sim/neighbor/cell_list.hpp"
 #include "sim/parallel.hpp"
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace jam {
 
@@ -112,30 +115,21 @@ class NeighborList {
     const double lambda = box_length / length_at_build_;
     const double margin = lambda * skin_ - (1.0 - lambda) * max_contact_distance_;
     if (margin <= 0.0) return true;
-    LargestTwo all;
     const std::size_t n = p.size();
-    if (threads_ == 1) {
-      all = largest_displacements(p, 0, n);
-    } else {
-#if defined(_OPENMP)
-      // Per-thread largest two of contiguous blocks, merged: the same two values.
-      std::array<LargestTwo, 64> block{};
-      const auto threads = static_cast<std::size_t>(std::min(threads_, 64));
-#pragma omp parallel num_threads(static_cast <int>(threads))
-      {
-        const auto t = static_cast<std::size_t>(thread_number());
-        block[t] = largest_displacements(p, n * t / threads, n * (t + 1) / threads);
-      }
-      for (std::size_t t = 0; t < threads; ++t) all.merge(block[t]);
-#endif
-    }
+    // Quick sufficient test first: delta_1 + delta_2 <= 2 max_i delta_i (exactly so in floating
+    // point too), so when twice the largest displacement fits, the exact test would say "no
+    // rebuild" as well. The largest alone takes one packed max per two particles, where the
+    // exact two largest need a compare-and-shift per particle.
+    const auto quick = for_blocks<LargestOne>(
+        n, [&](std::size_t a, std::size_t b) { return largest_displacement(p, a, b); });
+    if (!quick.not_finite && box_length * (2.0 * std::sqrt(quick.largest)) <= margin) return false;
+    const auto all = for_blocks<LargestTwo>(
+        n, [&](std::size_t a, std::size_t b) { return largest_displacements(p, a, b); });
     return all.not_finite || box_length * (std::sqrt(all.first) + std::sqrt(all.second)) > margin;
   }
 
   /// Forget the build (after particles were reordered or replaced).
-  void invalidate() {
-    valid_ = false;
-  }
+  void invalidate() { valid_ = false; }
 
  private:
   static double distance2(const ParticleData<D>& p, std::size_t i, std::size_t j, double L) {
@@ -160,6 +154,69 @@ class NeighborList {
       not_finite |= o.not_finite;
     }
   };
+
+  /// The largest squared scaled displacement since the build, and whether any is NaN.
+  struct LargestOne {
+    double largest = 0.0;
+    bool not_finite = false;
+    void merge(const LargestOne& o) {
+      largest = std::max(largest, o.largest);
+      not_finite |= o.not_finite;
+    }
+  };
+
+  LargestOne largest_displacement(const ParticleData<D>& p, std::size_t first,
+                                  std::size_t last) const {
+    LargestOne out;
+    std::size_t i = first;
+#if defined(__SSE2__)
+    const __m128d shift = _mm_set1_pd(6755399441055744.0);  // minimum_image's rounding
+    __m128d largest = _mm_setzero_pd(), nan = _mm_setzero_pd();
+    for (; i + 1 < last; i += 2) {
+      __m128d d2 = _mm_setzero_pd();
+      for (int d = 0; d < D; ++d) {
+        const __m128d ds = _mm_sub_pd(_mm_loadu_pd(&p.s[d][i]), _mm_loadu_pd(&s_at_build_[d][i]));
+        const __m128d image = _mm_sub_pd(ds, _mm_sub_pd(_mm_add_pd(ds, shift), shift));
+        d2 = _mm_add_pd(d2, _mm_mul_pd(image, image));
+      }
+      nan = _mm_or_pd(nan, _mm_cmpunord_pd(d2, d2));
+      largest = _mm_max_pd(d2, largest);
+    }
+    alignas(16) double lanes[2], nans[2];
+    _mm_store_pd(lanes, largest);
+    _mm_store_pd(nans, nan);
+    out.largest = std::max(lanes[0], lanes[1]);
+    out.not_finite = _mm_movemask_pd(_mm_load_pd(nans)) != 0;
+#endif
+    for (; i < last; ++i) {
+      double d2 = 0.0;
+      for (int d = 0; d < D; ++d) {
+        const double ds = minimum_image(p.s[d][i] - s_at_build_[d][i]);
+        d2 += ds * ds;
+      }
+      out.not_finite |= !(d2 == d2);
+      out.largest = std::max(out.largest, d2);
+    }
+    return out;
+  }
+
+  /// f(first, last) over contiguous blocks of [0, n), one per thread, merged in block order.
+  template <class Result, class F>
+  Result for_blocks(std::size_t n, F&& f) const {
+    if (threads_ == 1) return f(std::size_t{0}, n);
+    Result all;
+#if defined(_OPENMP)
+    std::array<Result, 64> block{};
+    const auto threads = static_cast<std::size_t>(std::min(threads_, 64));
+#pragma omp parallel num_threads(static_cast <int>(threads))
+    {
+      const auto t = static_cast<std::size_t>(thread_number());
+      block[t] = f(n * t / threads, n * (t + 1) / threads);
+    }
+    for (std::size_t t = 0; t < threads; ++t) all.merge(block[t]);
+#endif
+    return all;
+  }
 
   LargestTwo largest_displacements(const ParticleData<D>& p, std::size_t first,
                                    std::size_t last) const {
