@@ -14,9 +14,9 @@
 #include "bench/lammps_bench.hpp"
 #include "bench/report_files.hpp"
 #include "sim/dynamics/overdamped_euler.hpp"
-#include "sim/parallel.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/parallel.hpp"
 
 namespace jam::bench {
 namespace fs = std::filesystem;
