@@ -26,7 +26,8 @@ namespace {
 const fs::path kDir = fs::temp_directory_path() / ("jam-resume-" + std::to_string(::getpid()));
 
 // Runs `args` once uninterrupted and once killed `kills` times at random moments (checkpoints
-// every 20 ms), then compares the two run files byte for byte.
+// every 20 ms), then compares the two run files byte for byte. Each case's run takes about 2 s
+// on one core here, so that the kills (150-700 ms apart) land mid-run.
 void check_resume(const std::string& args, int kills, int signal_number, unsigned seed) {
   fs::create_directories(kDir);
   const fs::path ref = kDir / "ref.h5", resumed = kDir / "resumed.h5";
@@ -72,24 +73,26 @@ void check_resume(const std::string& args, int kills, int signal_number, unsigne
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(euler_2d_killed_during_relaxation_and_compression) {
-  check_resume("--dim 2 --n 2048 --phi-init 0.6 --phi-stop 0.86 --rate 1e-3 --quiet --rattlers", 4,
-               SIGKILL, 1);
+  check_resume(
+      "--dim 2 --n 2048 --phi-init 0.6 --phi-stop 0.86 --rate 1e-3 --integrator euler --dt 0.01 "
+      "--quiet --rattlers",
+      4, SIGKILL, 1);
 }
 
 BOOST_AUTO_TEST_CASE(heun_3d_killed) {
   check_resume(
-      "--dim 3 --n 1024 --phi-init 0.55 --phi-stop 0.68 --rate 2e-3 --integrator heun --quiet", 3,
+      "--dim 3 --n 4096 --phi-init 0.55 --phi-stop 0.68 --rate 2e-4 --integrator heun --quiet", 3,
       SIGKILL, 2);
 }
 
 BOOST_AUTO_TEST_CASE(inertial_2d_killed_keeps_velocities) {
   check_resume(
-      "--dim 2 --n 1024 --phi-init 0.7 --phi-stop 0.86 --rate 2e-3 --dynamics inertial "
+      "--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 1e-3 --dynamics inertial "
       "--q 0.1 --dt 0.01 --relax-energy 1e-6 --quiet",
       3, SIGKILL, 3);
 }
 
 BOOST_AUTO_TEST_CASE(sigint_stops_cleanly_and_resumes) {
-  check_resume("--dim 2 --n 2048 --phi-init 0.7 --phi-stop 0.86 --rate 1e-3 --quiet", 2, SIGINT, 4);
+  check_resume("--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 2e-4 --quiet", 2, SIGINT, 4);
   fs::remove_all(kDir);
 }
