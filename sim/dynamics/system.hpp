@@ -109,18 +109,22 @@ struct System {
 #pragma omp parallel num_threads(threads_)
     {
       const int t = thread_number();
+      const std::size_t first_row = block_start_[static_cast<std::size_t>(t)];
+      // Thread t's pairs (i, j) have j > i >= first_row: it writes, so zeroes and hands back,
+      // only [first_row, n) of its own array.
       std::array<double*, D> f;
       for (int d = 0; d < D; ++d) {
         f[d] = t == 0 ? force[d].data() : partial_force_[static_cast<std::size_t>(t - 1)][d].data();
-        std::fill(f[d], f[d] + n, 0.0);
+        std::fill(f[d] + first_row, f[d] + n, 0.0);
       }
-      accumulate_pair_forces(block_start_[static_cast<std::size_t>(t)],
-                             block_start_[static_cast<std::size_t>(t) + 1], f, box_length);
+      accumulate_pair_forces(first_row, block_start_[static_cast<std::size_t>(t) + 1], f,
+                             box_length);
 #pragma omp barrier
+      const std::size_t threads = partial_force_.size() + 1;
 #pragma omp for schedule(static)
-      for (std::size_t i = 0; i < n; ++i) {
-        for (const auto& partial : partial_force_)
-          for (int d = 0; d < D; ++d) force[d][i] += partial[d][i];
+      for (std::size_t i = block_start_[1]; i < n; ++i) {
+        for (std::size_t u = 1; u < threads && block_start_[u] <= i; ++u)
+          for (int d = 0; d < D; ++d) force[d][i] += partial_force_[u - 1][d][i];
       }
     }
 #endif
