@@ -81,8 +81,7 @@ void accumulate_pair_forces_paired(const PairLoopInput<D>& in, std::size_t first
   HarmonicContact contact;
   contact.inv_d = in.inv_d;
   const __m128d length = _mm_set1_pd(in.box_length);
-  const __m128d shift = _mm_set1_pd(6755399441055744.0);  // minimum_image's 1.5 * 2^52
-  const __m128d tiny = _mm_set1_pd(1e-200);               // force_over_r's floor of r^2
+  const __m128d tiny = _mm_set1_pd(1e-200);  // force_over_r's floor of r^2
   const __m128d one = _mm_set1_pd(1.0);
   std::size_t row = first;
   while (row < last) {
@@ -106,8 +105,7 @@ void accumulate_pair_forces_paired(const PairLoopInput<D>& in, std::size_t first
       for (int d = 0; d < D; ++d) {
         const __m128d ds =
             _mm_sub_pd(_mm_set_pd(in.s[d][i1], in.s[d][i0]), _mm_set_pd(in.s[d][j1], in.s[d][j0]));
-        const __m128d nearest = _mm_sub_pd(_mm_add_pd(ds, shift), shift);
-        const __m128d v = _mm_mul_pd(length, _mm_sub_pd(ds, nearest));
+        const __m128d v = _mm_mul_pd(length, minimum_image(ds));
         _mm_store_pd(&dr[d][k - k0], v);
         r2 = _mm_add_pd(r2, _mm_mul_pd(v, v));
       }

@@ -10,6 +10,10 @@
 #include <type_traits>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace jam {
 
 template <int D>
@@ -48,11 +52,20 @@ inline double wrap_unit(double x) {
 /// (ties at |ds| = 1/2 go to 0, as ds > 1/2 ? 1 : 0 would). No comparison, so no branch the
 /// compiler could introduce, and the same bits as ds - 1, ds or ds + 1 would give.
 /// (Needs the default rounding mode and no -ffast-math, which could cancel the two constants.)
+inline constexpr double kMinimumImageShift = 6755399441055744.0;  // 1.5 * 2^52
+
 inline double minimum_image(double ds) {
-  constexpr double kRoundingShift = 6755399441055744.0;  // 1.5 * 2^52
-  const double nearest = (ds + kRoundingShift) - kRoundingShift;
+  const double nearest = (ds + kMinimumImageShift) - kMinimumImageShift;
   return ds - nearest;
 }
+
+#if defined(__SSE2__)
+/// minimum_image of two separations at once, the same operations (so the same bits) per lane.
+inline __m128d minimum_image(__m128d ds) {
+  const __m128d shift = _mm_set1_pd(kMinimumImageShift);
+  return _mm_sub_pd(ds, _mm_sub_pd(_mm_add_pd(ds, shift), shift));
+}
+#endif
 
 /// Physical minimum-image separation r_i - r_j at box length L into dr; returns |dr|^2.
 template <int D>

@@ -137,6 +137,16 @@ class NeighborList {
     return pair_separation(p, i, j, L, dr);
   }
 
+  /// Squared scaled displacement of particle i since the build (minimum image).
+  double displacement2(const ParticleData<D>& p, std::size_t i) const {
+    double d2 = 0.0;
+    for (int d = 0; d < D; ++d) {
+      const double ds = minimum_image(p.s[d][i] - s_at_build_[d][i]);
+      d2 += ds * ds;
+    }
+    return d2;
+  }
+
   /// The two largest squared scaled displacements since the build, and whether any is NaN.
   struct LargestTwo {
     double first = 0.0, second = 0.0;
@@ -170,13 +180,12 @@ class NeighborList {
     LargestOne out;
     std::size_t i = first;
 #if defined(__SSE2__)
-    const __m128d shift = _mm_set1_pd(6755399441055744.0);  // minimum_image's rounding
     __m128d largest = _mm_setzero_pd(), nan = _mm_setzero_pd();
     for (; i + 1 < last; i += 2) {
       __m128d d2 = _mm_setzero_pd();
       for (int d = 0; d < D; ++d) {
         const __m128d ds = _mm_sub_pd(_mm_loadu_pd(&p.s[d][i]), _mm_loadu_pd(&s_at_build_[d][i]));
-        const __m128d image = _mm_sub_pd(ds, _mm_sub_pd(_mm_add_pd(ds, shift), shift));
+        const __m128d image = minimum_image(ds);
         d2 = _mm_add_pd(d2, _mm_mul_pd(image, image));
       }
       nan = _mm_or_pd(nan, _mm_cmpunord_pd(d2, d2));
@@ -189,11 +198,7 @@ class NeighborList {
     out.not_finite = _mm_movemask_pd(_mm_load_pd(nans)) != 0;
 #endif
     for (; i < last; ++i) {
-      double d2 = 0.0;
-      for (int d = 0; d < D; ++d) {
-        const double ds = minimum_image(p.s[d][i] - s_at_build_[d][i]);
-        d2 += ds * ds;
-      }
+      const double d2 = displacement2(p, i);
       out.not_finite |= !(d2 == d2);
       out.largest = std::max(out.largest, d2);
     }
@@ -221,14 +226,7 @@ class NeighborList {
   LargestTwo largest_displacements(const ParticleData<D>& p, std::size_t first,
                                    std::size_t last) const {
     LargestTwo out;
-    for (std::size_t i = first; i < last; ++i) {
-      double d2 = 0.0;
-      for (int d = 0; d < D; ++d) {
-        const double ds = minimum_image(p.s[d][i] - s_at_build_[d][i]);
-        d2 += ds * ds;
-      }
-      out.add(d2);
-    }
+    for (std::size_t i = first; i < last; ++i) out.add(displacement2(p, i));
     return out;
   }
 
