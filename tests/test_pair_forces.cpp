@@ -1,7 +1,9 @@
-// The paired (two pairs per SSE2 instruction) pair loop gives the reference one-pair-at-a-time
-// loop's forces bit for bit: on jammed and dilute packings in 2D and 3D, with odd pair counts,
-// rows split across blocks, and rows longer than a block (a huge skin).
+// The blocked pair loops (two pairs per SSE2 instruction, four per AVX2 instruction) give the
+// reference one-pair-at-a-time loop's forces bit for bit, and set exactly the entries they own
+// ([first, n): zeroed as the loop goes, not beforehand): on jammed and dilute packings in 2D and
+// 3D, with every tail length, rows split across blocks, and rows longer than a block (a huge skin).
 #define BOOST_TEST_MODULE pair_forces
+#include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <cstring>
@@ -13,24 +15,40 @@ using namespace jam;
 
 namespace {
 
+// Stands in f for entries a form must not touch (below `first`) or must write.
+constexpr double kUnwritten = 12345.0;
+
+enum class Form { scalar, sse2, avx2, dispatched };
+
 template <int D>
-std::array<std::vector<double>, D> forces(const System<D>& sys, bool paired, std::size_t first,
+std::array<std::vector<double>, D> forces(const System<D>& sys, Form form, std::size_t first,
                                           std::size_t last) {
   std::array<std::vector<double>, D> f;
   std::array<double*, D> ptr;
   for (int d = 0; d < D; ++d) {
-    f[d].assign(sys.size(), 0.0);
+    f[d].assign(sys.size(), kUnwritten);  // every form must set [first, n) itself
     ptr[d] = f[d].data();
   }
+  const std::size_t n = sys.size();
   const auto in = sys.pair_loop_input(sys.box.length(0.0));
+  switch (form) {
+    case Form::scalar:
+      write_pair_forces_scalar(in, first, last, n, ptr);
+      break;
+    case Form::sse2:
 #if defined(__SSE2__)
-  if (paired) {
-    accumulate_pair_forces_paired(in, first, last, ptr);
-    return f;
-  }
+      write_pair_forces_sse2(in, first, last, n, ptr);
 #endif
-  (void)paired;
-  accumulate_pair_forces_scalar(in, first, last, ptr);
+      break;
+    case Form::avx2:
+#if defined(JAM_PAIR_LOOP_AVX2)
+      write_pair_forces_avx2(in, first, last, n, ptr);
+#endif
+      break;
+    case Form::dispatched:
+      write_pair_forces(in, first, last, n, ptr);
+      break;
+  }
   return f;
 }
 
@@ -44,17 +62,34 @@ void check(std::size_t n, double phi, std::uint64_t seed, double skin) {
   sys.update_neighbors(sys.box.length(0.0));
   BOOST_TEST_MESSAGE(D << "D phi " << phi << " skin " << skin << ": " << sys.neighbors.pair_count()
                        << " pairs");
-  // All rows, and a range of rows starting and ending mid-list (a thread's block).
+  // All rows, a range of rows starting and ending mid-list (a thread's block), and no rows
+  // (f[first, n) must still be set, to zero).
   for (auto [first, last] : {std::pair<std::size_t, std::size_t>{0, n},
-                             std::pair<std::size_t, std::size_t>{n / 3 + 1, 2 * n / 3}}) {
-    const auto reference = forces(sys, false, first, last);
-    const auto paired = forces(sys, true, first, last);
-    double largest = 0.0;
-    for (int d = 0; d < D; ++d) {
-      BOOST_TEST(same_bits(paired[d], reference[d]));
-      for (double v : reference[d]) largest = std::max(largest, std::abs(v));
+                             std::pair<std::size_t, std::size_t>{n / 3 + 1, 2 * n / 3},
+                             std::pair<std::size_t, std::size_t>{n / 2, n / 2}}) {
+    const auto reference = forces(sys, Form::scalar, first, last);
+    std::vector<Form> forms{Form::dispatched};
+#if defined(__SSE2__)
+    forms.push_back(Form::sse2);
+#endif
+#if defined(JAM_PAIR_LOOP_AVX2)
+    if (cpu_has_avx2()) forms.push_back(Form::avx2);
+#endif
+    BOOST_TEST_MESSAGE(forms.size()
+                       << " blocked forms compared (AVX2 only where the processor has it)");
+    for (Form form : forms) {
+      const auto blocked = forces(sys, form, first, last);
+      for (int d = 0; d < D; ++d) {
+        BOOST_TEST(same_bits(blocked[d], reference[d]));
+        BOOST_TEST(std::count(blocked[d].begin(), blocked[d].end(), kUnwritten) ==
+                   static_cast<std::ptrdiff_t>(first));  // [0, first) untouched, the rest set
+      }
     }
-    BOOST_TEST(largest > 0.0);  // there were contacts
+    double largest = 0.0;
+    for (int d = 0; d < D; ++d)
+      for (std::size_t i = first; i < n; ++i)
+        largest = std::max(largest, std::abs(reference[d][i]));
+    BOOST_TEST((largest > 0.0) == (last > first));  // there were contacts in the rows
   }
 }
 
@@ -72,16 +107,20 @@ BOOST_AUTO_TEST_CASE(paired_loop_gives_the_reference_bits_3d) {
   check<3>(4000, 0.6, 6, 4.0);
 }
 
-BOOST_AUTO_TEST_CASE(odd_pair_count_is_covered) {
-  // Small systems: search seeds for an odd number of listed pairs, so that the last pair of
-  // the last block goes through the single-pair tail of the paired loop.
-  for (std::uint64_t seed = 1; seed < 50; ++seed) {
+BOOST_AUTO_TEST_CASE(every_tail_length_is_covered) {
+  // Small systems (one block): search seeds for pair counts of every remainder modulo 4, so
+  // that the last pairs go through the one-pair tail of the SSE2 (odd count) and AVX2 (1 to 3
+  // pairs) first passes.
+  std::array<bool, 4> seen{};
+  for (std::uint64_t seed = 1; seed < 200; ++seed) {
     System<2> sys = test::random_system<2>(64, 0.85, seed);
     sys.update_neighbors(sys.box.length(0.0));
-    if (sys.neighbors.pair_count() % 2 == 1) {
-      check<2>(64, 0.85, seed, 0.3);
-      return;
-    }
+    const std::size_t remainder = sys.neighbors.pair_count() % 4;
+    if (seen[remainder]) continue;
+    seen[remainder] = true;
+    BOOST_TEST_MESSAGE("pair count " << sys.neighbors.pair_count());
+    check<2>(64, 0.85, seed, 0.3);
   }
-  BOOST_FAIL("no seed gave an odd pair count");
+  for (std::size_t r = 0; r < 4; ++r)
+    BOOST_TEST(seen[r], "no seed gave a pair count = " << r << " mod 4");
 }

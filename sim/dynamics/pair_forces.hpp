@@ -1,13 +1,15 @@
 #pragma once
-// The pair loop of the elastic forces over rows of the half neighbor list, in two forms that
-// give the same bits:
-//  - accumulate_pair_forces_scalar: one pair at a time (the reference form);
-//  - accumulate_pair_forces_paired: the separations and f/r of a block of pairs first, two
-//    pairs per SSE2 instruction (sqrt and division, the costly part, run two at a time), then
-//    the forces added pair by pair in the list's order.
+// The pair loop of the elastic forces over rows of the half neighbor list, in forms that give
+// the same bits:
+//  - write_pair_forces_scalar: one pair at a time (the reference form);
+//  - write_pair_forces_sse2 / _avx2: the pair forces of a block of pairs first, two
+//    (SSE2) or four (AVX2) pairs per instruction (sqrt and division, the costly part, run side
+//    by side), then the forces added pair by pair in the list's order.
+// write_pair_forces picks the widest form the processor has at run time.
 // Every operation is an IEEE-754 operation on doubles, correctly rounded the same way in a
 // packed register as alone, and the additions into the forces happen in the same order, so the
-// two forms agree bit for bit (tests/test_pair_forces.cpp checks it).
+// forms agree bit for bit (tests/test_pair_forces.cpp checks it).
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -18,6 +20,9 @@
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#endif
+#if defined(JAM_PAIR_LOOP_AVX2)
+#include <immintrin.h>
 #endif
 
 namespace jam {
@@ -68,70 +73,76 @@ void accumulate_pair_forces_scalar(const PairLoopInput<D>& in, std::size_t first
   }
 }
 
-#if defined(__SSE2__)
-/// The same sums as accumulate_pair_forces_scalar, bit for bit, with f/r of two pairs per
-/// instruction. Pairs are taken in blocks of whole rows of about kBlock pairs, so that their
-/// separations stay in the L1 cache between the two passes.
+/// Pairs of one block: whole rows of at most kBlockPairs pairs (a longer row goes alone, up to
+/// kBlockSpare more; rows are far shorter), so that a block's separations stay in the L1 cache
+/// between the two passes of the blocked forms.
+inline constexpr std::size_t kBlockPairs = 256;
+inline constexpr std::size_t kBlockSpare = 64;
+
+/// The first pass's output for a block: the pair forces f_ij = (f/r) (r_i - r_j), by pair
+/// k - k0 (the products computed there, packed, as the scalar form computes them).
 template <int D>
-void accumulate_pair_forces_paired(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
-                                   const ForceArrays<D>& f) {
-  constexpr std::size_t kBlock = 256;
-  alignas(16) std::array<std::array<double, kBlock + 64>, D> dr;  // + the longest row
-  alignas(16) std::array<double, kBlock + 64> c;
+struct PairBlock {
+  alignas(32) std::array<std::array<double, kBlockPairs + kBlockSpare>, D> f_ij;
+};
+
+/// First pass for the one pair k of a block starting at k0 (the scalar operations).
+template <int D>
+void separation_and_force_over_r(const PairLoopInput<D>& in, std::uint32_t k, std::uint32_t k0,
+                                 PairBlock<D>& b) {
+  const std::uint32_t i = in.row_of_pair[k], j = in.neighbors[k];
+  std::array<double, D> dr;
+  double r2 = 0.0;
+  for (int d = 0; d < D; ++d) {
+    dr[d] = in.box_length * minimum_image(in.s[d][i] - in.s[d][j]);
+    r2 += dr[d] * dr[d];
+  }
   HarmonicContact contact;
   contact.inv_d = in.inv_d;
-  const __m128d length = _mm_set1_pd(in.box_length);
-  const __m128d tiny = _mm_set1_pd(1e-200);  // force_over_r's floor of r^2
-  const __m128d one = _mm_set1_pd(1.0);
+  const double c = contact.force_over_r(r2, in.type[i] + in.type[j]);
+  for (int d = 0; d < D; ++d) b.f_ij[d][k - k0] = c * dr[d];
+}
+
+/// The reference for every form: sets f[d][first, n) to the forces of the pairs in rows
+/// [first, last) of a system of n particles (zero, then the scalar form). The pairs (i, j) of
+/// those rows have first <= i < j < n, so f below first is neither read nor written.
+template <int D>
+void write_pair_forces_scalar(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
+                              std::size_t n, const ForceArrays<D>& f) {
+  for (int d = 0; d < D; ++d) std::fill(f[d] + first, f[d] + n, 0.0);
+  accumulate_pair_forces_scalar(in, first, last, f);
+}
+
+/// The pair loop in blocks, with write_pair_forces_scalar's result bit for bit: FirstPass fills
+/// a block's pair forces (vectorized: the sqrt and division are the costly part), then they are
+/// added pair by pair in the order of the scalar form.
+template <int D,
+          void (*FirstPass)(const PairLoopInput<D>&, std::uint32_t, std::uint32_t, PairBlock<D>&)>
+void write_pair_forces_in_blocks(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
+                                 std::size_t n, const ForceArrays<D>& f) {
+  // Zeroing each entry just before the block that first touches it instead (so that it comes
+  // from the cache) measured 0.93x in 2D at N = 262144: one pass it stays.
+  for (int d = 0; d < D; ++d) std::fill(f[d] + first, f[d] + n, 0.0);
+  PairBlock<D> b;
   std::size_t row = first;
   while (row < last) {
-    // Whole rows [row, row_end) of at most kBlock pairs (a longer row goes alone; rows are far
-    // shorter than the 64 spare entries).
     const std::uint32_t k0 = in.offsets[row];
     std::size_t row_end = row + 1;
-    while (row_end < last && in.offsets[row_end + 1] - k0 <= kBlock) ++row_end;
+    while (row_end < last && in.offsets[row_end + 1] - k0 <= kBlockPairs) ++row_end;
     const std::uint32_t k1 = in.offsets[row_end];
-    if (k1 - k0 > kBlock + 64) {  // a pathological row: the reference form
+    if (k1 - k0 > kBlockPairs + kBlockSpare) {  // a pathological row: the reference form
       accumulate_pair_forces_scalar(in, row, row_end, f);
       row = row_end;
       continue;
     }
-    // Pass 1: separations and f/r, two pairs at a time.
-    std::uint32_t k = k0;
-    for (; k + 1 < k1; k += 2) {
-      const std::uint32_t i0 = in.row_of_pair[k], i1 = in.row_of_pair[k + 1];
-      const std::uint32_t j0 = in.neighbors[k], j1 = in.neighbors[k + 1];
-      __m128d r2 = _mm_setzero_pd();
-      for (int d = 0; d < D; ++d) {
-        const __m128d ds =
-            _mm_sub_pd(_mm_set_pd(in.s[d][i1], in.s[d][i0]), _mm_set_pd(in.s[d][j1], in.s[d][j0]));
-        const __m128d v = _mm_mul_pd(length, minimum_image(ds));
-        _mm_store_pd(&dr[d][k - k0], v);
-        r2 = _mm_add_pd(r2, _mm_mul_pd(v, v));
-      }
-      const __m128d inv_d =
-          _mm_set_pd(in.inv_d[in.type[i1] + in.type[j1]], in.inv_d[in.type[i0] + in.type[j0]]);
-      const __m128d inv_r = _mm_div_pd(one, _mm_sqrt_pd(_mm_add_pd(r2, tiny)));
-      const __m128d bracket = _mm_mul_pd(inv_d, _mm_sub_pd(inv_r, inv_d));
-      _mm_store_pd(&c[k - k0], _mm_max_pd(bracket, _mm_setzero_pd()));
-    }
-    if (k < k1) {  // an odd last pair
-      const std::uint32_t i = in.row_of_pair[k], j = in.neighbors[k];
-      double r2 = 0.0;
-      for (int d = 0; d < D; ++d) {
-        dr[d][k - k0] = in.box_length * minimum_image(in.s[d][i] - in.s[d][j]);
-        r2 += dr[d][k - k0] * dr[d][k - k0];
-      }
-      c[k - k0] = contact.force_over_r(r2, in.type[i] + in.type[j]);
-    }
-    // Pass 2: the forces, in the order of the scalar form.
+    FirstPass(in, k0, k1, b);
     for (std::size_t i = row; i < row_end; ++i) {
       std::array<double, D> fi{};
       for (std::uint32_t q = in.offsets[i]; q < in.offsets[i + 1]; ++q) {
         const std::uint32_t j = in.neighbors[q];
         for (int d = 0; d < D; ++d) {
-          fi[d] += c[q - k0] * dr[d][q - k0];
-          f[d][j] -= c[q - k0] * dr[d][q - k0];
+          fi[d] += b.f_ij[d][q - k0];
+          f[d][j] -= b.f_ij[d][q - k0];
         }
       }
       for (int d = 0; d < D; ++d) f[d][i] += fi[d];
@@ -139,16 +150,110 @@ void accumulate_pair_forces_paired(const PairLoopInput<D>& in, std::size_t first
     row = row_end;
   }
 }
+
+#if defined(__SSE2__)
+/// First pass, two pairs per SSE2 instruction.
+template <int D>
+void separations_and_force_over_r_sse2(const PairLoopInput<D>& in, std::uint32_t k0,
+                                       std::uint32_t k1, PairBlock<D>& b) {
+  const __m128d length = _mm_set1_pd(in.box_length);
+  const __m128d tiny = _mm_set1_pd(1e-200);  // force_over_r's floor of r^2
+  const __m128d one = _mm_set1_pd(1.0);
+  std::uint32_t k = k0;
+  for (; k + 1 < k1; k += 2) {
+    const std::uint32_t* i = in.row_of_pair + k;
+    const std::uint32_t* j = in.neighbors + k;
+    __m128d v[D];
+    __m128d r2 = _mm_setzero_pd();
+    for (int d = 0; d < D; ++d) {
+      const double* s = in.s[d];
+      const __m128d ds = _mm_sub_pd(_mm_set_pd(s[i[1]], s[i[0]]), _mm_set_pd(s[j[1]], s[j[0]]));
+      v[d] = _mm_mul_pd(length, minimum_image(ds));
+      r2 = _mm_add_pd(r2, _mm_mul_pd(v[d], v[d]));
+    }
+    const __m128d inv_d = _mm_set_pd(in.inv_d[in.type[i[1]] + in.type[j[1]]],
+                                     in.inv_d[in.type[i[0]] + in.type[j[0]]]);
+    const __m128d inv_r = _mm_div_pd(one, _mm_sqrt_pd(_mm_add_pd(r2, tiny)));
+    const __m128d bracket = _mm_mul_pd(inv_d, _mm_sub_pd(inv_r, inv_d));
+    const __m128d c = _mm_max_pd(bracket, _mm_setzero_pd());
+    for (int d = 0; d < D; ++d) _mm_store_pd(&b.f_ij[d][k - k0], _mm_mul_pd(c, v[d]));
+  }
+  if (k < k1) separation_and_force_over_r(in, k, k0, b);  // an odd last pair
+}
+
+/// write_pair_forces_scalar's result, bit for bit, with f/r of two pairs per SSE2 instruction.
+template <int D>
+void write_pair_forces_sse2(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
+                            std::size_t n, const ForceArrays<D>& f) {
+  write_pair_forces_in_blocks<D, separations_and_force_over_r_sse2<D>>(in, first, last, n, f);
+}
 #endif
 
-/// The fastest form this build has.
+#if defined(JAM_PAIR_LOOP_AVX2)
+/// First pass, four pairs per AVX2 instruction (compiled for AVX2 whatever the build's target,
+/// called only where the processor has it). No FMA: the same roundings as the scalar form.
 template <int D>
-void accumulate_pair_forces(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
-                            const ForceArrays<D>& f) {
+__attribute__((target("avx2"))) void separations_and_force_over_r_avx2(const PairLoopInput<D>& in,
+                                                                       std::uint32_t k0,
+                                                                       std::uint32_t k1,
+                                                                       PairBlock<D>& b) {
+  const __m256d length = _mm256_set1_pd(in.box_length);
+  const __m256d tiny = _mm256_set1_pd(1e-200);
+  const __m256d one = _mm256_set1_pd(1.0);
+  std::uint32_t k = k0;
+  for (; k + 3 < k1; k += 4) {
+    const std::uint32_t* i = in.row_of_pair + k;
+    const std::uint32_t* j = in.neighbors + k;
+    __m256d v[D];
+    __m256d r2 = _mm256_setzero_pd();
+    for (int d = 0; d < D; ++d) {
+      const double* s = in.s[d];
+      const __m256d ds = _mm256_sub_pd(_mm256_set_pd(s[i[3]], s[i[2]], s[i[1]], s[i[0]]),
+                                       _mm256_set_pd(s[j[3]], s[j[2]], s[j[1]], s[j[0]]));
+      v[d] = _mm256_mul_pd(length, minimum_image(ds));
+      r2 = _mm256_add_pd(r2, _mm256_mul_pd(v[d], v[d]));
+    }
+    const __m256d inv_d = _mm256_set_pd(
+        in.inv_d[in.type[i[3]] + in.type[j[3]]], in.inv_d[in.type[i[2]] + in.type[j[2]]],
+        in.inv_d[in.type[i[1]] + in.type[j[1]]], in.inv_d[in.type[i[0]] + in.type[j[0]]]);
+    const __m256d inv_r = _mm256_div_pd(one, _mm256_sqrt_pd(_mm256_add_pd(r2, tiny)));
+    const __m256d bracket = _mm256_mul_pd(inv_d, _mm256_sub_pd(inv_r, inv_d));
+    const __m256d c = _mm256_max_pd(bracket, _mm256_setzero_pd());
+    for (int d = 0; d < D; ++d) _mm256_store_pd(&b.f_ij[d][k - k0], _mm256_mul_pd(c, v[d]));
+  }
+  for (; k < k1; ++k) separation_and_force_over_r(in, k, k0, b);  // up to three last pairs
+}
+
+/// write_pair_forces_scalar's result, bit for bit, with f/r of four pairs per AVX2
+/// instruction. Only on a processor with AVX2 (cpu_has_avx2()).
+template <int D>
+void write_pair_forces_avx2(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
+                            std::size_t n, const ForceArrays<D>& f) {
+  write_pair_forces_in_blocks<D, separations_and_force_over_r_avx2<D>>(in, first, last, n, f);
+}
+
+/// Whether this processor (and the operating system) supports AVX2; asked once.
+inline bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#endif
+
+/// Sets f[d][first, n) to the forces of the pairs in rows [first, last), in the fastest form
+/// this processor runs (all forms give the same bits).
+template <int D>
+void write_pair_forces(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
+                       std::size_t n, const ForceArrays<D>& f) {
+#if defined(JAM_PAIR_LOOP_AVX2)
+  if (cpu_has_avx2()) {
+    write_pair_forces_avx2(in, first, last, n, f);
+    return;
+  }
+#endif
 #if defined(__SSE2__)
-  accumulate_pair_forces_paired(in, first, last, f);
+  write_pair_forces_sse2(in, first, last, n, f);
 #else
-  accumulate_pair_forces_scalar(in, first, last, f);
+  write_pair_forces_scalar(in, first, last, n, f);
 #endif
 }
 

@@ -96,11 +96,8 @@ struct System {
     update_neighbors(box_length);
     if (threads_ == 1) {
       std::array<double*, D> f;
-      for (int d = 0; d < D; ++d) {
-        std::fill(force[d].begin(), force[d].end(), 0.0);
-        f[d] = force[d].data();
-      }
-      accumulate_pair_forces(0, size(), f, box_length);
+      for (int d = 0; d < D; ++d) f[d] = force[d].data();
+      write_pair_forces(pair_loop_input(box_length), 0, size(), size(), f);
       return;
     }
 #if defined(_OPENMP)
@@ -110,15 +107,13 @@ struct System {
     {
       const int t = thread_number();
       const std::size_t first_row = block_start_[static_cast<std::size_t>(t)];
-      // Thread t's pairs (i, j) have j > i >= first_row: it writes, so zeroes and hands back,
-      // only [first_row, n) of its own array.
+      // Thread t's pairs (i, j) have j > i >= first_row: it writes, and hands back, only
+      // [first_row, n) of its own array.
       std::array<double*, D> f;
-      for (int d = 0; d < D; ++d) {
+      for (int d = 0; d < D; ++d)
         f[d] = t == 0 ? force[d].data() : partial_force_[static_cast<std::size_t>(t - 1)][d].data();
-        std::fill(f[d] + first_row, f[d] + n, 0.0);
-      }
-      accumulate_pair_forces(first_row, block_start_[static_cast<std::size_t>(t) + 1], f,
-                             box_length);
+      write_pair_forces(pair_loop_input(box_length), first_row,
+                        block_start_[static_cast<std::size_t>(t) + 1], n, f);
 #pragma omp barrier
       const std::size_t threads = partial_force_.size() + 1;
 #pragma omp for schedule(static)
@@ -130,14 +125,6 @@ struct System {
 #endif
   }
 
- private:
-  /// Adds the forces of the pairs in list rows [first, last) into f (both partners).
-  void accumulate_pair_forces(std::size_t first, std::size_t last, const std::array<double*, D>& f,
-                              double box_length) const {
-    jam::accumulate_pair_forces(pair_loop_input(box_length), first, last, f);
-  }
-
- public:
   /// The pair loop's view of the system at box length L (pair_forces.hpp).
   PairLoopInput<D> pair_loop_input(double box_length) const {
     PairLoopInput<D> in{neighbors.offsets().data(),

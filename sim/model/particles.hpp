@@ -13,6 +13,12 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+// On x86-64 (GCC, Clang) the pair loop also has a form compiled for AVX2, whatever the build's
+// target, and chosen at run time where the processor has it (pair_forces.hpp).
+#if defined(__x86_64__) && defined(__GNUC__)
+#define JAM_PAIR_LOOP_AVX2 1
+#include <immintrin.h>
+#endif
 
 namespace jam {
 
@@ -64,6 +70,14 @@ inline double minimum_image(double ds) {
 inline __m128d minimum_image(__m128d ds) {
   const __m128d shift = _mm_set1_pd(kMinimumImageShift);
   return _mm_sub_pd(ds, _mm_sub_pd(_mm_add_pd(ds, shift), shift));
+}
+#endif
+
+#if defined(JAM_PAIR_LOOP_AVX2)
+/// minimum_image of four separations at once (AVX2), the same operations per lane.
+__attribute__((target("avx2"))) inline __m256d minimum_image(__m256d ds) {
+  const __m256d shift = _mm256_set1_pd(kMinimumImageShift);
+  return _mm256_sub_pd(ds, _mm256_sub_pd(_mm256_add_pd(ds, shift), shift));
 }
 #endif
 
