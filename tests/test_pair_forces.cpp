@@ -1,7 +1,7 @@
 // The blocked pair loops (two pairs per SSE2 instruction, four per AVX2 instruction) give the
 // reference one-pair-at-a-time loop's forces bit for bit, and set exactly the entries they own
-// ([first, n): zeroed as the loop goes, not beforehand): on jammed and dilute packings in 2D and
-// 3D, with every tail length, rows split across blocks, and rows longer than a block (a huge skin).
+// ([first, n)): on jammed and dilute packings in 2D and 3D, with every tail length, rows split
+// across blocks, and rows longer than a block (a huge skin).
 #define BOOST_TEST_MODULE pair_forces
 #include <algorithm>
 #include <boost/test/unit_test.hpp>

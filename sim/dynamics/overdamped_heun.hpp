@@ -2,10 +2,12 @@
 // Heun's method (explicit trapezoid) for the overdamped equation of motion: an Euler
 // predictor at t + dt, then the average of the two slopes. Second order in dt, two force
 // evaluations per step. Slopes in scaled coordinates: ds_i/dt = f_i^el(t) / (gamma_i L(t)).
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
 
+#include "sim/dynamics/position_update.hpp"
 #include "sim/dynamics/stepper_state.hpp"
 #include "sim/dynamics/system.hpp"
 #include "sim/parallel.hpp"
@@ -38,13 +40,14 @@ class OverdampedHeun {
     const std::array<double, 2> c0 = {sys.species.mobility[0] / length0,
                                       sys.species.mobility[1] / length0};
     const int threads = sys.threads();
+    // In chunks of particles (independent, so the thread count does not change the result).
+    constexpr std::size_t kChunk = 4096;
+    const std::size_t chunks = (n + kChunk - 1) / kChunk;
     JAM_PARALLEL_FOR
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < chunks; ++k) {
       for (int d = 0; d < D; ++d) {
-        double& s = sys.particles.s[d][i];
-        s0_[d][i] = s;
-        slope0_[d][i] = c0[type[i]] * sys.force[d][i];
-        s = wrap_unit(s + dt * slope0_[d][i]);
+        heun_predict(sys.particles.s[d].data(), s0_[d].data(), slope0_[d].data(),
+                     sys.force[d].data(), type, c0, dt, k * kChunk, std::min(n, (k + 1) * kChunk));
       }
     }
 
@@ -53,10 +56,11 @@ class OverdampedHeun {
                                       sys.species.mobility[1] / length1};
     const double half_dt = 0.5 * dt;
     JAM_PARALLEL_FOR
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < chunks; ++k) {
       for (int d = 0; d < D; ++d) {
-        sys.particles.s[d][i] =
-            wrap_unit(s0_[d][i] + half_dt * (slope0_[d][i] + c1[type[i]] * sys.force[d][i]));
+        heun_correct(sys.particles.s[d].data(), s0_[d].data(), slope0_[d].data(),
+                     sys.force[d].data(), type, c1, half_dt, k * kChunk,
+                     std::min(n, (k + 1) * kChunk));
       }
     }
   }
