@@ -18,6 +18,9 @@
 #define JAM_PARALLEL_FOR
 #endif
 
+#include <algorithm>
+#include <cstddef>
+
 namespace jam {
 
 /// Threads a run can use on this machine (1 without OpenMP).
@@ -36,6 +39,17 @@ inline int thread_number() {
 #else
   return 0;
 #endif
+}
+
+/// Calls f(first, last) on consecutive chunks of [0, n), split over `threads` threads: for
+/// per-particle loops whose particles are independent, so that the result does not depend on
+/// the thread count, and each call can run a vectorized loop over its chunk.
+template <class F>
+void for_particle_chunks(std::size_t n, int threads, F&& f) {
+  constexpr std::size_t kChunk = 4096;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  JAM_PARALLEL_FOR
+  for (std::size_t k = 0; k < chunks; ++k) f(k * kChunk, std::min(n, (k + 1) * kChunk));
 }
 
 }  // namespace jam

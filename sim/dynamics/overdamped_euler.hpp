@@ -3,7 +3,6 @@
 //   dr_i/dt = v_host(r_i) + f_i^el / gamma_i.
 // In scaled coordinates s = r/L + 1/2 the host flow drops out: ds_i/dt = f_i^el / (gamma_i L).
 // First order in dt; one force evaluation per step; no velocity arrays.
-#include <algorithm>
 #include <array>
 #include <cstddef>
 
@@ -33,17 +32,10 @@ class OverdampedEuler {
                                      dt * sys.species.mobility[1] / box_length};
     const std::size_t n = sys.size();
     const auto* type = sys.particles.type.data();
-    const int threads = sys.threads();
-    // In chunks of particles (independent, so the thread count does not change the result).
-    constexpr std::size_t kChunk = 4096;
-    const std::size_t chunks = (n + kChunk - 1) / kChunk;
-    JAM_PARALLEL_FOR
-    for (std::size_t k = 0; k < chunks; ++k) {
-      for (int d = 0; d < D; ++d) {
-        advance_coordinate(sys.particles.s[d].data(), sys.force[d].data(), type, c, k * kChunk,
-                           std::min(n, (k + 1) * kChunk));
-      }
-    }
+    for_particle_chunks(n, sys.threads(), [&](std::size_t first, std::size_t last) {
+      for (int d = 0; d < D; ++d)
+        advance_coordinate(sys.particles.s[d].data(), sys.force[d].data(), type, c, first, last);
+    });
   }
 };
 

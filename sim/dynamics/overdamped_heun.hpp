@@ -2,7 +2,6 @@
 // Heun's method (explicit trapezoid) for the overdamped equation of motion: an Euler
 // predictor at t + dt, then the average of the two slopes. Second order in dt, two force
 // evaluations per step. Slopes in scaled coordinates: ds_i/dt = f_i^el(t) / (gamma_i L(t)).
-#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -39,30 +38,23 @@ class OverdampedHeun {
     sys.compute_elastic_forces(length0);
     const std::array<double, 2> c0 = {sys.species.mobility[0] / length0,
                                       sys.species.mobility[1] / length0};
-    const int threads = sys.threads();
-    // In chunks of particles (independent, so the thread count does not change the result).
-    constexpr std::size_t kChunk = 4096;
-    const std::size_t chunks = (n + kChunk - 1) / kChunk;
-    JAM_PARALLEL_FOR
-    for (std::size_t k = 0; k < chunks; ++k) {
+    for_particle_chunks(n, sys.threads(), [&](std::size_t first, std::size_t last) {
       for (int d = 0; d < D; ++d) {
         heun_predict(sys.particles.s[d].data(), s0_[d].data(), slope0_[d].data(),
-                     sys.force[d].data(), type, c0, dt, k * kChunk, std::min(n, (k + 1) * kChunk));
+                     sys.force[d].data(), type, c0, dt, first, last);
       }
-    }
+    });
 
     sys.compute_elastic_forces(length1);
     const std::array<double, 2> c1 = {sys.species.mobility[0] / length1,
                                       sys.species.mobility[1] / length1};
     const double half_dt = 0.5 * dt;
-    JAM_PARALLEL_FOR
-    for (std::size_t k = 0; k < chunks; ++k) {
+    for_particle_chunks(n, sys.threads(), [&](std::size_t first, std::size_t last) {
       for (int d = 0; d < D; ++d) {
         heun_correct(sys.particles.s[d].data(), s0_[d].data(), slope0_[d].data(),
-                     sys.force[d].data(), type, c1, half_dt, k * kChunk,
-                     std::min(n, (k + 1) * kChunk));
+                     sys.force[d].data(), type, c1, half_dt, first, last);
       }
-    }
+    });
   }
 
  private:
