@@ -41,7 +41,7 @@ std::array<std::vector<double>, D> forces(const System<D>& sys, Form form, std::
 #endif
       break;
     case Form::avx2:
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
       write_pair_forces_avx2(in, first, last, n, ptr);
 #endif
       break;
@@ -72,7 +72,7 @@ void check(std::size_t n, double phi, std::uint64_t seed, double skin) {
 #if defined(__SSE2__)
     forms.push_back(Form::sse2);
 #endif
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
     if (cpu_has_avx2()) forms.push_back(Form::avx2);
 #endif
     BOOST_TEST_MESSAGE(forms.size()

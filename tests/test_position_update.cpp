@@ -64,7 +64,7 @@ BOOST_AUTO_TEST_CASE(vector_forms_give_the_scalar_bits) {
       auto dispatched = base.s;
       advance_coordinate(dispatched.data(), base.f.data(), base.type.data(), c, first, n);
       BOOST_TEST(same_bits(dispatched, reference), "n " << n << " first " << first);
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
       if (cpu_has_avx2()) {
         auto avx2 = base.s;
         advance_coordinate_avx2(avx2.data(), base.f.data(), base.type.data(), c, first, n);
@@ -97,7 +97,7 @@ BOOST_AUTO_TEST_CASE(heun_stages_give_the_scalar_bits) {
           void (*)(double*, const double*, const double*, const double*, const std::uint8_t*,
                    const std::array<double, 2>&, double, std::size_t, std::size_t);
       std::vector<std::pair<Predict, Correct>> forms{{heun_predict, heun_correct}};
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
       if (cpu_has_avx2()) forms.emplace_back(heun_predict_avx2, heun_correct_avx2);
 #endif
       for (auto [predict, correct] : forms) {

@@ -17,13 +17,7 @@
 
 #include "sim/model/harmonic_contact.hpp"
 #include "sim/model/particles.hpp"
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-#if defined(JAM_PAIR_LOOP_AVX2)
-#include <immintrin.h>
-#endif
+#include "sim/simd.hpp"
 
 namespace jam {
 
@@ -189,7 +183,7 @@ void write_pair_forces_sse2(const PairLoopInput<D>& in, std::size_t first, std::
 }
 #endif
 
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
 /// First pass, four pairs per AVX2 instruction (compiled for AVX2 whatever the build's target,
 /// called only where the processor has it). No FMA: the same roundings as the scalar form.
 template <int D>
@@ -231,12 +225,6 @@ void write_pair_forces_avx2(const PairLoopInput<D>& in, std::size_t first, std::
                             std::size_t n, const ForceArrays<D>& f) {
   write_pair_forces_in_blocks<D, separations_and_force_over_r_avx2<D>>(in, first, last, n, f);
 }
-
-/// Whether this processor (and the operating system) supports AVX2; asked once.
-inline bool cpu_has_avx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-}
 #endif
 
 /// Sets f[d][first, n) to the forces of the pairs in rows [first, last), in the fastest form
@@ -244,7 +232,7 @@ inline bool cpu_has_avx2() {
 template <int D>
 void write_pair_forces(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
                        std::size_t n, const ForceArrays<D>& f) {
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
   if (cpu_has_avx2()) {
     write_pair_forces_avx2(in, first, last, n, f);
     return;

@@ -13,9 +13,9 @@
 #include <cstdint>
 #include <cstring>
 
-#include "sim/dynamics/pair_forces.hpp"  // cpu_has_avx2
 #include "sim/model/particles.hpp"
 #include "sim/model/species.hpp"
+#include "sim/simd.hpp"
 
 namespace jam {
 
@@ -45,7 +45,7 @@ inline void heun_correct_scalar(double* s, const double* s0, const double* slope
     s[i] = wrap_unit(s0[i] + half_dt * (slope[i] + c[type[i]] * f[i]));
 }
 
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
 /// c[type_i] for particles i ... i + 3.
 __attribute__((target("avx2"), always_inline)) inline __m256d species_factor(
     const std::uint8_t* type, const std::array<double, 2>& c) {
@@ -118,7 +118,7 @@ __attribute__((target("avx2"))) inline void heun_correct_avx2(
 inline void advance_coordinate(double* s, const double* f, const std::uint8_t* type,
                                const std::array<double, 2>& c, std::size_t first,
                                std::size_t last) {
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
   if (cpu_has_avx2()) {
     advance_coordinate_avx2(s, f, type, c, first, last);
     return;
@@ -130,7 +130,7 @@ inline void advance_coordinate(double* s, const double* f, const std::uint8_t* t
 inline void heun_predict(double* s, double* s0, double* slope, const double* f,
                          const std::uint8_t* type, const std::array<double, 2>& c, double dt,
                          std::size_t first, std::size_t last) {
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
   if (cpu_has_avx2()) {
     heun_predict_avx2(s, s0, slope, f, type, c, dt, first, last);
     return;
@@ -142,7 +142,7 @@ inline void heun_predict(double* s, double* s0, double* slope, const double* f,
 inline void heun_correct(double* s, const double* s0, const double* slope, const double* f,
                          const std::uint8_t* type, const std::array<double, 2>& c, double half_dt,
                          std::size_t first, std::size_t last) {
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
   if (cpu_has_avx2()) {
     heun_correct_avx2(s, s0, slope, f, type, c, half_dt, first, last);
     return;

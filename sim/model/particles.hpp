@@ -10,15 +10,7 @@
 #include <type_traits>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-// On x86-64 (GCC, Clang) the pair loop also has a form compiled for AVX2, whatever the build's
-// target, and chosen at run time where the processor has it (pair_forces.hpp).
-#if defined(__x86_64__) && defined(__GNUC__)
-#define JAM_PAIR_LOOP_AVX2 1
-#include <immintrin.h>
-#endif
+#include "sim/simd.hpp"
 
 namespace jam {
 
@@ -73,7 +65,7 @@ inline __m128d minimum_image(__m128d ds) {
 }
 #endif
 
-#if defined(JAM_PAIR_LOOP_AVX2)
+#if defined(JAM_AVX2_FORMS)
 /// minimum_image of four separations at once (AVX2), the same operations per lane.
 __attribute__((target("avx2"))) inline __m256d minimum_image(__m256d ds) {
   const __m256d shift = _mm256_set1_pd(kMinimumImageShift);
