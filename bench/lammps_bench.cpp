@@ -29,8 +29,13 @@ std::string lammps_command(const LammpsRequest& r) {
 }
 
 LammpsResult run_lammps(const LammpsRequest& r) {
+  // Runs at the same time share the directory: each copies the inputs under a name of its own
+  // (its log's) and renames the copy into place, an atomic replacement, so that no run ever
+  // reads an input another is in the middle of writing (they are the same files).
   for (const char* f : {"bench_compress.in", "harmonic_contact.table"}) {
-    fs::copy_file(r.reference / f, r.directory / f, fs::copy_options::overwrite_existing);
+    const fs::path copy = r.directory / (std::string(f) + "." + r.log + ".partial");
+    fs::copy_file(r.reference / f, copy, fs::copy_options::overwrite_existing);
+    fs::rename(copy, r.directory / f);
   }
   const std::string cmd = lammps_command(r);
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);

@@ -33,8 +33,8 @@ struct LammpsResult {
 /// The shell command that runs the request (lmp, or mpirun -np R lmp).
 std::string lammps_command(const LammpsRequest& r);
 
-/// Copies the input and table next to the data file, runs LAMMPS, reads the log; throws on
-/// failure with the command.
+/// Copies the input and table next to the data file (safely while other runs in the same
+/// directory do the same), runs LAMMPS, reads the log; throws on failure with the command.
 LammpsResult run_lammps(const LammpsRequest& r);
 
 /// Reads a log of bench_compress.in; throws naming the file when something is missing.

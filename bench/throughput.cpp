@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <stdexcept>
 #include <thread>
@@ -43,6 +44,28 @@ System<D> near_jamming(std::int64_t n) {
   for (int k = 0; k < 150; ++k) warm.step(sys, 0.0, 0.05);
   sys.box.compression_rate = kRate;
   return sys;
+}
+
+/// Runs `other` on a second thread while `here` runs on this one, and rethrows the first
+/// exception once both have finished (one escaping a std::thread would abort the program).
+template <class F, class G>
+void side_by_side(F&& other, G&& here) {
+  std::exception_ptr other_error;
+  std::thread thread([&] {
+    try {
+      other();
+    } catch (...) {
+      other_error = std::current_exception();
+    }
+  });
+  try {
+    here();
+  } catch (...) {
+    thread.join();
+    throw;
+  }
+  thread.join();
+  if (other_error) std::rethrow_exception(other_error);
 }
 
 /// Runs `steps` Euler steps; returns the wall time in seconds.
@@ -104,9 +127,7 @@ void measure_size(const ThroughputOptions& o, std::int64_t n, const fs::path& wo
     if (o.two_cores) {
       System<D> a = sys, b = sys;
       const auto start = Clock::now();
-      std::thread other([&] { timed_steps(b, steps); });
-      timed_steps(a, steps);
-      other.join();
+      side_by_side([&] { timed_steps(b, steps); }, [&] { timed_steps(a, steps); });
       const double wall = std::chrono::duration<double>(Clock::now() - start).count();
       jam2.push_back(static_cast<double>(2 * steps * n) / wall);
       System<D> threaded = sys;
@@ -125,9 +146,7 @@ void measure_size(const ThroughputOptions& o, std::int64_t n, const fs::path& wo
     ra.log = "campaign_a.log";
     rb.log = "campaign_b.log";
     LammpsResult la, lb;
-    std::thread other([&] { lb = run_lammps(rb); });
-    la = run_lammps(ra);
-    other.join();
+    side_by_side([&] { lb = run_lammps(rb); }, [&] { la = run_lammps(ra); });
     lmp2c.push_back(static_cast<double>(r.steps * n) *
                     (1.0 / la.loop_seconds + 1.0 / lb.loop_seconds));
     LammpsRequest rm = r;
