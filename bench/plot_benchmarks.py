@@ -31,8 +31,6 @@ def throughput(rows, png):
             for engine, col, color in (("jam", "jam_particle_steps_per_s", "C0"),
                                        ("LAMMPS", "lammps_particle_steps_per_s", "C3")):
                 y = [float(r[col]) for r in sel]
-                if engine == "jam" and mode == "2 cores: one run":
-                    continue  # jam's single run is single-threaded: its 1-core curve
                 if max(y) <= 0:
                     continue
                 lbl = f"{engine} {dim}D, {mode}"
