@@ -38,29 +38,36 @@ struct PairLoopInput {
   double box_length;
 };
 
+/// The force f_ij = (f/r) (r_i - r_j) on i from j (HarmonicContact's f/r at the minimum-image
+/// separation): the scalar operations every form reproduces.
+template <int D>
+std::array<double, D> pair_force(const PairLoopInput<D>& in, std::uint32_t i, std::uint32_t j) {
+  std::array<double, D> dr;
+  double r2 = 0.0;
+  for (int d = 0; d < D; ++d) {
+    dr[d] = in.box_length * minimum_image(in.s[d][i] - in.s[d][j]);
+    r2 += dr[d] * dr[d];
+  }
+  HarmonicContact contact;
+  contact.inv_d = in.inv_d;
+  const double c = contact.force_over_r(r2, in.type[i] + in.type[j]);
+  for (int d = 0; d < D; ++d) dr[d] *= c;
+  return dr;
+}
+
 /// Adds the forces of the pairs in rows [first, last) into f (both partners), one pair at a
-/// time: f_ij = (f/r) (r_i - r_j) with f/r from HarmonicContact.
+/// time.
 template <int D>
 void accumulate_pair_forces_scalar(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
                                    const ForceArrays<D>& f) {
-  HarmonicContact contact;
-  contact.inv_d = in.inv_d;
   for (std::size_t i = first; i < last; ++i) {
-    std::array<double, D> si, fi{};
-    for (int d = 0; d < D; ++d) si[d] = in.s[d][i];
-    const int ti = in.type[i];
+    std::array<double, D> fi{};
     for (std::uint32_t k = in.offsets[i]; k < in.offsets[i + 1]; ++k) {
       const std::uint32_t j = in.neighbors[k];
-      std::array<double, D> dr;
-      double r2 = 0.0;
+      const std::array<double, D> f_ij = pair_force(in, static_cast<std::uint32_t>(i), j);
       for (int d = 0; d < D; ++d) {
-        dr[d] = in.box_length * minimum_image(si[d] - in.s[d][j]);
-        r2 += dr[d] * dr[d];
-      }
-      const double c = contact.force_over_r(r2, ti + in.type[j]);
-      for (int d = 0; d < D; ++d) {
-        fi[d] += c * dr[d];
-        f[d][j] -= c * dr[d];
+        fi[d] += f_ij[d];
+        f[d][j] -= f_ij[d];
       }
     }
     for (int d = 0; d < D; ++d) f[d][i] += fi[d];
@@ -84,17 +91,8 @@ struct PairBlock {
 template <int D>
 void separation_and_force_over_r(const PairLoopInput<D>& in, std::uint32_t k, std::uint32_t k0,
                                  PairBlock<D>& b) {
-  const std::uint32_t i = in.row_of_pair[k], j = in.neighbors[k];
-  std::array<double, D> dr;
-  double r2 = 0.0;
-  for (int d = 0; d < D; ++d) {
-    dr[d] = in.box_length * minimum_image(in.s[d][i] - in.s[d][j]);
-    r2 += dr[d] * dr[d];
-  }
-  HarmonicContact contact;
-  contact.inv_d = in.inv_d;
-  const double c = contact.force_over_r(r2, in.type[i] + in.type[j]);
-  for (int d = 0; d < D; ++d) b.f_ij[d][k - k0] = c * dr[d];
+  const std::array<double, D> f_ij = pair_force(in, in.row_of_pair[k], in.neighbors[k]);
+  for (int d = 0; d < D; ++d) b.f_ij[d][k - k0] = f_ij[d];
 }
 
 /// The reference for every form: sets f[d][first, n) to the forces of the pairs in rows

@@ -21,9 +21,7 @@
 #include "sim/model/species.hpp"
 #include "sim/neighbor/cell_list.hpp"
 #include "sim/parallel.hpp"
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "sim/simd.hpp"
 
 namespace jam {
 
