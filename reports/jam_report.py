@@ -7,23 +7,29 @@ and a plain-text summary. Called by `jam report DIR`; usable directly:
 The report only draws: every number comes from stats.h5, checks.json and checks.h5. It is
 built in a temporary directory next to the output and moved into place when complete, so a
 failed or interrupted report never leaves a half-written page behind (an older complete report
-stays until the new one replaces it).
+stays until the new one replaces it), nor any directory it created on the way.
+
+A failure is one line on stderr, `jam report: error: <file>: <cause>`, and the exit status
+says which kind: 1, the campaign is not ready for a report (stats.h5 or checks.json missing: a
+step has not been run); 2, an input that cannot be read (unreadable, truncated, corrupt,
+malformed) or an output that cannot be written (no space left on device, read-only file system,
+permission denied, an output path that is not a directory).
 """
 
 import argparse
 import datetime
 import os
 import platform
-import shutil
 import socket
 import subprocess
 import sys
-import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from report_data import ReportInputError, load_campaign  # noqa: E402
+from report_data import UNREADABLE, ReportInputError, cause, load_campaign  # noqa: E402
+from report_output import (ReportOutputError, check_target, publish, staging,  # noqa: E402
+                           write_text)
 
 # Debian packages whose versions the provenance lists (the project's dependencies).
 PACKAGES = ["lammps", "libhdf5-dev", "libgsl-dev", "libeigen3-dev", "libboost-test-dev",
@@ -89,16 +95,50 @@ def provenance(c, report_seconds):
     }
 
 
-def publish(temporary, out):
-    """Replaces `out` by the complete directory `temporary`."""
-    old = None
-    if os.path.exists(out):
-        old = tempfile.mkdtemp(prefix=os.path.basename(out) + ".old-", dir=os.path.dirname(out))
-        os.rmdir(old)
-        os.rename(out, old)
-    os.rename(temporary, out)
-    if old:
-        shutil.rmtree(old, ignore_errors=True)
+def write_report(c, out, started):
+    """Draws the report into a temporary directory and moves it to `out`; returns the summary."""
+    with staging(out) as temporary:
+        import report_figures
+        import report_html
+        figures = [f for f in (draw(c, temporary) for draw in report_figures.ALL) if f]
+        page = report_html.page(c, figures, provenance(c, time.monotonic() - started))
+        write_text(os.path.join(temporary, "index.html"), page)
+        summary = report_html.text_summary(c, os.path.join(out, "index.html"))
+        write_text(os.path.join(temporary, "summary.txt"), summary)
+        os.chmod(temporary, 0o755)
+        publish(temporary, out)
+    return summary
+
+
+def print_summary(summary):
+    try:
+        sys.stdout.write(summary)
+        sys.stdout.flush()
+    except OSError as e:
+        # Nothing more reaches stdout: without this, the flush at exit fails a second time.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        raise ReportOutputError(f"standard output: {cause(e)}") from e
+
+
+def run(a):
+    """The report of a.directory; the output path is checked before anything is drawn."""
+    started = time.monotonic()
+    out = os.path.abspath(a.out) if a.out else None
+    if out:
+        check_target(out)
+    c = load_campaign(a.directory)
+    if not out:
+        out = os.path.abspath(os.path.join("reports", c.name))
+        check_target(out)
+    summary = write_report(c, out, started)
+    if not a.quiet:
+        print_summary(summary)
+    return 0
+
+
+def fail(message, status=UNREADABLE):
+    print("jam report: error: " + " ".join(message.splitlines()), file=sys.stderr)
+    return status
 
 
 def main(argv=None):
@@ -107,34 +147,14 @@ def main(argv=None):
     parser.add_argument("--out", help="report directory (default reports/<campaign name>)")
     parser.add_argument("--quiet", action="store_true", help="no summary on stdout")
     a = parser.parse_args(argv)
-    started = time.monotonic()
     try:
-        c = load_campaign(a.directory)
+        return run(a)
     except ReportInputError as e:
-        print(f"jam report: error: {e}", file=sys.stderr)
-        return 1
-    out = os.path.abspath(a.out or os.path.join("reports", c.name))
-    os.makedirs(os.path.dirname(out), exist_ok=True)
-    temporary = tempfile.mkdtemp(prefix=os.path.basename(out) + ".partial-",
-                                 dir=os.path.dirname(out))
-    try:
-        import report_figures
-        import report_html
-        figures = [f for f in (draw(c, temporary) for draw in report_figures.ALL) if f]
-        page = report_html.page(c, figures, provenance(c, time.monotonic() - started))
-        with open(os.path.join(temporary, "index.html"), "w") as f:
-            f.write(page)
-        summary = report_html.text_summary(c, os.path.join(out, "index.html"))
-        with open(os.path.join(temporary, "summary.txt"), "w") as f:
-            f.write(summary)
-        os.chmod(temporary, 0o755)
-        publish(temporary, out)
-    except BaseException:
-        shutil.rmtree(temporary, ignore_errors=True)
-        raise
-    if not a.quiet:
-        sys.stdout.write(summary)
-    return 0
+        return fail(str(e), e.status)
+    except ReportOutputError as e:
+        return fail(str(e))
+    except OSError as e:
+        return fail(f"{e.filename}: {cause(e)}" if e.filename else cause(e))
 
 
 if __name__ == "__main__":

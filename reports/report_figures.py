@@ -46,8 +46,14 @@ def _decorate(ax, xlabel, ylabel, log_y=False):
 
 def _save(fig, out_dir, file):
     path = os.path.join(out_dir, file)
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    try:
+        fig.savefig(path, dpi=DPI)
+    except OSError as e:  # a full disk fails on close, where the error names no file
+        if e.filename is None:
+            e.filename = path
+        raise
+    finally:
+        plt.close(fig)
     return file
 
 

@@ -1,0 +1,295 @@
+#!/usr/bin/python3
+"""`jam report` (reports/jam_report.py) on inputs it cannot read and outputs it cannot write:
+each case must fail in one line on stderr, `jam report: error: <file>: <cause>`, with exit
+status 2, naming the cause, and leave nothing behind: no temporary directory, no directory the
+report created on the way, the output path as it was.
+
+The campaign is the stored reduced-scale 2D result (reference/results/reduced-2d) with a
+checks.h5 written here, so no `jam` binary is needed. The read-only file system and the full
+disk are small tmpfs mounts; where mounting is not allowed the full disk is skipped, and the
+read-only case uses a mode-0555 directory instead (which only a user other than root feels).
+
+Usage (ctest runs it): test_report_errors.py --source .
+Prints one line per case and a last line `N passed, M failed`; exit status 1 if any failed.
+"""
+
+import argparse
+import contextlib
+import errno
+import json
+import os
+import shutil
+import stat
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CAMPAIGN = os.path.join("reference", "results", "reduced-2d")
+TIMEOUT = 120  # seconds for one report; a report that hangs fails its case
+
+
+class Skip(Exception):
+    """A case that cannot run here; the message says why."""
+
+
+def report(directory, out):
+    """reports/jam_report.py DIR --out OUT --quiet; the completed process."""
+    script = os.path.join(SOURCE, "reports", "jam_report.py")
+    try:
+        return subprocess.run([sys.executable, script, directory, "--out", out, "--quiet"],
+                              capture_output=True, text=True, timeout=TIMEOUT)
+    except subprocess.TimeoutExpired as e:
+        raise AssertionError(f"the report did not finish in {TIMEOUT} s") from e
+
+
+def tree(root):
+    """Every path under root (not following links), relative to it."""
+    out = set()
+    for directory, dirs, files in os.walk(root):
+        for name in dirs + files:
+            out.add(os.path.relpath(os.path.join(directory, name), root))
+    return out
+
+
+def expect_error(r, words, before, root):
+    """Exit status 2, exactly one line on stderr holding `words`, nothing new under root."""
+    lines = r.stderr.splitlines()
+    if r.returncode != 2:
+        raise AssertionError(f"exit status {r.returncode}, expected 2; {len(lines)} lines "
+                             f"on stderr:\n{r.stderr}")
+    if len(lines) != 1:
+        raise AssertionError(f"{len(lines)} lines on stderr, expected 1:\n{r.stderr}")
+    if not lines[0].startswith("jam report: error: "):
+        raise AssertionError(f"not a jam report error: {lines[0]}")
+    missing = [w for w in words if w not in lines[0]]
+    if missing:
+        raise AssertionError(f"{missing} not in: {lines[0]}")
+    left = sorted(tree(root) - before)
+    if left:
+        raise AssertionError(f"left behind: {left}")
+    return lines[0]
+
+
+def write_checks_h5(path, checks_json):
+    """A checks.h5 for checks.json (reference/schema.md): one group per verdict, finite-size
+    curves on the ones that were tested."""
+    with open(checks_json) as f:
+        verdicts = json.load(f)
+    grid = np.linspace(0.80, 0.86, 400)
+    with h5py.File(path, "w") as f:
+        f.attrs["version"] = "test"
+        f.attrs["wall_time"] = 1.0
+        for k, v in enumerate(verdicts):
+            g = f.create_group(f"verdicts/{k:03d}_{v['check']}")
+            for key in ("check", "case", "status"):
+                g.attrs[key] = v[key]
+            if v["check"] == "finite_size" and v["status"] != "skipped":
+                g["grid"] = grid
+                g["delta"] = 0.01 * np.sin(40 * grid)
+                g["sigma"] = np.full_like(grid, 0.005)
+
+
+def campaign(work):
+    """A copy of the stored campaign in work/campaign, with a checks.h5."""
+    out = os.path.join(work, "campaign")
+    os.mkdir(out)
+    for name in ("stats.h5", "checks.json", "campaign.toml"):
+        shutil.copy(os.path.join(SOURCE, CAMPAIGN, name), out)
+    write_checks_h5(os.path.join(out, "checks.h5"), os.path.join(out, "checks.json"))
+    return out
+
+
+@contextlib.contextmanager
+def tmpfs(path, options):
+    """A tmpfs mounted at path (created) for the body; Skip when mounting is not allowed."""
+    os.mkdir(path)
+    try:
+        r = subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", path],
+                           capture_output=True, text=True, timeout=30)
+        why = r.stderr.strip() if r.returncode else ""
+    except (OSError, subprocess.TimeoutExpired) as e:
+        why = str(e)
+    if why:
+        raise Skip(f"mounting a tmpfs is not allowed here ({why})")
+    try:
+        yield path
+    finally:
+        r = subprocess.run(["umount", path], capture_output=True, text=True, timeout=30)
+        if r.returncode:
+            print(f"  could not unmount {path}: {r.stderr.strip()}")
+
+
+def fill(directory):
+    """Writes directory/filler until the file system is full."""
+    block = b"\0" * 65536
+    with open(os.path.join(directory, "filler"), "wb", buffering=0) as f:
+        while True:
+            try:
+                f.write(block)
+            except OSError as e:
+                if e.errno == errno.ENOSPC:
+                    return
+                raise
+
+
+def case_random_stats(work):
+    """stats.h5 is random bytes: fails before anything is drawn or created."""
+    camp = campaign(work)
+    with open(os.path.join(camp, "stats.h5"), "wb") as f:
+        f.write(np.random.default_rng(1).bytes(65536))
+    before = tree(work)
+    r = report(camp, os.path.join(work, "reports", "r"))
+    expect_error(r, ["stats.h5", "not a readable stats file"], before, work)
+
+
+def case_missing_dataset(work):
+    """stats.h5 is HDF5 but an ensemble lacks the pressure the figures draw."""
+    camp = campaign(work)
+    with h5py.File(os.path.join(camp, "stats.h5"), "r+") as f:
+        first = sorted(f["ensembles"])[0]
+        del f[f"ensembles/{first}/constant_phi/pressure_mean"]
+    before = tree(work)
+    r = report(camp, os.path.join(work, "reports", "r"))
+    expect_error(r, ["stats.h5", "pressure_mean", "missing"], before, work)
+
+
+def case_truncated_checks(work):
+    """checks.h5 cut to half its length, as a full disk or a crash leaves it."""
+    camp = campaign(work)
+    path = os.path.join(camp, "checks.h5")
+    os.truncate(path, os.path.getsize(path) // 2)
+    before = tree(work)
+    r = report(camp, os.path.join(work, "reports", "r"))
+    expect_error(r, ["checks.h5", "not a readable checks file"], before, work)
+
+
+def case_read_only(work):
+    """The output's parent is on a read-only file system (root) or mode 0555 (other users)."""
+    camp = campaign(work)
+    target = os.path.join(work, "ro")
+    if os.geteuid() != 0:
+        os.mkdir(target, 0o555)
+        try:
+            read_only_report(camp, work, target, "permission denied")
+        finally:
+            os.chmod(target, 0o755)
+        return
+    with tmpfs(target, "ro,size=1m"):
+        read_only_report(camp, work, target, "read-only file system")
+
+
+def read_only_report(camp, work, target, cause):
+    before = tree(work)
+    r = report(camp, os.path.join(target, "reports", "r"))
+    expect_error(r, [target, cause], before, work)
+
+
+def case_full_disk(work):
+    """The output goes to a full 1 MB file system: no report, and no reports/ left there."""
+    camp = campaign(work)
+    with tmpfs(os.path.join(work, "full"), "size=1m") as full:
+        fill(full)
+        before = tree(work)
+        r = report(camp, os.path.join(full, "reports", "r"))
+        expect_error(r, [os.path.join(full, "reports", "r"), "no space left on device"],
+                     before, work)
+
+
+def case_fifo(work):
+    """--out is a FIFO: refused before any work, the FIFO left as it was."""
+    camp = campaign(work)
+    fifo = os.path.join(work, "fifo")
+    os.mkfifo(fifo)
+    before = tree(work)
+    r = report(camp, fifo)
+    expect_error(r, [fifo, "FIFO", "not a directory"], before, work)
+    if not stat.S_ISFIFO(os.lstat(fifo).st_mode):
+        raise AssertionError(f"{fifo} is no longer a FIFO")
+
+
+def case_regular_file(work):
+    """--out is a regular file: refused, the file unchanged."""
+    camp = campaign(work)
+    path = os.path.join(work, "notes.txt")
+    with open(path, "w") as f:
+        f.write("notes\n")
+    before = tree(work)
+    r = report(camp, path)
+    expect_error(r, [path, "regular file", "not a directory"], before, work)
+    with open(path) as f:
+        if f.read() != "notes\n":
+            raise AssertionError(f"{path} was changed")
+
+
+def case_not_a_report(work):
+    """--out is a directory of other files: refused, not replaced (which would delete them)."""
+    camp = campaign(work)
+    path = os.path.join(work, "data")
+    os.mkdir(path)
+    with open(os.path.join(path, "results.csv"), "w") as f:
+        f.write("1,2\n")
+    before = tree(work)
+    r = report(camp, path)
+    expect_error(r, [path, "not a report"], before, work)
+
+
+CASES = [case_random_stats, case_missing_dataset, case_truncated_checks, case_read_only,
+         case_full_disk, case_fifo, case_regular_file, case_not_a_report]
+
+
+def check_fixture():
+    """The unmodified campaign copy makes a report, so the failures below are the planted ones;
+    None, or why not."""
+    work = tempfile.mkdtemp(prefix="jam-report-errors-")
+    try:
+        r = report(campaign(work), os.path.join(work, "reports", "r"))
+        if r.returncode != 0 or not os.path.isfile(os.path.join(work, "reports", "r",
+                                                                "index.html")):
+            return f"the intact campaign makes no report (exit {r.returncode}):\n{r.stderr}"
+        return None
+    except AssertionError as e:
+        return str(e)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def run_case(case):
+    """Runs one case in its own scratch directory: 'passed', 'failed' or 'skipped'."""
+    name = case.__name__.removeprefix("case_")
+    work = tempfile.mkdtemp(prefix="jam-report-errors-")
+    try:
+        case(work)
+        print(f"passed  {name}")
+        return "passed"
+    except Skip as e:
+        print(f"skipped {name}: {e}")
+        return "skipped"
+    except AssertionError as e:
+        print(f"FAILED  {name}: {e}")
+        return "failed"
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def main():
+    global SOURCE
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--source", default=SOURCE, help="the source tree (holds reports/)")
+    SOURCE = os.path.abspath(parser.parse_args().source)
+    broken = check_fixture()
+    if broken:
+        print(f"FAILED  fixture: {broken}")
+        print("0 passed, 1 failed")
+        return 1
+    results = [run_case(case) for case in CASES]
+    passed, failed = results.count("passed"), results.count("failed")
+    print(f"{passed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
