@@ -13,6 +13,8 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   run->add_option("--jobs", a.run.jobs, "Runs at once per process (0 = all cores)");
   run->add_flag("--retry-failed", a.run.retry_failed, "Also redo runs whose last attempt failed");
   run->add_flag("--quiet", a.run.quiet, "No progress display and no summary");
+  run->add_flag("--force", a.run.force,
+                "Run even runs beyond the per-run limits on steps, output points and memory");
   CLI::App* status =
       campaign->add_subcommand("status", "Print what is done, partial, missing, failed");
   status->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();

@@ -45,6 +45,11 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
 }
 
 int run_check_command(const CheckArgs& a) {
+  // A campaign directory that is not there is a mistake in the command, not an empty result:
+  // no check creates it (the lammps check writes its work files inside it).
+  if (!std::filesystem::is_directory(a.directory)) {
+    throw std::runtime_error(fmt::format("{}: no such campaign directory", a.directory));
+  }
   checks::CheckOptions o = a.options;
   if (!(o.alpha > 0 && o.alpha < 1))
     throw std::runtime_error(fmt::format("--alpha {:g}: must be in (0, 1)", o.alpha));

@@ -60,8 +60,11 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("report")) return jam::run_report_command(report_args);
     if (app.got_subcommand("bench")) return jam::run_bench_command(app, bench_args, argc, argv);
   } catch (const std::exception& e) {
+    // The tool could not do what was asked (bad input, a missing or unreadable file, a full
+    // disk): exit status 2 in every subcommand, apart from the results a command reports
+    // itself (a failed verdict, a failed run: 1).
     fmt::print(stderr, "jam: error: {}\n", e.what());
-    return 1;
+    return 2;
   }
   return 0;
 }

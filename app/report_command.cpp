@@ -1,13 +1,13 @@
 #include "app/report_command.hpp"
 
 #include <fmt/format.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
+
+#include "sim/io/process.hpp"
 
 namespace jam {
 namespace fs = std::filesystem;
@@ -52,19 +52,7 @@ int run_report_command(const ReportArgs& a) {
     args.push_back(a.out);
   }
   if (a.quiet) args.push_back("--quiet");
-  std::vector<char*> argv;
-  for (auto& s : args) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  const pid_t child = fork();
-  if (child < 0) throw std::runtime_error("report: fork failed");
-  if (child == 0) {
-    execvp(argv[0], argv.data());
-    fmt::print(stderr, "jam: error: report: cannot run {} (install python3)\n", args[0]);
-    _exit(127);
-  }
-  int status = 0;
-  if (waitpid(child, &status, 0) < 0) throw std::runtime_error("report: waitpid failed");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+  return run_program(args);
 }
 
 }  // namespace jam

@@ -22,7 +22,17 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
   sim->add_option("--integrator", c.integrator,
                   "euler or heun (overdamped; default heun), verlet (inertial)");
   sim->add_option("--q", c.q, "Quality factor Q (inertial dynamics only)");
-  sim->add_option("--seed", c.seed, "Seed of the random initial configuration");
+  sim->add_option("--seed", c.seed, "Seed of the random initial configuration, 0 ... 2^63-1")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            try {
+              parse_seed("seed", text);
+            } catch (const ConfigError&) {
+              return text + " is not an integer in [0, 2^63 - 1]";
+            }
+            return std::string();
+          },
+          "SEED", "seed"));
   sim->add_option("--threads", c.threads,
                   "Threads of this run; bitwise reproducible for a given count (campaigns run one "
                   "single-threaded run per core instead)");
@@ -50,6 +60,9 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
                   "Write the configuration at phi-stop as a LAMMPS data file (a start for a "
                   "slower rate, as in the paper's protocol)");
   sim->add_flag("--quiet", c.quiet, "No progress display and no summary");
+  sim->add_flag("--force", c.force,
+                "Run even beyond the limits on steps (1e10), output points (1e6) and memory "
+                "(half of this machine's) that otherwise refuse the run");
   sim->add_option("--checkpoint-interval", c.checkpoint_interval,
                   "Seconds of wall time between checkpoints (<out>.checkpoint); 0 = none. An "
                   "interrupted run resumes from its checkpoint when run again");

@@ -8,24 +8,67 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/io/process.hpp"
+
 namespace jam::bench {
 namespace fs = std::filesystem;
 
 bool lmp_available() {
-  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+  return !find_program("lmp").empty();
 }
 
-std::string lammps_command(const LammpsRequest& r) {
+std::vector<std::string> lammps_command(const LammpsRequest& r) {
+  std::vector<std::string> argv;
+  if (r.ranks > 1) {
+    argv = {"mpirun", "--allow-run-as-root", "--oversubscribe", "-np", std::to_string(r.ranks)};
+  }
   // Species of the paper: gamma_s = k_d V_s = 2/D, V_b/V_s = 1.4^D, d_sb = 1.2, d_bb = 1.4.
-  const std::string mpi =
-      r.ranks > 1 ? fmt::format("mpirun --allow-run-as-root --oversubscribe -np {} ", r.ranks) : "";
-  return fmt::format(
-      "cd '{}' && {}lmp -log '{}' -screen none -in bench_compress.in -var data '{}' -var table "
-      "harmonic_contact.table -var dim {} -var rate {:.17g} -var dt {:.17g} -var steps {} -var "
-      "every {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} -var d_sb 1.2 -var "
-      "d_bb 1.4 > /dev/null 2>&1",
-      r.directory.string(), mpi, r.log, r.data, r.dim, r.rate, r.dt, r.steps, r.every, 2.0 / r.dim,
-      std::pow(1.4, r.dim));
+  auto g = [](double v) { return fmt::format("{:.17g}", v); };
+  const std::vector<std::string> lmp = {"lmp",
+                                        "-log",
+                                        r.log,
+                                        "-screen",
+                                        "none",
+                                        "-in",
+                                        "bench_compress.in",
+                                        "-var",
+                                        "data",
+                                        r.data,
+                                        "-var",
+                                        "table",
+                                        "harmonic_contact.table",
+                                        "-var",
+                                        "dim",
+                                        std::to_string(r.dim),
+                                        "-var",
+                                        "rate",
+                                        g(r.rate),
+                                        "-var",
+                                        "dt",
+                                        g(r.dt),
+                                        "-var",
+                                        "steps",
+                                        std::to_string(r.steps),
+                                        "-var",
+                                        "every",
+                                        std::to_string(r.every),
+                                        "-var",
+                                        "skin",
+                                        "0.3",
+                                        "-var",
+                                        "gamma_s",
+                                        g(2.0 / r.dim),
+                                        "-var",
+                                        "drag_ratio",
+                                        g(std::pow(1.4, r.dim)),
+                                        "-var",
+                                        "d_sb",
+                                        "1.2",
+                                        "-var",
+                                        "d_bb",
+                                        "1.4"};
+  argv.insert(argv.end(), lmp.begin(), lmp.end());
+  return argv;
 }
 
 LammpsResult run_lammps(const LammpsRequest& r) {
@@ -37,8 +80,13 @@ LammpsResult run_lammps(const LammpsRequest& r) {
     fs::copy_file(r.reference / f, copy, fs::copy_options::overwrite_existing);
     fs::rename(copy, r.directory / f);
   }
-  const std::string cmd = lammps_command(r);
-  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);
+  ProcessOptions where;
+  where.working_directory = r.directory;
+  where.stdout_file = where.stderr_file = "/dev/null";
+  if (const int status = run_program(lammps_command(r), where); status != 0) {
+    throw std::runtime_error(
+        fmt::format("lmp failed (exit status {}); see {}", status, (r.directory / r.log).string()));
+  }
   return read_lammps_log(r.directory / r.log);
 }
 

@@ -30,8 +30,8 @@ struct LammpsResult {
   std::vector<double> step, time, pressure;
 };
 
-/// The shell command that runs the request (lmp, or mpirun -np R lmp).
-std::string lammps_command(const LammpsRequest& r);
+/// The argument vector that runs the request (lmp, or mpirun -np R lmp); no shell.
+std::vector<std::string> lammps_command(const LammpsRequest& r);
 
 /// Copies the input and table next to the data file (safely while other runs in the same
 /// directory do the same), runs LAMMPS, reads the log; throws on failure with the command.

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/process.hpp"
 
 #ifndef JAM_BENCH_SCRIPT
 #define JAM_BENCH_SCRIPT "bench/plot_benchmarks.py"
@@ -41,10 +42,14 @@ void write_text_file(const std::string& path, const std::string& text) {
 }
 
 bool plot(const std::string& kind, const std::string& csv, const std::string& png) {
-  const std::string cmd =
-      fmt::format("/usr/bin/python3 '{}' {} '{}' '{}'", JAM_BENCH_SCRIPT, kind, csv, png);
-  if (std::system(cmd.c_str()) != 0) {
-    fmt::print(stderr, "jam bench: no plot ({} failed; needs python3-matplotlib)\n", cmd);
+  int status = 127;
+  try {
+    status = run_program({"/usr/bin/python3", JAM_BENCH_SCRIPT, kind, csv, png});
+  } catch (const std::exception&) {
+  }
+  if (status != 0) {
+    fmt::print(stderr, "jam bench: no plot {} ({} failed; needs python3-matplotlib)\n", png,
+               JAM_BENCH_SCRIPT);
     return false;
   }
   return true;

@@ -47,6 +47,15 @@ const char* to_string(RunStatus s) {
   return "?";
 }
 
+void remove_stale_temporaries(const std::string& directory) {
+  for (const char* sub : {"", "runs", "starts"}) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(fs::path(directory) / sub, ec)) {
+      if (e.path().extension() == ".partial" && e.is_regular_file()) fs::remove(e.path(), ec);
+    }
+  }
+}
+
 Campaign stored_campaign(const std::string& directory) {
   return read_campaign((fs::path(directory) / "campaign.toml").string());
 }
@@ -84,17 +93,16 @@ void prepare_campaign_directory(const Campaign& c) {
 RunStatus run_status(const PlannedRun& run, std::string* detail) {
   const std::string& file = run.config.out;
   if (fs::exists(file)) {
-    std::string problem = run_file_problem(file);
+    // Done only when the file is sound and its own stored parameters are the planned run's,
+    // whatever campaign.toml and manifest.toml say (they can be deleted or edited).
+    const RunFileCheck check = check_run_file(file);
+    std::string problem = check.problem;
+    if (problem.empty()) problem = run_identity_problem(file, run.config);
     if (problem.empty()) {
-      try {
-        const h5::File f = h5::File::open_read(file);
-        if (f.read_attribute_int("seed") == static_cast<std::int64_t>(run.config.seed)) {
-          return RunStatus::kDone;
-        }
-        problem = "run file belongs to another run (seed)";
-      } catch (const std::exception& e) {
-        problem = e.what();
+      if (detail && !check.verified) {
+        *detail = "unverified: written before run files checksummed their attributes";
       }
+      return RunStatus::kDone;
     }
     if (detail) *detail = problem;
     return RunStatus::kCorrupt;

@@ -23,6 +23,11 @@ const char* to_string(RunStatus s);
 /// with (only sizes, phi_init, log10_rates and samples may change), then stores the campaign.
 void prepare_campaign_directory(const Campaign& campaign);
 
+/// Removes the temporary files ("*.partial", atomic_file.hpp) that processes killed while
+/// writing left in the directory, runs/ and starts/. Only the directory's owner (the holder of
+/// its CampaignLock) may call it: nobody else can be writing them.
+void remove_stale_temporaries(const std::string& directory);
+
 /// The campaign a directory was last run with.
 Campaign stored_campaign(const std::string& directory);
 

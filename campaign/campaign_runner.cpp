@@ -12,12 +12,15 @@
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include "campaign/campaign_dir.hpp"
+#include "campaign/campaign_lock.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/throughput.hpp"
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/run/stop_signal.hpp"
 
@@ -46,11 +49,48 @@ std::vector<std::size_t> share_of_rank(const std::vector<PlannedRun>& plan,
   return mine;
 }
 
+/// Refuses the whole campaign before any work when one of its runs is beyond the limits.
+void validate_costs(const Campaign& c, const std::vector<PlannedRun>& plan, bool force) {
+  for (const auto& run : plan) {
+    try {
+      validate_cost(run.config, run.n, force);
+    } catch (const ConfigError& e) {
+      throw CampaignError(fmt::format("{}: run {}: {}", c.source_path, run.name, e.what()));
+    }
+  }
+}
+
+/// A run file that is not the planned run's result (damaged, or written with other
+/// parameters) is moved aside to <name>.h5.rejected, never deleted: it may be someone's result.
+void set_aside(const PlannedRun& run) {
+  const std::string aside = run.config.out + ".rejected";
+  std::error_code ec;
+  std::filesystem::rename(run.config.out, aside, ec);
+  if (ec) throw WriteError(fmt::format("cannot move {} aside: {}", run.config.out, ec.message()));
+}
+
 }  // namespace
 
 int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ranks& ranks) {
   const std::vector<PlannedRun> plan = plan_runs(c);
-  if (ranks.rank == 0) prepare_campaign_directory(c);
+  validate_costs(c, plan, options.force);
+  std::optional<CampaignLock> owner;
+  if (ranks.rank == 0) {
+    try {
+      check_output_directory("output", c.output);
+    } catch (const ConfigError& e) {
+      throw CampaignError(fmt::format("{}: {}", c.source_path, e.what()));
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(c.output, ec);
+    if (ec) {
+      throw CampaignError(
+          fmt::format("{}: output: cannot create '{}': {}", c.source_path, c.output, ec.message()));
+    }
+    owner.emplace(c.output);
+    remove_stale_temporaries(c.output);
+    prepare_campaign_directory(c);
+  }
   barrier();
 
   // Rank 0 decides what is pending and everybody works from that one list, so no run is done
@@ -63,7 +103,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       if (s == RunStatus::kDone) {
         ++already_done;
       } else if (s != RunStatus::kFailed || options.retry_failed) {
-        if (s == RunStatus::kCorrupt) std::filesystem::remove(plan[k].config.out);
+        if (s == RunStatus::kCorrupt) set_aside(plan[k]);
         pending.push_back(static_cast<std::int64_t>(k));
       }
     }

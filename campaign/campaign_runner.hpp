@@ -10,6 +10,7 @@ struct CampaignRunOptions {
   int jobs = 0;               // worker threads per process; 0: all cores
   bool retry_failed = false;  // also redo runs whose last attempt failed
   bool quiet = false;
+  bool force = false;  // run beyond the per-run limits of validate_cost (sim_config.hpp)
 };
 
 /// Returns the exit status: 0 when every run is done, 1 when some failed, 130 when

@@ -6,14 +6,16 @@
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
+#include <vector>
 
+#include "sim/io/process.hpp"
 #include "sim/run/compression_run.hpp"
 
 namespace jam::checks {
 namespace fs = std::filesystem;
 
 bool lmp_available() {
-  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+  return !find_program("lmp").empty();
 }
 
 std::string lammps_version(const fs::path& log) {
@@ -30,14 +32,60 @@ void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double 
     fs::copy_file(reference / f, dir / f, fs::copy_options::overwrite_existing);
   }
   // Species of the paper: gamma_s = k_d V_s = 2/D, V_b/V_s = 1.4^D, d_sb = 1.2, d_bb = 1.4.
-  const std::string cmd = fmt::format(
-      "cd {} && lmp -log {} -screen none -in compress_inertial.in -var data {} -var table "
-      "harmonic_contact.table -var out {} -var dim {} -var rate {:.17g} -var dt {:.17g} -var steps "
-      "{} "
-      "-var every {} -var skin 0.3 -var gamma_s {:.17g} -var drag_ratio {:.17g} -var d_sb 1.2 "
-      "-var d_bb 1.4",
-      dir.string(), log, data, end, dim, rate, dt, steps, every, 2.0 / dim, std::pow(1.4, dim));
-  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("lmp failed: " + cmd);
+  auto g = [](double v) { return fmt::format("{:.17g}", v); };
+  const std::vector<std::string> argv = {"lmp",
+                                         "-log",
+                                         log,
+                                         "-screen",
+                                         "none",
+                                         "-in",
+                                         "compress_inertial.in",
+                                         "-var",
+                                         "data",
+                                         data,
+                                         "-var",
+                                         "table",
+                                         "harmonic_contact.table",
+                                         "-var",
+                                         "out",
+                                         end,
+                                         "-var",
+                                         "dim",
+                                         std::to_string(dim),
+                                         "-var",
+                                         "rate",
+                                         g(rate),
+                                         "-var",
+                                         "dt",
+                                         g(dt),
+                                         "-var",
+                                         "steps",
+                                         std::to_string(steps),
+                                         "-var",
+                                         "every",
+                                         std::to_string(every),
+                                         "-var",
+                                         "skin",
+                                         "0.3",
+                                         "-var",
+                                         "gamma_s",
+                                         g(2.0 / dim),
+                                         "-var",
+                                         "drag_ratio",
+                                         g(std::pow(1.4, dim)),
+                                         "-var",
+                                         "d_sb",
+                                         "1.2",
+                                         "-var",
+                                         "d_bb",
+                                         "1.4"};
+  ProcessOptions where;
+  where.working_directory = dir;
+  where.stdout_file = "/dev/null";
+  if (const int status = run_program(argv, where); status != 0) {
+    throw std::runtime_error(
+        fmt::format("lmp failed (exit status {}); see {}", status, (dir / log).string()));
+  }
 }
 
 void write_relaxed_start(const StartSpec& spec, const fs::path& data) {

@@ -14,9 +14,10 @@ import h5py
 import numpy as np
 
 
-# Exit status of a campaign that is not ready for a report (a step has not been run yet);
-# an input that exists but cannot be read (unreadable, corrupt, malformed) is UNREADABLE.
-NOT_READY = 1
+# Exit status of a campaign that is not ready for a report (a step has not been run yet) and
+# of an input that exists but cannot be read (unreadable, corrupt, malformed): both are tool
+# errors, exit status 2 as in every jam subcommand.
+NOT_READY = 2
 UNREADABLE = 2
 
 

@@ -1,13 +1,14 @@
 #pragma once
-// Child processes for the tests that kill runs: spawn jam with its output discarded, wait,
-// and read files whole.
+// Child processes for the tests, started from an argument vector (jam::run_program, no shell):
+// jam with its output in a file or discarded, waiting, and reading files whole.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <filesystem>
+#include <csignal>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -15,26 +16,41 @@
 #include <string>
 #include <vector>
 
+#include "sim/io/process.hpp"
+
 extern char** environ;
 
 namespace jam::test {
 
-/// Starts `jam <args>` (args split on blanks) with stdout and stderr sent to /dev/null.
-inline pid_t spawn_jam(const std::string& args) {
-  std::vector<std::string> words = {JAM_EXECUTABLE};
+/// The words of args, split on blanks (the tests' paths have none).
+inline std::vector<std::string> words(const std::string& args) {
+  std::vector<std::string> w;
   std::istringstream in(args);
-  for (std::string w; in >> w;) words.push_back(w);
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
+  for (std::string word; in >> word;) w.push_back(word);
+  return w;
+}
+
+/// argv of `jam <args>`.
+inline std::vector<std::string> jam_argv(const std::string& args) {
+  std::vector<std::string> argv = {JAM_EXECUTABLE};
+  for (auto& w : words(args)) argv.push_back(w);
+  return argv;
+}
+
+/// Starts `jam <args>` with stdout and stderr sent to /dev/null, without waiting.
+inline pid_t spawn_jam(const std::string& args) {
+  std::vector<std::string> argv = jam_argv(args);
+  std::vector<char*> raw;
+  for (auto& w : argv) raw.push_back(w.data());
+  raw.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
   pid_t pid = -1;
-  const int error = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int error = posix_spawn(&pid, raw[0], &actions, nullptr, raw.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) throw std::runtime_error("cannot start " + words[0]);
+  if (error != 0) throw std::runtime_error("cannot start " + argv[0]);
   return pid;
 }
 
@@ -51,18 +67,46 @@ inline std::string slurp(const std::filesystem::path& file) {
 }
 
 struct Outcome {
-  int status;  // exit status, -1 when killed
+  int status;          // exit status; 128 + the signal when killed
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `jam <args>` through the shell and waits; its output goes through `log`. `prefix` is
-/// put before the command (ulimit, traps).
+/// Runs argv and waits; its stdout and stderr go to `log` and come back in the outcome.
+inline Outcome run_logged(const std::filesystem::path& log, const std::vector<std::string>& argv) {
+  jam::ProcessOptions o;
+  o.stdout_file = o.stderr_file = log.string();
+  const int status = jam::run_program(argv, o);
+  return {status, slurp(log)};
+}
+
+/// Limits for a child: the largest file it may write (0: none). SIGXFSZ is ignored for the
+/// duration, so that a write beyond the limit fails with EFBIG as on a full disk.
+struct Limits {
+  long file_size_bytes = 0;
+};
+
+/// Runs `jam <args>` and waits; its output goes through `log`.
 inline Outcome run_jam_logged(const std::filesystem::path& log, const std::string& args,
-                              const std::string& prefix = "") {
-  const std::string cmd = "sh -c '" + prefix + std::string(JAM_EXECUTABLE) + " " + args + " > " +
-                          log.string() + " 2>&1'";
-  const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(log)};
+                              const Limits& limits = {}) {
+  std::vector<std::string> argv = jam_argv(args);
+  if (limits.file_size_bytes > 0) {
+    argv.insert(argv.begin(),
+                {"prlimit", "--fsize=" + std::to_string(limits.file_size_bytes), "--"});
+    auto* previous = std::signal(SIGXFSZ, SIG_IGN);  // inherited through exec
+    const Outcome o = run_logged(log, argv);
+    std::signal(SIGXFSZ, previous);
+    return o;
+  }
+  return run_logged(log, argv);
+}
+
+/// Runs `jam <args>` with stdout discarded and stderr returned in the outcome.
+inline Outcome run_jam_stderr(const std::filesystem::path& err, const std::string& args) {
+  jam::ProcessOptions o;
+  o.stdout_file = "/dev/null";
+  o.stderr_file = err.string();
+  const int status = jam::run_program(jam_argv(args), o);
+  return {status, slurp(err)};
 }
 
 }  // namespace jam::test

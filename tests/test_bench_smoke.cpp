@@ -51,13 +51,11 @@ Csv read_csv(const fs::path& path) {
 }
 
 int run_jam(const std::string& args) {
-  const std::string cmd =
-      std::string(JAM_EXECUTABLE) + " " + args + " > " + (kDir / "out.txt").string() + " 2>&1";
-  return WEXITSTATUS(std::system(cmd.c_str()));
+  return jam::test::run_jam_logged(kDir / "out.txt", args).status;
 }
 
 bool have_lmp() {
-  return std::system("command -v lmp > /dev/null 2>&1") == 0;
+  return !jam::find_program("lmp").empty();
 }
 
 struct Cleanup {

@@ -59,8 +59,7 @@ void check_resume(const std::string& args, int kills, int signal_number, unsigne
     std::string loud = interrupted;
     loud.erase(loud.find(" --quiet"), 8);
     const fs::path log = kDir / "final.txt";
-    const std::string cmd = std::string(JAM_EXECUTABLE) + " sim " + loud + " > " + log.string();
-    BOOST_TEST_REQUIRE(std::system(cmd.c_str()) == 0);
+    BOOST_TEST_REQUIRE(jam::test::run_jam_logged(log, "sim " + loud).status == 0);
     if (had_checkpoint) {
       BOOST_TEST(slurp(log).find("resumed from checkpoint") != std::string::npos, slurp(log));
     }

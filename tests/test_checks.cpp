@@ -12,6 +12,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/relative_difference.hpp"
+#include "sim/io/process.hpp"
 #include "synthetic_runs.hpp"
 
 using namespace jam::checks;
@@ -152,11 +153,10 @@ BOOST_AUTO_TEST_CASE(json_and_junit_are_valid_and_exit_status_follows_failures) 
       std::filesystem::temp_directory_path() / ("jam-junit-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "checks.xml") << to_junit_xml({pass, fail, skip}, "jam.check.all");
-  const std::string cmd =
-      "python3 -c \"import xml.etree.ElementTree as E; r = E.parse('" +
-      (dir / "checks.xml").string() +
-      "').getroot(); assert r.get('failures') == '1' and r.get('skipped') == '1' and "
-      "len(r.findall('testcase')) == 3 and len(r.findall('testcase/failure')) == 1\"";
-  BOOST_TEST(std::system(cmd.c_str()) == 0);
+  const std::string script =
+      "import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1]).getroot(); "
+      "assert r.get('failures') == '1' and r.get('skipped') == '1' and "
+      "len(r.findall('testcase')) == 3 and len(r.findall('testcase/failure')) == 1";
+  BOOST_TEST(jam::run_program({"python3", "-c", script, (dir / "checks.xml").string()}) == 0);
   std::filesystem::remove_all(dir);
 }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "helpers.hpp"
+#include "process.hpp"
 #include "sim/dynamics/inertial_verlet.hpp"
 #include "sim/dynamics/overdamped_euler.hpp"
 #include "sim/dynamics/overdamped_heun.hpp"
@@ -119,11 +120,11 @@ void through_jam_sim(double phi, double phi_stop) {
   const fs::path out = kDir / ("run" + std::to_string(D) + ".h5");
   jam::write_lammps_data(data.string(), sys.particles, sys.box.initial_length, 1.0, 1.0,
                          "coincident start");
-  const std::string cmd =
-      std::string(JAM_EXECUTABLE) + " sim --dim " + std::to_string(D) + " --read-lammps-data " +
-      data.string() + " --phi-stop " + std::to_string(phi_stop) +
-      " --rate 1e-3 --relax-time-max 20 --quiet --rattlers --stress --out " + out.string();
-  BOOST_REQUIRE_EQUAL(std::system(cmd.c_str()), 0);
+  const std::string args = "sim --dim " + std::to_string(D) + " --read-lammps-data " +
+                           data.string() + " --phi-stop " + std::to_string(phi_stop) +
+                           " --rate 1e-3 --relax-time-max 20 --quiet --rattlers --stress --out " +
+                           out.string();
+  BOOST_REQUIRE_EQUAL(jam::test::run_jam_logged(kDir / "log.txt", args).status, 0);
   const auto f = jam::h5::File::open_read(out.string());
   for (const char* name : {"pressure", "energy_per_particle", "contacts_per_particle",
                            "contacts_per_particle_no_rattlers", "packing_fraction"}) {

@@ -13,11 +13,12 @@
 #include <filesystem>
 
 #include "checks/lammps_check.hpp"
+#include "sim/io/process.hpp"
 
 namespace fs = std::filesystem;
 
 BOOST_AUTO_TEST_CASE(inertial_dynamics_follows_lammps_run_now) {
-  BOOST_TEST_REQUIRE(std::system("command -v lmp > /dev/null 2>&1") == 0,
+  BOOST_TEST_REQUIRE(!jam::find_program("lmp").empty(),
                      "LAMMPS (lmp) is needed: scripts/setup.sh installs it");
   const fs::path dir = fs::temp_directory_path() / ("jam-lammps-" + std::to_string(::getpid()));
   jam::checks::LammpsCheckOptions o;

@@ -16,6 +16,7 @@
 
 #include "campaign/campaign_file.hpp"
 #include "helpers.hpp"
+#include "process.hpp"
 #include "sim/dynamics/overdamped_euler.hpp"
 #include "sim/io/hdf5_file.hpp"
 
@@ -106,13 +107,15 @@ BOOST_AUTO_TEST_CASE(two_particles) {
   const fs::path dir = fs::temp_directory_path() / ("jam-long-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string out = (dir / "two.h5").string();
-  const std::string jam = std::string(JAM_EXECUTABLE) + " sim --quiet --n 2 --out " + out;
-  BOOST_TEST(std::system((jam + " --phi-init 0.1 --phi-stop 0.2 --rate 1e-2").c_str()) == 0);
+  const fs::path log = dir / "log.txt";
+  auto jam = [&](const std::string& args) {
+    return jam::test::run_jam_logged(log, "sim --quiet --n 2 --out " + out + " " + args).status;
+  };
+  BOOST_TEST(jam("--phi-init 0.1 --phi-stop 0.2 --rate 1e-2") == 0);
   BOOST_TEST(jam::h5::File::open_read(out).read_dataset("pressure").size() > 50u);
-  BOOST_TEST(std::system((jam + " --dim 3 --phi-init 0.02 --phi-stop 0.049 --rate 1e-2").c_str()) ==
-             0);
+  BOOST_TEST(jam("--dim 3 --phi-init 0.02 --phi-stop 0.049 --rate 1e-2") == 0);
   fs::remove(out);
-  BOOST_TEST(std::system((jam + " --phi-init 0.1 --phi-stop 0.21 2>/dev/null").c_str()) != 0);
+  BOOST_TEST(jam("--phi-init 0.1 --phi-stop 0.21") != 0);
   BOOST_TEST(!fs::exists(out));
   fs::remove_all(dir);
 }

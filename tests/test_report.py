@@ -162,7 +162,7 @@ class Report(unittest.TestCase):
         empty = os.path.join(self.work, "runs", "empty")
         os.makedirs(empty)
         r = run([ARGS.jam, "report", empty, "--out", os.path.join(self.work, "reports", "x")],
-                self.work, expect=(1,))
+                self.work, expect=(2,))
         self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
         self.assertIn("stats.h5", r.stderr)
         self.assertFalse(os.path.exists(os.path.join(self.work, "reports", "x")))

@@ -8,6 +8,7 @@
 #include <iterator>
 
 #include "helpers.hpp"
+#include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_data.hpp"
 #include "sim/run/compression_run.hpp"
@@ -70,7 +71,7 @@ BOOST_AUTO_TEST_CASE(schema_and_output_grid) {
     SimConfig c = small_run(dir / "run.h5", dim);
     c.rattlers = c.stress = true;
     run_compression(c);
-    BOOST_TEST(!fs::exists(dir / "run.h5.partial"));
+    BOOST_TEST(!fs::exists(jam::AtomicFile::temporary_name(c.out)));
     const h5::File f = h5::File::open_read(c.out);
     BOOST_TEST(f.read_attribute_int("dim") == dim);
     BOOST_TEST(f.read_attribute_int("n") == 128);

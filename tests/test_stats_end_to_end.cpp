@@ -22,11 +22,9 @@ namespace {
 const fs::path kDir = fs::temp_directory_path() / ("jam-stats-" + std::to_string(::getpid()));
 
 int run_jam(const std::string& args, std::string* output = nullptr) {
-  const fs::path log = kDir / "log.txt";
-  const int raw = std::system(
-      (std::string(JAM_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1").c_str());
-  if (output) *output = slurp(log);
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  const auto o = jam::test::run_jam_logged(kDir / "log.txt", args);
+  if (output) *output = o.output;
+  return o.status;
 }
 
 struct Campaign {
@@ -99,8 +97,8 @@ BOOST_AUTO_TEST_CASE(pooled_sizes_and_held_exponents) {
 
 BOOST_AUTO_TEST_CASE(paper_q_held_alone) {
   std::string out;
-  BOOST_TEST_REQUIRE(
-      run_jam("stats --fix-paper-q --order 3 " + (kDir / "ci").string(), &out) == 0, out);
+  BOOST_TEST_REQUIRE(run_jam("stats --fix-paper-q --order 3 " + (kDir / "ci").string(), &out) == 0,
+                     out);
   const jam::h5::File f = jam::h5::File::open_read((kDir / "ci" / "stats.h5").string());
   if (f.has_dataset("fit/representative/coefficients")) {
     BOOST_TEST(f.read_attribute_string("fixed", "fit/representative") == "q");

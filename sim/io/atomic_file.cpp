@@ -1,12 +1,28 @@
 #include "sim/io/atomic_file.hpp"
 
 #include <fmt/format.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 namespace jam {
+
+std::string write_failure(const std::string& path, int error) {
+  if (error == 0 || error == EIO) {
+    const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+    struct statvfs fs {};
+    if (::statvfs(parent.c_str(), &fs) == 0 && fs.f_bavail == 0) error = ENOSPC;
+  }
+  return error != 0 ? std::strerror(error) : "I/O error";
+}
+
+std::string AtomicFile::temporary_name(const std::string& path) {
+  return fmt::format("{}.{}.partial", path, ::getpid());
+}
 
 AtomicFile::AtomicFile(std::string path)
     : path_(std::move(path)), temporary_(temporary_name(path_)) {
@@ -26,7 +42,7 @@ void AtomicFile::commit() {
   const bool close_failed = std::fclose(stream_) != 0;
   stream_ = nullptr;
   if (write_failed || close_failed) {
-    throw WriteError(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));
+    throw WriteError(fmt::format("cannot write '{}': {}", path_, write_failure(path_, errno)));
   }
   publish(path_);
   committed_ = true;

@@ -1,7 +1,9 @@
 #pragma once
-// A file that appears under its final name only when complete: written to "<path>.partial"
-// and renamed by commit(). Destroyed without commit(), it removes the partial file, so an
-// error never leaves output that could be mistaken for a result.
+// A file that appears under its final name only when complete: written to
+// "<path>.<pid>.partial" and renamed by commit(). The process id keeps two processes that
+// write the same name (by mistake) from writing into, or renaming, each other's file. Destroyed
+// without commit(), it removes the partial file, so an error never leaves output that could be
+// mistaken for a result.
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -13,6 +15,11 @@ namespace jam {
 struct WriteError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// Why writing `path` failed, in words: strerror(error), except that an unspecific error (EIO,
+/// or none recorded, as HDF5 leaves it) on a file system with no free blocks left is said to be
+/// what it is, "No space left on device".
+std::string write_failure(const std::string& path, int error);
 
 class AtomicFile {
  public:
@@ -26,7 +33,7 @@ class AtomicFile {
   void commit();
 
   /// Temporary name used for path (also for files written by other libraries, e.g. HDF5).
-  static std::string temporary_name(const std::string& path) { return path + ".partial"; }
+  static std::string temporary_name(const std::string& path);
   /// Renames temporary_name(path) to path; throws naming the path on failure.
   static void publish(const std::string& path);
 

@@ -8,6 +8,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/sealed_file.hpp"
 
 namespace jam {
 namespace {
@@ -52,7 +53,7 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
                       const StepperState& stepper) {
   const std::string temporary = AtomicFile::temporary_name(path);
   try {
-    h5::File f = h5::File::create(temporary);
+    h5::File f = h5::File::create(temporary, kSealBytes);
     f.write_attribute("fingerprint", fingerprint);
     f.write_attribute("phase", state.phase);
     f.write_attribute("relax_steps", state.relax_steps);
@@ -87,6 +88,7 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
       f.write_attribute(fmt::format("stepper_field_{}", k), stepper[k].first);
     }
     f.close();
+    seal_file(temporary);
     AtomicFile::publish(path);
   } catch (...) {
     std::remove(temporary.c_str());
@@ -101,6 +103,9 @@ template <int D>
 std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
                                              const std::string& fingerprint) {
   if (!std::filesystem::exists(path)) return std::nullopt;
+  // The seal first, before HDF5 parses anything: a flipped bit in the fingerprint is damage,
+  // not another run, and a damaged file never reaches the HDF5 reader.
+  if (const std::string why = sealed_file_problem(path); !why.empty()) throw CorruptCheckpoint(why);
   std::string stored;
   try {
     stored = h5::File::open_read(path).read_attribute_string("fingerprint");
@@ -108,7 +113,7 @@ std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
     throw CorruptCheckpoint(e.what());
   }
   if (stored != fingerprint) {
-    throw std::runtime_error(fmt::format(
+    throw ForeignCheckpoint(fmt::format(
         "checkpoint '{}' belongs to a run with other parameters; remove it to start afresh", path));
   }
   try {

@@ -74,22 +74,26 @@ void File::close() {
     if (flushed < 0 || closed < 0) {
       const int error = errno;
       if (lock_.owns_lock()) lock_.unlock();
-      throw WriteError(fmt::format("cannot write HDF5 file '{}': {}", path_,
-                                   error ? std::strerror(error) : "I/O error"));
+      throw WriteError(
+          fmt::format("cannot write HDF5 file '{}': {}", path_, write_failure(path_, error)));
     }
   }
   if (lock_.owns_lock()) lock_.unlock();
 }
 
-File File::create(const std::string& path) {
+File File::create(const std::string& path, hsize_t user_block) {
   std::unique_lock lock(library_mutex());
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // per thread in thread-safe HDF5 builds
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
   H5Pset_obj_track_times(fcpl.get(), false);
+  if (user_block > 0) H5Pset_userblock(fcpl.get(), user_block);
+  errno = 0;
   const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT);
-  return File(std::move(lock),
-              Handle(check_write(id, fmt::format("cannot create HDF5 file '{}'", path)), H5Fclose),
-              path);
+  if (id < 0) {
+    throw WriteError(
+        fmt::format("cannot create HDF5 file '{}': {}", path, write_failure(path, errno)));
+  }
+  return File(std::move(lock), Handle(id, H5Fclose), path);
 }
 
 File File::open_read(const std::string& path) {

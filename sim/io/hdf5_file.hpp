@@ -36,7 +36,9 @@ std::mutex& library_mutex();
 
 class File {
  public:
-  static File create(const std::string& path);  // truncates
+  /// Truncates. A user block of `user_block` bytes (0 or a power of two >= 512) is left at the
+  /// start of the file for the caller (sealed_file.hpp).
+  static File create(const std::string& path, hsize_t user_block = 0);
   static File open_read(const std::string& path);
   hid_t id() const { return file_.get(); }
   const std::string& path() const { return path_; }

@@ -2,19 +2,22 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <sstream>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/content_checksum.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/version.hpp"
 
 namespace jam {
 namespace {
 
-// Datasets covered by the checksum, in this order (those present).
+// Schema 1 files: the datasets covered by their data_checksum, in this order (those present).
 constexpr const char* kChecksummed[] = {
     "packing_fraction",    "pressure", "contacts_per_particle",
     "energy_per_particle", "time",     "contacts_per_particle_no_rattlers",
@@ -44,11 +47,23 @@ std::string hex(std::uint64_t h) {
 
 }  // namespace
 
-std::string run_file_problem(const std::string& path) {
+RunFileCheck check_run_file(const std::string& path) {
+  RunFileCheck result;
+  auto problem = [&result](std::string why) {
+    result.problem = std::move(why);
+    return result;
+  };
   try {
     const h5::File f = h5::File::open_read(path);
     if (!f.has_attribute("complete") || f.read_attribute_int("complete") != 1) {
-      return "run file is incomplete (no complete = 1)";
+      return problem("run file is incomplete (no complete = 1)");
+    }
+    if (f.has_attribute("checksum")) {
+      // Schema 2: one checksum over every attribute and dataset.
+      if (std::string why = seal_problem(f); !why.empty()) return problem(why);
+      result.verified = true;
+    } else if (!f.has_attribute("data_checksum")) {
+      return problem("run file has no checksum");
     }
     const std::size_t m = f.read_dataset("packing_fraction").size();
     std::uint64_t h = kChecksumStart;
@@ -57,23 +72,104 @@ std::string run_file_problem(const std::string& path) {
       const std::vector<double> v = f.read_dataset(name);
       add_to_checksum(h, name, v);
       if (std::string(name) != "stress" && v.size() != m) {
-        return fmt::format("dataset {} has {} entries, packing_fraction {}", name, v.size(), m);
+        return problem(
+            fmt::format("dataset {} has {} entries, packing_fraction {}", name, v.size(), m));
       }
     }
-    if (f.has_attribute("data_checksum") && f.read_attribute_string("data_checksum") != hex(h)) {
-      return fmt::format("data checksum {} does not match the stored {}", hex(h),
-                         f.read_attribute_string("data_checksum"));
+    // Schema 1 (no "checksum"): only the datasets were checksummed; such a file stays readable
+    // but is flagged as unverified, since its attributes could have changed unnoticed.
+    if (!result.verified && f.read_attribute_string("data_checksum") != hex(h)) {
+      return problem(fmt::format("data checksum {} does not match the stored {}", hex(h),
+                                 f.read_attribute_string("data_checksum")));
     }
     const std::vector<double> phi = f.read_dataset("packing_fraction");
     for (std::size_t k = 0; k < phi.size(); ++k) {
       if (!std::isfinite(phi[k]) || (k > 0 && !(phi[k] > phi[k - 1]))) {
-        return fmt::format("packing_fraction[{}] = {} is not finite and increasing", k, phi[k]);
+        return problem(
+            fmt::format("packing_fraction[{}] = {} is not finite and increasing", k, phi[k]));
       }
     }
   } catch (const std::exception& e) {
+    return problem(e.what());
+  }
+  return result;
+}
+
+std::string run_file_problem(const std::string& path) {
+  return check_run_file(path).problem;
+}
+
+namespace {
+
+/// "key=value" words of a fingerprint.
+std::vector<std::string> words(const std::string& text) {
+  std::vector<std::string> w;
+  std::istringstream in(text);
+  for (std::string word; in >> word;) w.push_back(word);
+  return w;
+}
+
+std::string differences(const std::vector<std::string>& stored,
+                        const std::vector<std::string>& planned) {
+  std::string out;
+  for (std::size_t k = 0; k < std::max(stored.size(), planned.size()); ++k) {
+    const std::string a = k < stored.size() ? stored[k] : "-";
+    const std::string b = k < planned.size() ? planned[k] : "-";
+    if (a != b) out += fmt::format("{}{} (planned {})", out.empty() ? "" : ", ", a, b);
+  }
+  return out;
+}
+
+/// A schema-1 file's parameters, in the words of a fingerprint.
+std::vector<std::string> stored_parameters(const h5::File& f) {
+  auto g = [&f](const char* name) { return fmt::format("{:.17g}", f.read_attribute_double(name)); };
+  return {"dim=" + std::to_string(f.read_attribute_int("dim")),
+          "n=" + std::to_string(f.read_attribute_int("n")),
+          "phi_stop=" + g("phi_stop"),
+          "phi_step=" + g("phi_step"),
+          "rate=" + g("compression_rate"),
+          "dt=" + g("dt"),
+          "dynamics=" + f.read_attribute_string("dynamics"),
+          "integrator=" + f.read_attribute_string("integrator"),
+          "q=" + g("q"),
+          "seed=" + std::to_string(f.read_attribute_int("seed")),
+          "skin=" + g("skin"),
+          "diameter_ratio=" + g("diameter_ratio"),
+          "relax=" + std::to_string(f.read_attribute_int("relax")),
+          "relax_energy=" + g("relax_energy")};
+}
+
+std::vector<std::string> planned_parameters(const SimConfig& c) {
+  auto g = [](double v) { return fmt::format("{:.17g}", v); };
+  return {"dim=" + std::to_string(c.dim),
+          "n=" + std::to_string(c.n),
+          "phi_stop=" + g(c.phi_stop),
+          "phi_step=" + g(c.phi_step),
+          "rate=" + g(c.compression_rate),
+          "dt=" + g(c.dt),
+          "dynamics=" + c.dynamics,
+          "integrator=" + c.resolved_integrator(),
+          "q=" + g(c.dynamics == "inertial" ? c.q : 0.0),
+          "seed=" + std::to_string(static_cast<std::int64_t>(c.seed)),
+          "skin=" + g(c.skin),
+          "diameter_ratio=" + g(c.diameter_ratio),
+          "relax=" + std::to_string(int{c.relax}),
+          "relax_energy=" + g(c.resolved_relax_energy())};
+}
+
+}  // namespace
+
+std::string run_identity_problem(const std::string& path, const SimConfig& planned) {
+  try {
+    const h5::File f = h5::File::open_read(path);
+    const std::string diff = f.has_attribute("fingerprint")
+                                 ? differences(words(f.read_attribute_string("fingerprint")),
+                                               words(fingerprint(planned)))
+                                 : differences(stored_parameters(f), planned_parameters(planned));
+    return diff.empty() ? "" : "run file belongs to another run: " + diff;
+  } catch (const std::exception& e) {
     return e.what();
   }
-  return "";
 }
 
 template <int D>
@@ -104,6 +200,8 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
     f.write_attribute("relax_converged", std::int64_t{meta.relax_converged});
     f.write_attribute("steps", meta.steps);
     f.write_attribute("version", std::string(kVersion));
+    f.write_attribute("schema_version", std::int64_t{kRunFileSchemaVersion});
+    f.write_attribute("fingerprint", fingerprint(c));
     if (c.jamming_point) {
       f.write_attribute("jamming_packing_fraction", meta.jamming_packing_fraction);
       f.write_attribute("jamming_minimizations", meta.jamming_minimizations);
@@ -145,12 +243,8 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
           for (int b = 0; b < D; ++b) s.push_back(pt.stress[a][b]);
       f.write_dataset("stress", s, {m, static_cast<hsize_t>(D), static_cast<hsize_t>(D)});
     }
-    std::uint64_t h = kChecksumStart;
-    for (const char* name : kChecksummed) {
-      if (f.has_dataset(name)) add_to_checksum(h, name, f.read_dataset(name));
-    }
-    f.write_attribute("data_checksum", hex(h));
     f.write_attribute("complete", std::int64_t{1});
+    seal(f);
     f.close();
     AtomicFile::publish(path);
   } catch (...) {

@@ -23,10 +23,28 @@ struct RunMetadata {
   std::int64_t jamming_minimizations = 0;
 };
 
-/// Why the run file at path cannot be used, or "" when it is sound: unreadable HDF5, not
-/// complete, datasets of unequal length, a data checksum (attribute data_checksum, FNV-1a of the
-/// datasets) that does not match, or a packing fraction that is not finite and increasing.
+/// Run files of schema 2 store schema_version = 2, the run's fingerprint (its parameters, as
+/// sim_config.hpp's fingerprint()) and a checksum over every attribute and dataset
+/// (content_checksum.hpp). Schema 1 files (no schema_version) checksummed only the datasets.
+constexpr int kRunFileSchemaVersion = 2;
+
+struct RunFileCheck {
+  std::string problem;    // "" when the file is sound
+  bool verified = false;  // its checksum covers every attribute (schema 2)
+};
+
+/// Whether the run file at path can be used: unreadable HDF5, not complete, no or a wrong
+/// checksum, datasets of unequal length, or a packing fraction that is not finite and
+/// increasing make it unusable. A sound schema-1 file is usable but not verified.
+RunFileCheck check_run_file(const std::string& path);
+
+/// check_run_file(path).problem.
 std::string run_file_problem(const std::string& path);
+
+/// "" when the run file at path was written by the run `planned` describes (its stored
+/// fingerprint equals fingerprint(planned); for schema-1 files, which have none, the stored
+/// parameter attributes are compared one by one); otherwise which parameters differ.
+std::string run_identity_problem(const std::string& path, const SimConfig& planned);
 
 /// Writes path atomically (HDF5 to "<path>.partial", renamed when closed).
 template <int D>

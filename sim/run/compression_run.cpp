@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "sim/dynamics/inertial_verlet.hpp"
@@ -15,6 +17,7 @@
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/model/paper_values.hpp"
 #include "sim/observables/observables.hpp"
@@ -25,13 +28,19 @@
 namespace jam {
 namespace {
 
-/// Fails early, before any work, if the output cannot be written.
-void check_writable(const std::string& option, const std::string& path) {
-  const std::string probe = AtomicFile::temporary_name(path);
+/// Fails early, before any work, if the output is not a regular file or a new name
+/// (output_path.hpp) or cannot be written; returns the path to write (a link's target).
+std::string checked_writable(const std::string& option, const std::string& path) {
+  const std::string target = checked_output_file(option, path);
+  const std::string probe = AtomicFile::temporary_name(target);
   std::FILE* f = std::fopen(probe.c_str(), "w");
-  if (!f) throw ConfigError(fmt::format("--{} {}: cannot write there", option, path));
+  if (!f) {
+    throw ConfigError(
+        fmt::format("--{} {}: cannot write there: {}", option, path, std::strerror(errno)));
+  }
   std::fclose(f);
   std::remove(probe.c_str());
+  return target;
 }
 
 template <int D>
@@ -74,12 +83,16 @@ std::vector<double> output_times(const CompressingBox<D>& box, double phi_init, 
   return t;
 }
 
-/// A checkpoint or start cache that cannot be read back (or holds another number of particles)
-/// is removed with a warning and the run starts afresh: the results are the same either way.
+/// A checkpoint or start cache that cannot be read back, fails its checksum or holds another
+/// number of particles is removed with a warning naming it, and the run starts afresh (the
+/// results are those of an uninterrupted run either way); it is never resumed from.
+/// A relaxed start is a cache keyed by its file name: one of other parameters (a campaign rerun
+/// at another dt) is stale and replaced the same way (`replace_foreign`); a run's own checkpoint
+/// of other parameters is refused instead, since the same --out was probably meant for them.
 template <int D>
 std::optional<Checkpoint<D>> read_checkpoint_or_warn(const std::string& path,
-                                                     const std::string& fingerprint,
-                                                     std::size_t n) {
+                                                     const std::string& fingerprint, std::size_t n,
+                                                     bool replace_foreign = false) {
   std::string problem;
   try {
     auto saved = read_checkpoint<D>(path, fingerprint);
@@ -87,8 +100,11 @@ std::optional<Checkpoint<D>> read_checkpoint_or_warn(const std::string& path,
     problem = fmt::format("{} particles, not {}", saved->particles.size(), n);
   } catch (const CorruptCheckpoint& e) {
     problem = e.what();
+  } catch (const ForeignCheckpoint& e) {
+    if (!replace_foreign) throw;
+    problem = "written with other parameters";
   }
-  fmt::print(stderr, "jam: warning: unreadable checkpoint {} removed, starting afresh: {}\n", path,
+  fmt::print(stderr, "jam: warning: {} cannot be trusted ({}); removed, starting afresh\n", path,
              problem);
   std::remove(path.c_str());
   return std::nullopt;
@@ -172,7 +188,8 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
     // A start relaxed by another run of the same sample (another rate) is taken as it is.
     bool from_cache = false;
     if (c.relax && !c.start_cache.empty()) {
-      if (auto cached = read_checkpoint_or_warn<D>(c.start_cache, relaxation_fingerprint(c), n)) {
+      if (auto cached =
+              read_checkpoint_or_warn<D>(c.start_cache, relaxation_fingerprint(c), n, true)) {
         sys.particles = std::move(cached->particles);
         sys.neighbors.invalidate();
         stepper.load_state(cached->stepper);
@@ -321,6 +338,7 @@ RunSummary run_dimension(const SimConfig& c, const RunControl& control) {
     throw ConfigError(fmt::format("--phi-stop {:g}: must be above the packing of {} ({:.6g})",
                                   c.phi_stop, start.description, meta.phi_init));
   }
+  if (!c.read_lammps_data.empty()) validate_cost(c, meta.n, c.force);  // now that N is known
   SimConfig checked = c;
   checked.n = meta.n;
   validate_box(checked, CompressingBox<D>::length_for_packing(box.particle_volume, c.phi_stop),
@@ -343,12 +361,18 @@ RunSummary run_dimension(const SimConfig& c, const RunControl& control) {
 
 }  // namespace
 
-RunSummary run_compression(const SimConfig& c, const RunControl& control) {
-  validate(c);
-  check_writable("out", c.out);
-  if (!c.write_lammps_data.empty()) check_writable("write-lammps-data", c.write_lammps_data);
+RunSummary run_compression(const SimConfig& config, const RunControl& control) {
+  validate(config);
+  // Before anything is allocated: a typo such as --n 2000000000 is refused, not attempted.
+  if (config.read_lammps_data.empty()) validate_cost(config, config.n, config.force);
+  SimConfig c = config;
+  c.out = checked_writable("out", c.out);
+  if (!c.write_lammps_data.empty()) {
+    c.write_lammps_data = checked_writable("write-lammps-data", c.write_lammps_data);
+  }
   if (!c.write_final_lammps_data.empty()) {
-    check_writable("write-final-lammps-data", c.write_final_lammps_data);
+    c.write_final_lammps_data =
+        checked_writable("write-final-lammps-data", c.write_final_lammps_data);
   }
   return c.dim == 2 ? run_dimension<2>(c, control) : run_dimension<3>(c, control);
 }

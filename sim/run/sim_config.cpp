@@ -39,6 +39,15 @@ double SimConfig::resolved_relax_energy() const {
   return v;
 }
 
+std::uint64_t parse_seed(const std::string& option, const std::string& text) {
+  const bool digits = !text.empty() && text.size() <= 19 &&
+                      text.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits || std::stoull(text) > kMaxSeed) {
+    reject(option, text.empty() ? "''" : text, "must be an integer in [0, 2^63 - 1]");
+  }
+  return std::stoull(text);
+}
+
 void validate(const SimConfig& c) {
   if (c.dim != 2 && c.dim != 3) reject("dim", std::to_string(c.dim), "must be 2 or 3");
   if (c.read_lammps_data.empty()) {
@@ -86,9 +95,15 @@ void validate(const SimConfig& c) {
   if (c.dynamics == "overdamped" && integ != "euler" && integ != "heun") {
     reject("integrator", integ, "overdamped dynamics takes euler or heun");
   }
+  if (c.seed > kMaxSeed) reject("seed", std::to_string(c.seed), "must be in [0, 2^63 - 1]");
   if (c.dynamics == "inertial") {
     if (integ != "verlet") reject("integrator", integ, "inertial dynamics takes verlet");
     require_finite_positive("q", c.q);
+    if (c.q > kMaxQ) {
+      reject("q", str(c.q),
+             "must be in (0, 1]: the inertial model stands for the strongly overdamped "
+             "regime (Q < 1)");
+    }
     // Explicit drag in velocity Verlet is unstable beyond dt = 2 m_s / gamma_s, which is
     // 2 Q^2 k_d V_s = 4 Q^2 / D in these units.
     const double bound = 4.0 * c.q * c.q / c.dim;

@@ -50,6 +50,7 @@ struct SimConfig {
   std::string write_lammps_data;
   std::string write_final_lammps_data;
   bool quiet = false;
+  bool force = false;  // run beyond the limits of validate_cost (not part of the physics)
   double checkpoint_interval = 300.0;  // seconds of wall time; 0: none (not part of the physics)
   // Relaxed-start cache (campaigns): the state right after relaxation, shared by every rate of
   // a sample. Read when it exists, written when this run relaxes. Results are bitwise the same
@@ -69,8 +70,42 @@ struct SimConfig {
   }
 };
 
+/// Seeds lie in [0, kMaxSeed] = [0, 2^63 - 1], so that each is stored exactly in the run
+/// file's int64 attribute "seed" and two different seeds never store the same number.
+constexpr std::uint64_t kMaxSeed = (std::uint64_t{1} << 63) - 1;
+
+/// A seed given as text (decimal digits only, at most kMaxSeed); throws ConfigError naming
+/// `option` and the text otherwise. Negative, fractional and overflowing values are refused
+/// rather than wrapped.
+std::uint64_t parse_seed(const std::string& option, const std::string& text);
+
+/// The inertial model's quality factor Q is meaningful in the strongly overdamped regime the
+/// paper works in (Q = 0.01 in 2D, 0.0225 in 3D, "Q < 1"): --q must lie in (0, 1].
+constexpr double kMaxQ = 1.0;
+
 /// Checks every parameter that does not need the configuration; throws ConfigError.
 void validate(const SimConfig& c);
+
+/// What a run will cost, estimated before it starts (run/sim_config.cpp says how).
+struct RunEstimate {
+  double compression_steps = 0, relaxation_steps = 0, output_points = 0, memory_bytes = 0;
+  /// The largest change of packing in one step (at phi_stop, where it is largest).
+  double packing_per_step = 0;
+};
+RunEstimate estimate_run(const SimConfig& c, std::int64_t n);
+
+/// Documented limits of one run; beyond them a run is refused unless forced (--force), since
+/// such a run is almost always a typo (--dt 1e-300, --phi-step 1e-12) that would run for ever
+/// or exhaust memory.
+constexpr double kMaxSteps = 1e10;        // compression or relaxation steps
+constexpr double kMaxOutputPoints = 1e6;  // output points of one run
+/// ... and memory beyond half of this machine's physical memory.
+double memory_limit_bytes();
+
+/// Refuses, with the estimate, a run beyond the limits above (unless `force`), and always a
+/// run whose single step compresses by more than phi_step (it would skip output points:
+/// shorten dt). n is the particle count (from the configuration or a data file).
+void validate_cost(const SimConfig& c, std::int64_t n, bool force);
 
 /// Every parameter that changes the numbers of a run, as text: runs (and checkpoints) with
 /// equal fingerprints produce identical results.

@@ -1,0 +1,30 @@
+#pragma once
+// A checksum of everything an HDF5 file holds: every attribute (name, kind, value) and every
+// dataset (name, shape, values) of every group, in name order, except the attributes named in
+// `skip` (the checksum's own attribute). Run files, checkpoints and relaxed starts store it in
+// their attribute "checksum", so that a flipped bit anywhere, in the positions of a checkpoint
+// as much as in a run file's compression_rate, is caught before the file is trusted.
+//
+// FNV-1a, 64 bit: a guard against damage (bit rot, a torn copy, a hand edit), not against
+// someone who forges files on purpose; it changes with any single flipped bit.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/io/hdf5_file.hpp"
+
+namespace jam {
+
+std::uint64_t content_checksum(const h5::File& f, const std::vector<std::string>& skip);
+
+/// The checksum as stored: 16 lowercase hex digits.
+std::string checksum_text(std::uint64_t h);
+
+/// Computes the checksum of f (skipping "checksum") and stores it as attribute "checksum".
+void seal(h5::File& f);
+
+/// "" when f holds an attribute "checksum" that matches its content; otherwise why not
+/// ("no checksum" for files written before checksums, or the mismatch).
+std::string seal_problem(const h5::File& f);
+
+}  // namespace jam

@@ -1,0 +1,80 @@
+// Estimates of a run's cost before it starts, and the limits that refuse typos such as
+// --dt 1e-300 or --phi-step 1e-12 (declared in sim_config.hpp).
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+
+#include "sim/run/sim_config.hpp"
+
+namespace jam {
+namespace {
+
+// Bytes per particle of a run: positions, forces, neighbor list, cells and the integrator's
+// stage arrays; measured 102-164 B in 2D and 3D (docs/performance.md), rounded up.
+constexpr double kBytesPerParticle = 256.0;
+
+}  // namespace
+
+RunEstimate estimate_run(const SimConfig& c, std::int64_t n) {
+  RunEstimate e;
+  const double phi_init = c.read_lammps_data.empty() ? c.phi_init : 0.0;
+  // Packing grows as exp(D rate t): the compression lasts ln(phi_stop/phi_init)/(D rate).
+  if (phi_init > 0) {
+    e.compression_steps = std::log(c.phi_stop / phi_init) / (c.dim * c.compression_rate) / c.dt;
+    e.output_points = (c.phi_stop - phi_init) / c.phi_step + 2;
+  } else {
+    e.output_points = c.phi_stop / c.phi_step + 2;
+  }
+  e.relaxation_steps = c.relax ? c.relax_time_max / c.dt : 0.0;
+  e.packing_per_step = c.phi_stop * std::expm1(c.dim * c.compression_rate * c.dt);
+  // Output points are kept in memory (and in the checkpoint) until the run file is written;
+  // with --jamming-point each keeps a configuration too (an upper bound: all of them).
+  const double per_point =
+      8.0 * (7 + c.dim * c.dim) + (c.jamming_point ? 8.0 * c.dim * static_cast<double>(n) : 0.0);
+  e.memory_bytes =
+      kBytesPerParticle * static_cast<double>(n) * c.threads + 2.0 * per_point * e.output_points;
+  return e;
+}
+
+double memory_limit_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? 0.5 * static_cast<double>(pages) * static_cast<double>(page)
+                               : 8.0 * (1ull << 30);
+}
+
+void validate_cost(const SimConfig& c, std::int64_t n, bool force) {
+  const RunEstimate e = estimate_run(c, n);
+  if (!(e.packing_per_step <= c.phi_step)) {
+    const double dt_max = std::log1p(c.phi_step / c.phi_stop) / (c.dim * c.compression_rate);
+    throw ConfigError(fmt::format(
+        "--rate {:g}: one step of --dt {:g} compresses by {:.3g} in packing near phi_stop, more "
+        "than --phi-step {:g} between output points; use --dt {:.3g} or less",
+        c.compression_rate, c.dt, e.packing_per_step, c.phi_step, dt_max));
+  }
+  if (force) return;
+  const char* how = "; --force runs it anyway";
+  if (!(e.output_points <= kMaxOutputPoints)) {
+    throw ConfigError(
+        fmt::format("--phi-step {:g}: {:.3g} output points, more than the limit {:g}{}", c.phi_step,
+                    e.output_points, kMaxOutputPoints, how));
+  }
+  if (!(e.compression_steps <= kMaxSteps)) {
+    throw ConfigError(fmt::format(
+        "--dt {:g}: {:.3g} compression steps at --rate {:g}, more than the limit {:g}{}", c.dt,
+        e.compression_steps, c.compression_rate, kMaxSteps, how));
+  }
+  if (!(e.relaxation_steps <= kMaxSteps)) {
+    throw ConfigError(fmt::format(
+        "--dt {:g}: up to {:.3g} relaxation steps (--relax-time-max {:g}), more than the limit "
+        "{:g}{}",
+        c.dt, e.relaxation_steps, c.relax_time_max, kMaxSteps, how));
+  }
+  if (!(e.memory_bytes <= memory_limit_bytes())) {
+    throw ConfigError(fmt::format(
+        "--n {}: an estimated {:.3g} GB of memory, more than half of this machine's ({:.3g} GB){}",
+        n, e.memory_bytes / 1e9, 2 * memory_limit_bytes() / 1e9, how));
+  }
+}
+
+}  // namespace jam

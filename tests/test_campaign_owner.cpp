@@ -1,0 +1,142 @@
+// One owner per campaign directory, and a run file counts as done only when it is the planned
+// run's. A second `jam campaign run` on a directory in use stops at once naming the owner (it
+// neither redoes runs nor trips over the first runner's temporary files); two started together
+// leave one complete, consistent campaign. With campaign.toml deleted, a rerun at another dt
+// does not take the old runs for its own: they are set aside (never deleted) and redone, and
+// `jam stats` averages only runs of the planned parameters.
+#define BOOST_TEST_MODULE campaign_owner
+#include <unistd.h>
+
+#include <boost/test/unit_test.hpp>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "campaign/campaign_file.hpp"
+#include "campaign/campaign_lock.hpp"
+#include "process.hpp"
+#include "sim/io/hdf5_file.hpp"
+#include "sim/io/run_file.hpp"
+
+namespace fs = std::filesystem;
+using jam::test::Outcome;
+using jam::test::slurp;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-owner-" + std::to_string(::getpid()));
+
+struct Fixture {
+  Fixture() { fs::create_directories(kDir); }
+  ~Fixture() { fs::remove_all(kDir); }
+};
+
+const std::string kSmall = R"(name = "owner"
+dim = 2
+sizes = [64]
+phi_init = [0.70]
+log10_rates = [-2.5]
+samples = 6
+phi_stop = 0.80
+phi_step = 0.005
+relax_energy = "1e-12"
+seed = 5
+)";
+
+fs::path write_campaign(const std::string& name, const std::string& body, const fs::path& out) {
+  const fs::path file = kDir / (name + ".toml");
+  std::ofstream(file) << body << "output = \"" << out.string() << "\"\n";
+  return file;
+}
+
+Outcome run_jam(const std::string& args, const std::string& log = "log.txt") {
+  return jam::test::run_jam_logged(kDir / log, args);
+}
+
+std::map<std::string, std::string> run_files(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir / "runs")) {
+    if (e.path().extension() == ".h5") files[e.path().filename().string()] = slurp(e.path());
+  }
+  return files;
+}
+
+}  // namespace
+
+BOOST_FIXTURE_TEST_SUITE(owner, Fixture)
+
+BOOST_AUTO_TEST_CASE(second_runner_is_refused_naming_the_owner) {
+  const fs::path dir = kDir / "held";
+  fs::create_directories(dir);
+  const fs::path file = write_campaign("held", kSmall, dir);
+  {
+    const jam::CampaignLock held(dir.string());
+    const Outcome o = run_jam("campaign run --quiet " + file.string());
+    BOOST_TEST(o.status == 2, o.output);
+    BOOST_TEST(o.output.find("in use by pid " + std::to_string(::getpid())) != std::string::npos,
+               o.output);
+    BOOST_TEST(std::count(o.output.begin(), o.output.end(), '\n') == 1, o.output);
+    BOOST_TEST(!fs::exists(dir / "runs"));  // nothing done, nothing written
+    BOOST_CHECK_THROW(jam::CampaignLock again(dir.string()), jam::CampaignError);
+  }
+  // Released with its owner: the campaign runs.
+  BOOST_TEST(run_jam("campaign run --quiet " + file.string()).status == 0);
+}
+
+// Two runners started together, repeatedly: each either does the campaign or is refused;
+// neither fails on the other's files; the directory ends complete and bitwise like a single
+// runner's.
+BOOST_AUTO_TEST_CASE(two_runners_at_once) {
+  const fs::path single = kDir / "single";
+  BOOST_REQUIRE(
+      run_jam("campaign run --quiet " + write_campaign("s", kSmall, single).string()).status == 0);
+  const auto expected = run_files(single);
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const fs::path dir = kDir / ("race" + std::to_string(attempt));
+    const fs::path file = write_campaign("r", kSmall, dir);
+    const pid_t first = jam::test::spawn_jam("campaign run --quiet " + file.string());
+    const pid_t second = jam::test::spawn_jam("campaign run --quiet " + file.string());
+    const int s1 = jam::test::wait_for(first), s2 = jam::test::wait_for(second);
+    BOOST_TEST_CONTEXT("attempt " << attempt << ": exit " << s1 << " and " << s2) {
+      BOOST_TEST(((s1 == 0 && (s2 == 0 || s2 == 2)) || (s2 == 0 && s1 == 2)));
+      BOOST_TEST((run_files(dir) == expected));
+      for (const auto& e : fs::directory_iterator(dir / "runs")) {
+        BOOST_TEST(e.path().string().find(".partial") == std::string::npos, e.path());
+      }
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(runs_of_other_parameters_are_not_taken_for_done) {
+  const fs::path dir = kDir / "mixed";
+  std::string coarse = kSmall;
+  coarse += "dt = 0.1\n";
+  BOOST_REQUIRE(
+      run_jam("campaign run --quiet " + write_campaign("m", coarse, dir).string()).status == 0);
+  fs::remove(dir / "campaign.toml");
+  fs::remove(dir / "manifest.toml");
+
+  std::string fine = kSmall;
+  fine += "dt = 0.05\n";
+  const fs::path file = write_campaign("m", fine, dir);
+  Outcome o = run_jam("campaign status " + dir.string());  // status reads campaign.toml
+  BOOST_TEST(o.status != 0);
+  o = run_jam("campaign run --quiet " + file.string());
+  BOOST_TEST(o.status == 0, o.output);
+  std::size_t rejected = 0;
+  for (const auto& e : fs::directory_iterator(dir / "runs")) {
+    if (e.path().extension() == ".rejected") ++rejected;  // set aside, not deleted
+  }
+  BOOST_TEST(rejected == 6u);
+  for (const auto& [name, bytes] : run_files(dir)) {
+    BOOST_TEST(
+        jam::h5::File::open_read((dir / "runs" / name).string()).read_attribute_double("dt") ==
+            0.05,
+        name);
+  }
+  o = run_jam("stats --no-fit " + dir.string());
+  BOOST_TEST(o.output.find("6 runs averaged, 0 skipped") != std::string::npos, o.output);
+}
+
+BOOST_AUTO_TEST_SUITE_END()
