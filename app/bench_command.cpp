@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/io/output_path.hpp"
+
 namespace jam {
 namespace {
 
@@ -70,6 +72,9 @@ int run_bench_command(const CLI::App& app, BenchArgs& a, int argc, char** argv) 
   std::string command = "jam";
   for (int k = 1; k < argc; ++k) command += std::string(" ") + argv[k];
   const CLI::App* b = app.get_subcommand("bench");
+  // Refused before hours of benchmarking, not after.
+  check_output_directory("out-dir", b->got_subcommand("throughput") ? a.throughput.out_dir
+                                                                    : a.accuracy.out_dir);
   if (b->got_subcommand("throughput")) {
     a.throughput.dims = parse_dims(a.dims);
     a.throughput.command = command;

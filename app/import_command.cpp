@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "sim/io/output_path.hpp"
+
 namespace jam {
 
 void add_import_command(CLI::App& app, LammpsImport& r) {
@@ -14,7 +16,9 @@ void add_import_command(CLI::App& app, LammpsImport& r) {
   lmp->add_option("--out", r.out, "Run file to write (HDF5)")->required();
 }
 
-int run_import_command(const LammpsImport& r) {
+int run_import_command(const LammpsImport& request) {
+  LammpsImport r = request;
+  r.out = checked_output_file("out", r.out);
   import_lammps_run(r);
   fmt::print("wrote {}\n", r.out);
   return 0;

@@ -6,7 +6,7 @@
 // it passes when max_phi |<Delta>| <= 0.5% + 3 standard errors. What the two may legitimately
 // differ by at this rate: LAMMPS at Q = 0.03 is within 0.01% of the overdamped limit, its thermo
 // uses pre-deformation forces (<0.2% at dt = 0.5 * 2 m_s/gamma_s), jam's default (Heun at
-// dt = 0.1) errs by less than 1e-5 at rate 1e-3 (README, Speed and accuracy); measured
+// dt = 0.1) errs by less than 1e-5 at rate 1e-3 (docs/performance.md, Accuracy); measured
 // together: 0.06% (2D) and 0.03% (3D), 0.08% and 0.09% with Euler at dt = 0.01. 0.5% keeps
 // a margin of 5x or more; a wrong drag, time unit or host-flow term moves the pressure by 10%
 // or more.

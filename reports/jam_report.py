@@ -125,11 +125,10 @@ def run(a):
     started = time.monotonic()
     out = os.path.abspath(a.out) if a.out else None
     if out:
-        check_target(out)
+        out = check_target(out)
     c = load_campaign(a.directory)
     if not out:
-        out = os.path.abspath(os.path.join("reports", c.name))
-        check_target(out)
+        out = check_target(os.path.abspath(os.path.join("reports", c.name)))
     summary = write_report(c, out, started)
     if not a.quiet:
         print_summary(summary)

@@ -36,19 +36,22 @@ def _kind(mode):
 
 def check_target(out):
     """Refuses, before any work, an output path that exists and is not a directory, or is a
-    directory that is neither empty nor a report (replacing it would delete its contents)."""
+    directory that is neither empty nor a report (replacing it would delete its contents).
+    Returns the path to write: `out`, or for a symbolic link to a directory the directory it
+    points to (links are written through, as everywhere in jam: the link stays)."""
     try:
         mode = os.stat(out).st_mode  # a link to a directory counts as the directory
     except FileNotFoundError:
         if os.path.islink(out):
             raise ReportOutputError(f"{out}: a symbolic link to nothing, not a directory")
-        return
+        return out
     if not stat.S_ISDIR(mode):
         raise ReportOutputError(f"{out}: exists and is {_kind(mode)}, not a directory")
     entries = os.listdir(out)
     if entries and not any(name in entries for name in REPORT_FILES):
         raise ReportOutputError(
             f"{out}: exists and is not a report (no {REPORT_FILES[0]}); not replaced")
+    return os.path.realpath(out) if os.path.islink(out) else out
 
 
 def _make_parents(directory, created):

@@ -262,3 +262,50 @@ BOOST_AUTO_TEST_CASE(one_and_two_threads_give_identical_run_files) {
 }
 
 BOOST_AUTO_TEST_SUITE_END()
+
+// `jam check` and `jam stats` fail in one line, exit status 2, naming the file and the cause:
+// a stats.h5 of random bytes, and a disk that fills up while the verdicts are written ("No
+// space left on device", not "Input/output error"), leaving no verdict file behind.
+BOOST_FIXTURE_TEST_CASE(check_fails_in_one_line, Fixture) {
+  const fs::path dir = kDir / "chk";
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + write_campaign("k", kTiny, dir).string())
+                    .status == 0);
+  BOOST_REQUIRE(run_jam("stats --no-fit " + dir.string()).status == 0);
+  const std::string stats = slurp(dir / "stats.h5");
+  auto one_line = [](const Outcome& o) {
+    return std::count(o.output.begin(), o.output.end(), '\n') == 1;
+  };
+
+  std::ofstream(dir / "stats.h5", std::ios::binary | std::ios::trunc) << std::string(4096, '\x5a');
+  Outcome o = run_jam("check sample_pairs " + dir.string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(one_line(o), o.output);
+  BOOST_TEST(o.output.find((dir / "stats.h5").string()) != std::string::npos, o.output);
+
+  const fs::path mnt = kDir / "mnt-check";
+  fs::create_directories(mnt);
+  if (::geteuid() != 0 || ::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=256k") != 0) {
+    BOOST_TEST_MESSAGE("full disk part skipped: mounting a tmpfs needs root");
+    return;
+  }
+  struct Unmount {
+    fs::path p;
+    ~Unmount() { ::umount2(p.c_str(), MNT_DETACH); }
+  } unmount{mnt};
+  const fs::path full = mnt / "c";
+  fs::create_directories(full);
+  std::ofstream(full / "stats.h5", std::ios::binary) << stats;
+  {
+    std::ofstream filler(mnt / "filler", std::ios::binary);
+    const std::string block(4096, 'x');
+    while (filler.write(block.data(), block.size())) {
+    }
+  }
+  o = run_jam("check sample_pairs " + full.string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(o.output.find("No space left on device") != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("jam: error:") != std::string::npos, o.output);
+  for (const auto& e : fs::directory_iterator(full)) {
+    BOOST_TEST((e.path().filename() == "stats.h5"), "left behind: " << e.path());
+  }
+}

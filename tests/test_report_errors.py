@@ -237,7 +237,23 @@ def case_not_a_report(work):
     expect_error(r, [path, "not a report"], before, work)
 
 
-CASES = [case_random_stats, case_missing_dataset, case_truncated_checks, case_read_only,
+def case_symbolic_link(work):
+    """--out is a symbolic link to a directory: written through, the link kept."""
+    camp = campaign(work)
+    target = os.path.join(work, "real")
+    os.mkdir(target)
+    link = os.path.join(work, "link")
+    os.symlink(target, link)
+    r = report(camp, link)
+    if r.returncode != 0:
+        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+    if not os.path.islink(link) or os.path.realpath(link) != os.path.realpath(target):
+        raise AssertionError(f"{link} is no longer the same symbolic link")
+    if not os.path.isfile(os.path.join(target, "index.html")):
+        raise AssertionError(f"no report in the link's target {target}")
+
+
+CASES = [case_symbolic_link, case_random_stats, case_missing_dataset, case_truncated_checks, case_read_only,
          case_full_disk, case_fifo, case_regular_file, case_not_a_report]
 
 

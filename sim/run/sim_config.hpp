@@ -19,7 +19,7 @@ struct SimConfig {
   double phi_stop = 0.86;
   double phi_step = 0.001;
   double compression_rate = 1e-4;
-  // Overdamped default: Heun at dt = 0.1 (README, Speed and accuracy: pressure error below
+  // Overdamped default: Heun at dt = 0.1 (docs/performance.md, the defaults: pressure error below
   // 3e-6 at rates 1e-3 to 1e-5, 2.5-4x less work than Euler at dt = 0.01 and 100x more
   // accurate; the stiffest contact mode, lambda_max = 5-10 from phi = 0.45 to 0.95, allows
   // dt up to about 0.2). Inertial dynamics needs dt below 4 Q^2 / D: give it explicitly.

@@ -23,7 +23,7 @@
 
 namespace jam {
 
-/// dt lambda_max above which a run is refused (the linear limit is 2; see README, Stability).
+/// dt lambda_max above which a run is refused (the linear limit is 2; see docs/stability-and-faults.md).
 inline constexpr double kStabilityLimit = 1.9;
 /// Steps between checks: an unstable run is stopped within this many steps of the contact
 /// network becoming too stiff.
@@ -60,8 +60,8 @@ class StabilityGuard {
     if (!(dt_ * lambda <= kStabilityLimit)) {
       throw StabilityError(fmt::format(
           "--dt {:g}: unstable for {} ({} at phi {:.4f}): the stiffest contact mode has {} = "
-          "{:.4g}, so dt must be below {:.2g}/{} = {:.3g} (estimated safe bound; see README, "
-          "Stability)",
+          "{:.4g}, so dt must be below {:.2g}/{} = {:.3g} (estimated safe bound; see "
+          "docs/stability-and-faults.md)",
           dt_, integrator_, stage, packing_fraction, inertial_ ? "omega_max" : "lambda_max", lambda,
           kStabilityLimit, inertial_ ? "omega_max" : "lambda_max", kStabilityLimit / lambda));
     }
