@@ -11,6 +11,7 @@ struct CheckArgs {
   std::string name, directory, set_a, set_b;
   checks::CheckOptions options;
   double phi_min = -1.0;
+  std::optional<double> margin;
   std::string reference_dir = JAM_REFERENCE_DIR;
   bool no_lmp = false, regenerate = false;
   std::string against;  // regression: baseline directory
@@ -21,7 +22,7 @@ struct CheckArgs {
 void add_check_command(CLI::App& app, CheckArgs& args);
 
 /// Runs the check, prints the table, writes DIR/checks.{json,xml,h5} (`all`) or
-/// DIR/checks-NAME.{json,xml,h5}; returns 1 if a check failed.
+/// DIR/checks-NAME.{json,xml,h5}; returns checks::exit_status (0 pass, 1 fail, 3 inconclusive).
 int run_check_command(const CheckArgs& args);
 
 }  // namespace jam

@@ -91,6 +91,39 @@ class Reader {
     return v;
   }
 
+  /// An optional table of positive finite numbers, keys from `allowed`.
+  std::map<std::string, double> number_table(const std::string& key,
+                                             const std::set<std::string>& allowed) {
+    std::map<std::string, double> out;
+    const toml::node* node = find(key, false);
+    if (!node) return out;
+    const toml::table* table = node->as_table();
+    if (!table) fail(key, "must be a table of numbers");
+    for (const auto& [name, value] : *table) {
+      const std::string k(name.str());
+      if (!allowed.count(k)) fail(key, fmt::format("{}: unknown check", k));
+      if (!value.is_number()) fail(key, fmt::format("{}: must be a number", k));
+      const double v = value.value<double>().value();
+      if (!std::isfinite(v) || v <= 0) fail(key, fmt::format("{} = {}: must be > 0", k, v));
+      out[k] = v;
+    }
+    return out;
+  }
+
+  /// An optional array of strings.
+  std::vector<std::string> strings(const std::string& key) {
+    std::vector<std::string> out;
+    const toml::node* node = find(key, false);
+    if (!node) return out;
+    const toml::array* array = node->as_array();
+    if (!array) fail(key, "must be an array of strings");
+    for (const auto& element : *array) {
+      if (!element.is_string()) fail(key, "must be an array of strings");
+      out.push_back(element.value<std::string>().value());
+    }
+    return out;
+  }
+
   void reject_unknown_keys() const {
     for (const auto& [key, node] : table_) {
       if (!seen_.count(std::string(key.str()))) {
@@ -158,6 +191,14 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.stress = r.boolean("stress", c.stress);
   c.jamming_point = r.boolean("jamming_point", c.jamming_point);
   c.checkpoint_interval = r.number("checkpoint_interval", false, c.checkpoint_interval);
+  c.margins = r.number_table("margins", {"finite_size", "sample_pairs", "phi_init", "regression",
+                                         "jamming_point", "lammps"});
+  c.expected_failures = r.strings("expected_failures");
+  for (const auto& e : c.expected_failures) {
+    if (e.find(": ") == std::string::npos || e.find(": ") == 0) {
+      r.fail("expected_failures", fmt::format("'{}': must read 'check: part of the case name'", e));
+    }
+  }
   r.reject_unknown_keys();
 
   if (c.name.empty() || c.name.find_first_of("/ \t") != std::string::npos) {

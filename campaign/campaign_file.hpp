@@ -4,6 +4,7 @@
 // types, missing fields and impossible values are errors naming the file, the line and the key.
 #include <cstdint>
 #include <stdexcept>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,12 @@ struct Campaign {
   bool stress = false;
   bool jamming_point = false;          // find each run's phi_Ji (FIRE), for the phi_init check
   double checkpoint_interval = SimConfig{}.checkpoint_interval;  // seconds
+  // How `jam check` judges this campaign (not part of its identity: changing them never
+  // touches a run). [margins]: a check's name -> its margin M (checks/checks.hpp).
+  std::map<std::string, double> margins;
+  // Verdicts the campaign expects to fail, "check: text" with text a part of the case name
+  // ("phi_init: phi_init 0.8 vs"): the main job names them as expected, not as a bare FAIL.
+  std::vector<std::string> expected_failures;
 
   std::string source_path;  // the file it was read from
   std::string source_text;  // its text, stored with the results

@@ -1,6 +1,7 @@
 #pragma once
 // The checks of `jam check NAME DIR`: each turns the per-sample tables of DIR/stats.h5 into
 // verdicts (checks/verdict.hpp).
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,11 +20,24 @@ struct RunSetSelector {
   bool matches(const EnsembleTables& e) const;
 };
 
+/// The default margin M of each check: a relative pressure difference (finite_size,
+/// sample_pairs, phi_init, regression), a packing difference (jamming_point: <phi_Ji>), or a
+/// tolerance (lammps). Why each is what it is: checks/checks.cpp and
+/// docs/statistics-and-checks.md.
+double default_margin(const std::string& check);
+
 struct CheckOptions {
   double alpha = 0.05;  // false-alarm rate of a whole check (Bonferroni over its comparisons)
   int permutations = 2000;
-  std::optional<double> phi_min;  // phi_init check: compare from here (default phi_J - 0.03)
+  // phi_init check: compare from here (default: where the compression, not the start, sets
+  // the pressure in both sets; margin.hpp).
+  std::optional<double> phi_min;
   std::optional<RunSetSelector> set_a, set_b;  // finite-size check of two named run sets
+  std::map<std::string, double> margins;       // per check; default_margin() otherwise
+  double margin(const std::string& check) const {
+    const auto it = margins.find(check);
+    return it != margins.end() ? it->second : default_margin(check);
+  }
 };
 
 std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o);

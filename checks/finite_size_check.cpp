@@ -4,11 +4,13 @@
 // is alpha.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 
 #include "checks/checks.hpp"
+#include "checks/margin.hpp"
 #include "checks/relative_difference.hpp"
 
 namespace jam::checks {
@@ -27,7 +29,7 @@ std::vector<double> pick(const std::vector<double>& grid, const std::vector<std:
   return out;
 }
 
-Verdict judge(const Comparison& c, double alpha, int permutations) {
+Verdict compare(const Comparison& c, double alpha, const CheckOptions& o) {
   Verdict v;
   v.check = "finite_size";
   v.case_name = c.label;
@@ -40,23 +42,23 @@ Verdict judge(const Comparison& c, double alpha, int permutations) {
               {"constant_z", c.at_z ? 1.0 : 0.0}};
   const auto& ga = c.at_z ? c.a->z_grid : c.a->phi_grid;
   const auto& gb = c.at_z ? c.b->z_grid : c.b->phi_grid;
+  // From where the compression, not the start, sets the pressure in both sets.
+  const double from = c.at_z ? std::max(c.a->compressed_from_z, c.b->compressed_from_z)
+                             : std::max(c.a->compressed_from_phi, c.b->compressed_from_phi);
+  v.values["compared_from"] = from;
   const Aligned al = align(ga, c.at_z ? c.a->pressure_at_z : c.a->pressure_at_phi, gb,
-                           c.at_z ? c.b->pressure_at_z : c.b->pressure_at_phi);
+                           c.at_z ? c.b->pressure_at_z : c.b->pressure_at_phi, from);
   if (al.grid.empty() || al.a.size() < 2 || al.b.size() < 2) {
-    v.status = "skipped";
-    v.reason = "no common grid points or fewer than 2 samples per set";
+    v.status = "inconclusive";
+    v.reason = "no common grid points past the start's transient, or fewer than 2 samples per set";
     return v;
   }
   try {
-    const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, permutations);
-    record_test(v, r, alpha);
+    const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, o.permutations);
+    judge(v, r, alpha, o.margin("finite_size"), std::min(al.a.size(), al.b.size()));
     v.curves = {{"grid", pick(al.grid, r.points)}, {"delta", r.delta}, {"sigma", r.sigma}};
-    v.reason = fmt::format(
-        "permutation p = {:.3g} (alpha {:.3g}, {} permutations of whole runs); "
-        "|Delta p/p| > {:.3g} excluded",
-        r.p_value, alpha, r.permutations, r.excluded_above);
   } catch (const std::invalid_argument& e) {
-    v.status = "skipped";
+    v.status = "inconclusive";
     v.reason = e.what();
   }
   return v;
@@ -79,7 +81,7 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
         b = &e;
     }
     if (!a || !b) {
-      return {skipped("finite_size", "named run sets",
+      return {inconclusive("finite_size", "named run sets",
                       "a named run set matches no ensemble of stats.h5")};
     }
     for (bool z : {false, true}) {
@@ -89,7 +91,7 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
     }
   } else {
     if (d.pooled) {
-      return {skipped("finite_size", "all",
+      return {inconclusive("finite_size", "all",
                       "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
     }
     // Smallest against largest size at every (phi_init, rate).
@@ -106,12 +108,12 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
       }
     }
     if (comparisons.empty()) {
-      return {skipped("finite_size", "all", "the campaign has a single system size")};
+      return {inconclusive("finite_size", "all", "the campaign has a single system size")};
     }
   }
   std::vector<Verdict> out;
   const double each = o.alpha / static_cast<double>(comparisons.size());
-  for (const auto& c : comparisons) out.push_back(judge(c, each, o.permutations));
+  for (const auto& c : comparisons) out.push_back(compare(c, each, o));
   return out;
 }
 

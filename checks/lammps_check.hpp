@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "checks/checks.hpp"
 #include "checks/verdict.hpp"
 
 namespace jam::checks {
@@ -20,6 +21,7 @@ struct LammpsCheckOptions {
   std::string reference_directory;  // reference/lammps
   bool use_lmp = true;              // run lmp when available
   bool regenerate = false;          // rewrite the stored reference from a fresh LAMMPS run
+  double margin = default_margin("lammps");  // overdamped comparison: |<Delta p/p>| allowed
 };
 
 /// The inertial comparison in 2D and 3D, then the overdamped one (lammps_overdamped_check).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "checks/margin.hpp"
 #include "checks/relative_difference.hpp"
 
 namespace jam::checks {
@@ -62,13 +63,15 @@ Verdict rerun_verdict(const EnsembleTables& now, const EnsembleTables& base, con
     }
   }
   if (compared == 0 || al.grid.empty()) {
-    v.status = "skipped";
+    v.status = "inconclusive";
     v.reason = "no sample of the baseline was rerun (or no common grid points)";
     return v;
   }
   v.statistic = worst;
   v.threshold = tolerance;
   v.detectable = tolerance;
+  v.margin = tolerance;  // deterministic: rerun samples reproduce within the tolerance, or not
+  v.excluded_above = worst;
   v.status = worst <= tolerance ? "pass" : "fail";
   v.reason =
       fmt::format("{} rerun samples on {} grid points; largest difference {:.3g} (sample {})",
@@ -81,7 +84,7 @@ Verdict rerun_verdict(const EnsembleTables& now, const EnsembleTables& base, con
 std::vector<Verdict> regression_check(const StatsData& now, const StatsData& baseline,
                                       const CheckOptions& o, const RegressionOptions& r) {
   if (now.dim != baseline.dim)
-    return {skipped("regression", "all",
+    return {inconclusive("regression", "all",
                     fmt::format("dimension {} against a {}D baseline", now.dim, baseline.dim))};
   struct Pair {
     const EnsembleTables* now;
@@ -93,7 +96,7 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
     if (const auto* b = find_match(baseline, e))
       pairs.push_back({&e, b});
     else
-      out.push_back(skipped("regression", describe(e), "the baseline has no such ensemble"));
+      out.push_back(inconclusive("regression", describe(e), "the baseline has no such ensemble"));
   }
   // The statistical comparisons share alpha (Bonferroni over the ensembles with new samples).
   auto is_new = [](const EnsembleTables& base, std::uint32_t id) {
@@ -107,9 +110,13 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
   }
   const double alpha = o.alpha / static_cast<double>(std::max<std::size_t>(1, with_new));
   for (const auto& p : pairs) {
-    const Aligned al =
+    // Rerun samples are compared everywhere; new samples from where the compression sets p.
+    const Aligned all =
         align(p.now->phi_grid, p.now->pressure_at_phi, p.base->phi_grid, p.base->pressure_at_phi);
-    out.push_back(rerun_verdict(*p.now, *p.base, al, r.tolerance));
+    out.push_back(rerun_verdict(*p.now, *p.base, all, r.tolerance));
+    const Aligned al =
+        align(p.now->phi_grid, p.now->pressure_at_phi, p.base->phi_grid, p.base->pressure_at_phi,
+              std::max(p.now->compressed_from_phi, p.base->compressed_from_phi));
     std::vector<std::vector<double>> fresh;
     for (std::size_t i = 0; i < p.now->sample_ids.size(); ++i)
       if (is_new(*p.base, p.now->sample_ids[i])) fresh.push_back(al.a[i]);
@@ -119,25 +126,23 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
     v.statistic_name = "max |Delta p/p| / sigma";
     v.values = out.back().values;
     if (fresh.size() < 2 || al.b.size() < 2 || al.grid.empty()) {
-      out.push_back(skipped("regression", v.case_name,
+      out.push_back(inconclusive("regression", v.case_name,
                             "fewer than 2 new samples (or 2 baseline samples) on a common grid"));
       continue;
     }
     try {
       const RelativeDifference t = compare_run_sets(fresh, al.b, alpha, o.permutations);
-      record_test(v, t, alpha);
+      judge(v, t, alpha, o.margin("regression"), std::min(fresh.size(), al.b.size()));
       v.curves = {{"grid", {}}, {"delta", t.delta}, {"sigma", t.sigma}};
       for (auto k : t.points) v.curves[0].second.push_back(al.grid[k]);
-      v.reason = fmt::format(
-          "{} new vs {} baseline samples: permutation p = {:.3g} (alpha {:.3g}); "
-          "|Delta p/p| > {:.3g} excluded",
-          fresh.size(), al.b.size(), t.p_value, alpha, t.excluded_above);
+      v.reason = fmt::format("{} new vs {} baseline samples: ", fresh.size(), al.b.size()) +
+                 v.reason;
     } catch (const std::invalid_argument& e) {
-      v = skipped("regression", v.case_name, e.what());
+      v = inconclusive("regression", v.case_name, e.what());
     }
     out.push_back(v);
   }
-  if (out.empty()) return {skipped("regression", "all", "no ensembles to compare")};
+  if (out.empty()) return {inconclusive("regression", "all", "no ensembles to compare")};
   return out;
 }
 

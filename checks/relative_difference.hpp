@@ -44,14 +44,4 @@ struct MeanDifference {
 MeanDifference compare_means(std::vector<double> a, std::vector<double> b, double alpha,
                              int permutations = 2000, std::uint64_t seed = 1);
 
-/// Copies a permutation test's numbers into a verdict: fail when p <= alpha.
-template <class Test>
-void record_test(Verdict& v, const Test& t, double alpha) {
-  v.statistic = t.statistic;
-  v.threshold = t.critical;
-  v.detectable = t.detectable;
-  v.excluded_above = t.excluded_above;
-  v.status = t.p_value <= alpha ? "fail" : "pass";
-}
-
 }  // namespace jam::checks

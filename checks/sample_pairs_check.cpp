@@ -13,6 +13,7 @@
 #include <random>
 
 #include "checks/checks.hpp"
+#include "checks/margin.hpp"
 
 namespace jam::checks {
 namespace {
@@ -43,7 +44,7 @@ double pair_ratio(const std::vector<const std::vector<double>*>& a,
 
 std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& o) {
   if (d.pooled) {
-    return {skipped("sample_pairs", "all",
+    return {inconclusive("sample_pairs", "all",
                     "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
   }
   std::map<std::pair<double, double>, std::map<std::int64_t, const EnsembleTables*>> by;
@@ -51,7 +52,7 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
   std::size_t comparisons = 0;
   for (const auto& [key, sizes] : by) comparisons += sizes.size() >= 2;
   if (comparisons == 0)
-    return {skipped("sample_pairs", "all", "the campaign has a single system size")};
+    return {inconclusive("sample_pairs", "all", "the campaign has a single system size")};
   const double alpha = o.alpha / static_cast<double>(comparisons);
   std::vector<Verdict> out;
   for (const auto& [key, sizes] : by) {
@@ -67,7 +68,8 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
                 {"n_b", static_cast<double>(eb->n)},
                 {"phi_init", key.first},
                 {"log10_rate", key.second}};
-    const Aligned al = align(ea->phi_grid, ea->pressure_at_phi, eb->phi_grid, eb->pressure_at_phi);
+    const Aligned al = align(ea->phi_grid, ea->pressure_at_phi, eb->phi_grid, eb->pressure_at_phi,
+                             std::max(ea->compressed_from_phi, eb->compressed_from_phi));
     // Points where every sample has a positive pressure.
     std::vector<std::size_t> keep;
     for (std::size_t k = 0; k < al.grid.size(); ++k) {
@@ -77,7 +79,7 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
       if (ok) keep.push_back(k);
     }
     if (keep.empty() || al.a.size() < 3 || al.b.size() < 3) {
-      v.status = "skipped";
+      v.status = "inconclusive";
       v.reason = "fewer than 3 samples per size or no common grid points";
       out.push_back(v);
       continue;
@@ -123,8 +125,31 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
         sb += ((*r)[k] - mb) * ((*r)[k] - mb) / static_cast<double>(b.size() - 1);
       v_sum += sa / (ma * ma) + sb / (mb * mb);
     }
-    v.detectable = std::sqrt(std::max(0.0, hi - 1.0) * v_sum / static_cast<double>(keep.size()));
-    v.status = v.statistic < lo || v.statistic > hi ? "fail" : "pass";
+    const double v_mean = v_sum / static_cast<double>(keep.size());
+    v.detectable = std::sqrt(std::max(0.0, hi - 1.0) * v_mean);
+    // The effects the data allow: R = 1 + delta^2 / v_mean + noise, and noise above lo is
+    // allowed, so delta^2 <= (R - lo) v_mean.
+    const double allowed = std::sqrt(std::max(0.0, v.statistic - lo) * v_mean);
+    const double margin = o.margin("sample_pairs");
+    decide(v, v.statistic > hi, allowed, margin);
+    if (v.statistic < lo) {
+      // Pairs more alike than independent samples: the samples of the two sizes are not
+      // independent (shared seeds or starts), whatever the margin says.
+      v.status = "fail";
+      v.reason = "pairs more alike than independent samples (R below its band)";
+    }
+    v.reason += fmt::format(" (R = {:.3g}, permutation band [{:.3g}, {:.3g}], alpha {:.3g})",
+                            v.statistic, lo, hi, alpha);
+    if (v.status == "inconclusive") {
+      // The band's half-width shrinks as 1/sqrt(samples); R - 1 stays.
+      const double room = margin * margin / v_mean - (v.statistic - 1.0);
+      const double n = static_cast<double>(std::min(a.size(), b.size()));
+      if (room > 0 && 1.0 - lo > 0) {
+        v.samples_needed = std::ceil(n * std::pow((1.0 - lo) / room, 2));
+        v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
+                                v.samples_needed);
+      }
+    }
     // Delta p/p of each pair (sample i of one size against sample i of the other).
     std::vector<double> grid;
     for (auto k : keep) grid.push_back(al.grid[k]);
@@ -135,10 +160,6 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
         d.push_back(2 * ((*a[i])[k] - (*b[i])[k]) / ((*a[i])[k] + (*b[i])[k]));
       v.curves.emplace_back("pair_" + std::to_string(i), d);
     }
-    v.reason = fmt::format(
-        "R = {:.3g}, permutation band [{:.3g}, {:.3g}] (alpha {:.3g}); "
-        "spread of single pairs vs within-size fluctuations",
-        v.statistic, lo, hi, alpha);
     out.push_back(v);
   }
   return out;

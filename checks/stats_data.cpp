@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "checks/margin.hpp"
 #include "sim/io/hdf5_file.hpp"
 
 namespace jam::checks {
@@ -24,6 +25,18 @@ std::vector<std::vector<double>> table(const h5::File& f, const std::string& nam
 
 }  // namespace
 
+void find_compressed_range(EnsembleTables& e, const std::vector<std::vector<double>>& z_at_phi) {
+  const std::size_t k = first_compression_point(e.pressure_at_phi);
+  const bool found = k < e.phi_grid.size();
+  e.compressed_from_phi = found ? e.phi_grid[k] : HUGE_VAL;
+  e.compressed_from_z = found ? 0.0 : HUGE_VAL;
+  if (found && !z_at_phi.empty()) {
+    double mean = 0.0;
+    for (const auto& row : z_at_phi) mean += row[k] / static_cast<double>(z_at_phi.size());
+    e.compressed_from_z = mean;
+  }
+}
+
 StatsData read_stats(const std::string& directory) {
   const std::string path = (std::filesystem::path(directory) / "stats.h5").string();
   if (!std::filesystem::exists(path)) {
@@ -35,6 +48,9 @@ StatsData read_stats(const std::string& directory) {
   d.campaign = f.read_attribute_string("campaign");
   d.dim = static_cast<int>(f.read_attribute_int("dim"));
   d.pooled = f.read_attribute_int("pooled_sizes") != 0;
+  if (f.has_dataset("fit/representative")) {
+    d.fit_window_min = f.read_attribute_double("phi_min", "fit/representative");
+  }
   for (const auto& name : f.list_group("ensembles")) {
     const std::string g = "ensembles/" + name;
     EnsembleTables e;
@@ -55,6 +71,10 @@ StatsData read_stats(const std::string& directory) {
       e.z_grid = f.read_dataset(g + "/constant_z/" + grid_name);
       e.pressure_at_z = table(f, g + "/constant_z/pressure_samples", e.z_grid.size());
     }
+    const std::string z_name = g + "/constant_phi/contacts_per_particle_samples";
+    find_compressed_range(
+        e, f.has_dataset(z_name) ? table(f, z_name, e.phi_grid.size())
+                                 : std::vector<std::vector<double>>{});
     if (f.has_dataset(g + "/jamming"))
       e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples");
     d.ensembles.push_back(std::move(e));

@@ -17,14 +17,24 @@ struct EnsembleTables {
   std::vector<double> z_grid;
   std::vector<std::vector<double>> pressure_at_z;  // empty when no constant-Z average
   std::vector<double> jamming_points;  // phi_Ji per sample (NaN: not found); empty if not sought
+  // Where the compression, not the start, sets the pressure (margin.hpp,
+  // first_compression_point): the packing, and the mean Z there. Comparisons start here.
+  double compressed_from_phi = 0, compressed_from_z = 0;
 };
 
 struct StatsData {
   std::string campaign;
   int dim = 2;
   bool pooled = false;
+  // The lower edge of the scaling fit's window (stats.h5 fit/representative phi_min), when
+  // `jam stats` fitted: where the data the fit uses begin.
+  std::optional<double> fit_window_min;
   std::vector<EnsembleTables> ensembles;
 };
+
+/// Sets e.compressed_from_phi and e.compressed_from_z from e's pressure at constant phi and its
+/// contacts per particle there ([sample][point], empty when unknown: then Z is not limited).
+void find_compressed_range(EnsembleTables& e, const std::vector<std::vector<double>>& z_at_phi);
 
 /// Reads DIR/stats.h5; throws with a message to run `jam stats DIR` when it is missing.
 StatsData read_stats(const std::string& directory);

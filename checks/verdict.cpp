@@ -47,18 +47,19 @@ std::string xml_escape(const std::string& s) {
 
 std::string format_table(const std::vector<Verdict>& v) {
   std::ostringstream out;
-  out << fmt::format("{:<8} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10}\n", "verdict", "check",
-                     "case", "statistic", "threshold", "detectable", "excluded>");
+  out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", "verdict",
+                     "check", "case", "statistic", "threshold", "detectable", "excluded>",
+                     "margin");
   for (const auto& x : v) {
-    out << fmt::format("{:<8} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10}\n", x.status, x.check,
+    const std::string status = x.expected_failure ? x.status + "(x)" : x.status;
+    out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", status,
+                       x.check,
                        x.case_name.size() > 58 ? x.case_name.substr(0, 55) + "..." : x.case_name,
                        number(x.statistic), number(x.threshold), number(x.detectable),
-                       number(x.excluded_above));
-    if (x.status != "pass" && !x.reason.empty()) out << "         " << x.reason << "\n";
+                       number(x.excluded_above), number(x.margin));
+    if (x.status != "pass" && !x.reason.empty()) out << "             " << x.reason << "\n";
   }
-  int pass = 0, fail = 0, skipped = 0;
-  for (const auto& x : v) (x.status == "pass" ? pass : x.status == "fail" ? fail : skipped)++;
-  out << fmt::format("{} passed, {} failed, {} skipped\n", pass, fail, skipped);
+  out << outcome_counts(v) << "\n";
   return out.str();
 }
 
@@ -77,16 +78,22 @@ std::string to_json(const std::vector<Verdict>& v) {
                  {"threshold", num(x.threshold)},
                  {"detectable_effect", num(x.detectable)},
                  {"excluded_above", num(x.excluded_above)},
+                 {"margin", num(x.margin)},
+                 {"samples_needed", num(x.samples_needed)},
+                 {"expected_failure", x.expected_failure},
                  {"values", x.values}});
   }
   return j.dump(2) + "\n";
 }
 
 std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite) {
+  // An expected failure is a finding the campaign already knows: JUnit sees it as skipped,
+  // like an inconclusive verdict, with the reason.
+  auto failure = [](const Verdict& x) { return x.status == "fail" && !x.expected_failure; };
   int failures = 0, skipped = 0;
   for (const auto& x : v) {
-    failures += x.status == "fail";
-    skipped += x.status == "skipped";
+    failures += failure(x);
+    skipped += !failure(x) && x.status != "pass";
   }
   std::ostringstream out;
   out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
@@ -94,15 +101,17 @@ std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite
                      xml_escape(suite), v.size(), failures, skipped);
   for (const auto& x : v) {
     const std::string summary = fmt::format(
-        "{} = {} (threshold {}), detectable {}, excluded above {}", x.statistic_name,
-        number(x.statistic), number(x.threshold), number(x.detectable), number(x.excluded_above));
+        "{} = {} (threshold {}), detectable {}, excluded above {}, margin {}", x.statistic_name,
+        number(x.statistic), number(x.threshold), number(x.detectable), number(x.excluded_above),
+        number(x.margin));
     out << fmt::format("  <testcase classname=\"jam.check.{}\" name=\"{}\">\n", xml_escape(x.check),
                        xml_escape(x.case_name));
-    if (x.status == "fail") {
+    if (failure(x)) {
       out << fmt::format("    <failure message=\"{}\">{}</failure>\n", xml_escape(x.reason),
                          xml_escape(summary));
-    } else if (x.status == "skipped") {
-      out << fmt::format("    <skipped message=\"{}\"/>\n", xml_escape(x.reason));
+    } else if (x.status != "pass") {
+      const std::string why = x.expected_failure ? "expected failure: " + x.reason : x.reason;
+      out << fmt::format("    <skipped message=\"{}\"/>\n", xml_escape(why));
     }
     out << fmt::format("    <system-out>{}</system-out>\n", xml_escape(summary));
     out << "  </testcase>\n";
@@ -125,6 +134,10 @@ void write_curves(const std::string& path, const std::vector<Verdict>& v, double
       f.write_attribute("status", v[k].status, g);
       f.write_attribute("statistic", v[k].statistic, g);
       f.write_attribute("threshold", v[k].threshold, g);
+      f.write_attribute("margin", v[k].margin, g);
+      f.write_attribute("excluded_above", v[k].excluded_above, g);
+      f.write_attribute("samples_needed", v[k].samples_needed, g);
+      f.write_attribute("expected_failure", std::int64_t{v[k].expected_failure}, g);
       for (const auto& [name, value] : v[k].values) f.write_attribute(name, value, g);
       for (const auto& [name, values] : v[k].curves) f.write_dataset(g + "/" + name, values);
     }
@@ -137,9 +150,26 @@ void write_curves(const std::string& path, const std::vector<Verdict>& v, double
 }
 
 int exit_status(const std::vector<Verdict>& v) {
-  for (const auto& x : v)
-    if (x.status == "fail") return 1;
-  return 0;
+  bool inconclusive = false;
+  for (const auto& x : v) {
+    if (x.status == "fail" && !x.expected_failure) return 1;
+    inconclusive = inconclusive || x.status == "inconclusive";
+  }
+  return inconclusive ? 3 : 0;
+}
+
+std::string outcome_counts(const std::vector<Verdict>& v) {
+  int pass = 0, fail = 0, inconclusive = 0, expected = 0, expected_passed = 0;
+  for (const auto& x : v) {
+    if (x.status == "fail") (x.expected_failure ? expected : fail)++;
+    if (x.status == "pass") ++pass;
+    if (x.status == "pass" && x.expected_failure) ++expected_passed;
+    if (x.status == "inconclusive") ++inconclusive;
+  }
+  std::string out = fmt::format("{} passed, {} failed, {} inconclusive", pass, fail, inconclusive);
+  if (expected > 0) out += fmt::format(", {} failed as expected", expected);
+  if (expected_passed > 0) out += fmt::format(" ({} expected to fail passed)", expected_passed);
+  return out;
 }
 
 }  // namespace jam::checks

@@ -1,7 +1,13 @@
 #pragma once
-// A check's verdict, as CI acts on it and a physicist reads it: pass, fail or skipped (with
-// why), the statistic and its threshold, and the smallest effect the data could have
-// detected. Written as a table, as JSON and as JUnit XML.
+// A check's verdict, as CI acts on it and a physicist reads it, judged against a margin M on
+// the effect (checks/margin.hpp):
+//   pass          the effects the data allow (at 1 - alpha) lie within +-M: excluded_above <= M
+//                 (even when a smaller difference is detected; the reason says so);
+//   fail          a difference is detected at alpha and the allowed effects are not within +-M;
+//   inconclusive  anything else: the data cannot tell (with samples_needed, an estimate of how
+//                 many samples per set would decide it), or there was nothing to compare.
+// With the statistic and its threshold and the smallest effect the data could have detected.
+// Written as a table, as JSON and as JUnit XML (inconclusive as skipped).
 #include <cmath>
 #include <map>
 #include <string>
@@ -14,25 +20,28 @@ struct Verdict {
   std::string check;  // e.g. "finite_size", "sample_pairs", "phi_init"
   std::string
       case_name;  // what was compared, e.g. "n1024 vs n2048, phi_init 0.6, rate 1e-4, constant phi"
-  std::string status;  // "pass", "fail" or "skipped"
-  std::string reason;  // one line: why skipped, or what the numbers mean
+  std::string status;  // "pass", "fail" or "inconclusive"
+  std::string reason;  // one line: what the numbers mean, or why nothing could be decided
   std::string statistic_name;
   double statistic = NAN;
   double threshold = NAN;
   double detectable = NAN;               // smallest effect the data could have detected
   double excluded_above = NAN;           // effects larger than this are excluded (where meaningful)
+  double margin = NAN;                   // M: the largest effect that still passes
+  double samples_needed = NAN;           // inconclusive: samples per set that would decide (est.)
+  bool expected_failure = false;         // the campaign marks this verdict as expected to fail
   std::map<std::string, double> values;  // further numbers a later stage reads (JSON "values")
   // Curves behind the verdict, for the report (checks.h5): e.g. "grid", "delta", "sigma".
   std::vector<std::pair<std::string, std::vector<double>>> curves;
 };
 
-/// A verdict that could not be reached, and why.
-inline Verdict skipped(const std::string& check, const std::string& case_name,
-                       const std::string& reason) {
+/// A verdict that could not be reached (nothing to compare), and why.
+inline Verdict inconclusive(const std::string& check, const std::string& case_name,
+                            const std::string& reason) {
   Verdict v;
   v.check = check;
   v.case_name = case_name;
-  v.status = "skipped";
+  v.status = "inconclusive";
   v.reason = reason;
   return v;
 }
@@ -46,7 +55,12 @@ std::string to_junit_xml(const std::vector<Verdict>& verdicts, const std::string
 /// (seconds the checks took).
 void write_curves(const std::string& path, const std::vector<Verdict>& verdicts, double wall_time);
 
-/// 1 if any verdict failed, else 0.
+/// Exit status of `jam check`: 1 if any verdict failed (other than an expected failure), else
+/// 3 if any is inconclusive, else 0. (2 is a check that could not run: a tool error.)
 int exit_status(const std::vector<Verdict>& verdicts);
+
+/// Counts of the three outcomes, expected failures apart: "12 passed, 1 failed (expected),
+/// 3 inconclusive".
+std::string outcome_counts(const std::vector<Verdict>& verdicts);
 
 }  // namespace jam::checks

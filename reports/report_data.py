@@ -125,6 +125,9 @@ class Verdict:
     excluded_above: float | None
     values: dict
     curves: dict = field(default_factory=dict)
+    margin: float | None = None
+    samples_needed: float | None = None
+    expected_failure: bool = False
 
 
 @dataclass
@@ -217,7 +220,10 @@ def _verdict(x):
     return Verdict(x["check"], x["case"], x["status"], x.get("reason", ""),
                    x.get("statistic_name", ""), _number(x.get("statistic")),
                    _number(x.get("threshold")), _number(x.get("detectable_effect")),
-                   _number(x.get("excluded_above")), x.get("values") or {})
+                   _number(x.get("excluded_above")), x.get("values") or {},
+                   margin=_number(x.get("margin")),
+                   samples_needed=_number(x.get("samples_needed")),
+                   expected_failure=bool(x.get("expected_failure", False)))
 
 
 def _read_verdict_list(path):

@@ -11,7 +11,9 @@ th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: left; vertical-al
 td.num { text-align: right; font-family: monospace; }
 tr.pass td.status { background: #d8f0d8; }
 tr.fail td.status { background: #f6caca; font-weight: bold; }
-tr.skipped td.status { background: #eee; color: #666; }
+tr.inconclusive td.status { background: #f3ecd0; color: #665; }
+tr.expected td.status { background: #eadcf2; }
+ul.headlines { font-size: 1.05em; }
 .reason { color: #555; font-size: 0.9em; }
 figure { margin: 1.5em 0; }
 figure img { max-width: 100%; border: 1px solid #ddd; }
@@ -28,23 +30,76 @@ def _fmt(x):
 
 
 def counts(verdicts):
-    out = {"pass": 0, "fail": 0, "skipped": 0}
+    """The three outcomes, with the failures the campaign expects counted apart."""
+    out = {"pass": 0, "fail": 0, "inconclusive": 0, "expected": 0, "expected_passed": 0}
     for v in verdicts:
-        out[v.status] = out.get(v.status, 0) + 1
+        if v.status == "fail" and v.expected_failure:
+            out["expected"] += 1
+        else:
+            out[v.status] = out.get(v.status, 0) + 1
+        if v.status == "pass" and v.expected_failure:
+            out["expected_passed"] += 1
     return out
+
+
+def counts_text(n):
+    text = f"{n['pass']} passed, {n['fail']} failed, {n['inconclusive']} inconclusive"
+    if n["expected"]:
+        text += f", {n['expected']} failed as expected"
+    if n["expected_passed"]:
+        text += f" ({n['expected_passed']} expected to fail passed)"
+    return text
+
+
+def _percent(x):
+    return f"{100 * x:.3g}%"
+
+
+def headline(check, verdicts):
+    """One line per check: what it excludes, at what margin, and what it could not decide."""
+    n = counts(verdicts)
+    margins = sorted({v.margin for v in verdicts if v.margin is not None})
+    relative = check not in ("jamming_point",)
+    if len(margins) == 1:
+        margin = _percent(margins[0]) if relative else f"{margins[0]:.3g}"
+    else:
+        margin = "each verdict's margin" if margins else "its margin"
+    parts = [f"no effect above {margin} in {n['pass']} of {len(verdicts)}"]
+    if n["fail"]:
+        parts.append(f"{n['fail']} failed")
+    if n["expected"]:
+        parts.append(f"{n['expected']} failed as expected")
+    if n["inconclusive"]:
+        needed = [v.samples_needed for v in verdicts
+                  if v.status == "inconclusive" and v.samples_needed is not None]
+        need = f", needs about {int(min(needed))}-{int(max(needed))} samples per set " \
+               "(estimate)" if needed else ""
+        parts.append(f"{n['inconclusive']} inconclusive{need}")
+    return f"{check.replace('_', ' ')}: " + "; ".join(parts)
+
+
+def headlines(verdicts):
+    by_check = {}
+    for v in verdicts:
+        by_check.setdefault(v.check, []).append(v)
+    return [headline(check, vs) for check, vs in by_check.items()]
 
 
 def verdict_table_html(verdicts):
     rows = ["<table id='verdicts'><tr><th>status</th><th>check</th><th>case</th>"
             "<th>statistic</th><th>value</th><th>threshold</th>"
-            "<th>smallest detectable effect</th></tr>"]
+            "<th>smallest detectable effect</th><th>effects excluded above</th>"
+            "<th>margin</th></tr>"]
     for v in verdicts:
+        status = v.status + (" (expected)" if v.expected_failure else "")
+        css = "expected" if v.expected_failure else v.status
         rows.append(
-            f"<tr class='{html.escape(v.status)}'><td class='status'>{html.escape(v.status)}</td>"
+            f"<tr class='{html.escape(css)}'><td class='status'>{html.escape(status)}</td>"
             f"<td>{html.escape(v.check)}</td><td>{html.escape(v.case)}"
             f"<div class='reason'>{html.escape(v.reason)}</div></td>"
             f"<td>{html.escape(v.statistic_name)}</td><td class='num'>{_fmt(v.statistic)}</td>"
             f"<td class='num'>{_fmt(v.threshold)}</td><td class='num'>{_fmt(v.detectable)}</td>"
+            f"<td class='num'>{_fmt(v.excluded_above)}</td><td class='num'>{_fmt(v.margin)}</td>"
             "</tr>")
     rows.append("</table>")
     return "\n".join(rows)
@@ -105,14 +160,15 @@ def page(c, figures, provenance):
             f"<section><h2>{html.escape(f.title)}</h2><figure><img src='{html.escape(f.file)}' "
             f"alt='{html.escape(f.title)}'><figcaption>{html.escape(f.caption)}</figcaption>"
             "</figure></section>")
-    verdict_word = "FAIL" if n["fail"] else "PASS"
+    verdict_word = "FAIL" if n["fail"] else ("INCONCLUSIVE" if n["inconclusive"] else "PASS")
+    lines = "".join(f"<li>{html.escape(h)}</li>" for h in headlines(c.verdicts))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><link rel="icon" href="data:,">
 <title>jam report: {html.escape(c.name)}</title><style>{STYLE}</style></head>
 <body>
 <h1>Campaign <code>{html.escape(c.name)}</code>, {c.dim}D</h1>
-<p class="summary"><b>{verdict_word}</b>: {n['pass']} passed, {n['fail']} failed,
-{n['skipped']} skipped.</p>
+<p class="summary"><b>{verdict_word}</b>: {html.escape(counts_text(n))}.</p>
+<ul class="headlines">{lines}</ul>
 <h2>Verdicts</h2>
 {verdict_table_html(c.verdicts)}
 {''.join(sections)}
@@ -128,12 +184,17 @@ def text_summary(c, report_path):
     lines = [f"jam report: campaign {c.name} ({c.dim}D), {len(c.ensembles)} ensembles", ""]
     width = max([len(v.case) for v in c.verdicts] + [4])
     check_width = max([len(v.check) for v in c.verdicts] + [5])
-    lines.append(f"{'status':<8}{'check':<{check_width + 2}}{'case':<{width + 2}}"
-                 f"{'value':>11}{'threshold':>11}{'detectable':>11}")
+    lines.append(f"{'status':<16}{'check':<{check_width + 2}}{'case':<{width + 2}}"
+                 f"{'value':>11}{'threshold':>11}{'detectable':>11}{'excluded>':>11}"
+                 f"{'margin':>9}")
     for v in c.verdicts:
-        lines.append(f"{v.status:<8}{v.check:<{check_width + 2}}{v.case:<{width + 2}}"
-                     f"{_fmt(v.statistic):>11}{_fmt(v.threshold):>11}{_fmt(v.detectable):>11}")
-    lines.append(f"{n['pass']} passed, {n['fail']} failed, {n['skipped']} skipped")
+        status = v.status + ("(expected)" if v.expected_failure else "")
+        lines.append(f"{status:<16}{v.check:<{check_width + 2}}{v.case:<{width + 2}}"
+                     f"{_fmt(v.statistic):>11}{_fmt(v.threshold):>11}{_fmt(v.detectable):>11}"
+                     f"{_fmt(v.excluded_above):>11}{_fmt(v.margin):>9}")
+    lines.append(counts_text(n))
+    lines.append("")
+    lines.extend(headlines(c.verdicts))
     lines.append("")
     for name, value, error, paper, paper_error in fit_rows(c):
         if name in ("phi_j", "beta", "y"):

@@ -40,13 +40,18 @@ stage() {  # stage KEY command...: runs it and records its wall time in seconds
   "$@"
   wall[$key]=$(awk -v ns=$(($(date +%s%N) - start)) 'BEGIN { printf "%.1f", ns / 1e9 }')
 }
-# verdicts FILE command...: a check exits 1 both when a verdict fails (a finding, kept) and on
-# an error (no verdict file written); only the second stops the script.
+# verdicts FILE command...: a check exits 1 when a verdict fails and 3 when one is
+# inconclusive (findings, kept), 2 on an error (no verdict file written); only the last stops
+# the script.
 verdicts() {
-  local file=$1
+  local file=$1 status=0
   shift
   rm -f "$file"
-  "$@" >/dev/null || [ -f "$file" ] || { echo "reproduce: '$*' failed" >&2; exit 1; }
+  "$@" >/dev/null || status=$?
+  if [ "$status" -eq 2 ] || [ ! -f "$file" ]; then
+    echo "reproduce: '$*' failed (exit status $status)" >&2
+    exit 1
+  fi
 }
 
 stage phi_init_campaign $jam campaign run "reference/campaigns/$name-phi-init.toml" $quiet

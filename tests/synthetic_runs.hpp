@@ -1,7 +1,7 @@
 #pragma once
 // Synthetic run sets for the statistical checks' tests: S runs of
 // p(phi) = exp(30 (phi - 0.84)) * (1 + shift) * exp(eps), eps an AR(1) process along the grid
-// (neighbour correlation 0.9, 10% amplitude), like the scatter of real runs.
+// (neighbour correlation 0.9, 10% amplitude unless given), like the scatter of real runs.
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -12,16 +12,16 @@
 namespace jam::checks::testing {
 
 inline std::vector<std::vector<double>> runs(int samples, double shift, std::mt19937_64& rng,
-                                             std::size_t points = 60) {
+                                             std::size_t points = 60, double amplitude = 0.1) {
   std::normal_distribution<double> g(0.0, 1.0);
   std::vector<std::vector<double>> t;
   for (int s = 0; s < samples; ++s) {
     std::vector<double> row;
-    double eps = 0.1 * g(rng);
+    double eps = amplitude * g(rng);
     for (std::size_t k = 0; k < points; ++k) {
       const double phi = 0.80 + 0.001 * static_cast<double>(k);
       row.push_back(std::exp(30 * (phi - 0.84)) * (1 + shift) * std::exp(eps));
-      eps = 0.9 * eps + 0.1 * std::sqrt(1 - 0.81) * g(rng);
+      eps = 0.9 * eps + amplitude * std::sqrt(1 - 0.81) * g(rng);
     }
     t.push_back(std::move(row));
   }

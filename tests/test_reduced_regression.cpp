@@ -57,15 +57,21 @@ void check_against_stored(int dim) {
   const Outcome check =
       run_jam("check regression " + dir.string() + " --against " + baseline.string() +
               " --alpha 0.01");
-  BOOST_TEST(check.status == 0, check.output);
+  // 0, or 3 when the few new samples cannot exclude effects beyond the margin: never 1.
+  BOOST_TEST((check.status == 0 || check.status == 3), check.output);
 
   const auto verdicts =
       nlohmann::json::parse(jam::test::slurp(dir / "checks-regression.json"));
   int reruns = 0, new_samples = 0;
   for (const auto& v : verdicts) {
     const std::string what = v["case"].get<std::string>();
-    BOOST_TEST(v["status"].get<std::string>() == "pass", what << ": " << v.dump());
-    if (what.find("rerun samples identical") != std::string::npos) ++reruns;
+    const std::string status = v["status"].get<std::string>();
+    if (what.find("rerun samples identical") != std::string::npos) {
+      BOOST_TEST(status == "pass", what << ": " << v.dump());
+      ++reruns;
+    } else {
+      BOOST_TEST(status != "fail", what << ": " << v.dump());
+    }
     if (what.find("new samples against") != std::string::npos) ++new_samples;
   }
   // Three rates: every ensemble compared both ways, none skipped for want of data.

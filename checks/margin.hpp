@@ -1,0 +1,45 @@
+#pragma once
+// Three outcomes against a margin M (checks/verdict.hpp), for every statistical check:
+//   pass          excluded_above <= M: every effect the data allow at 1 - alpha lies in +-M,
+//   fail          a difference detected at alpha (p <= alpha) and excluded_above > M,
+//   inconclusive  neither.
+// A test that is not significant never passes by itself: "found no difference" means nothing
+// unless the data also exclude every difference beyond the margin.
+//
+// samples_needed (inconclusive only) is an estimate of the samples per set that would decide
+// the comparison at the observed scatter, standard errors shrinking as 1/sqrt(samples) and the
+// critical value c held. Where every observed |Delta_k| < M, the difference is taken for noise
+// (nothing was detected) and the whole bound shrinks: pass at  n (excluded_above / M)^2.
+// Otherwise the observed difference beyond M is taken for the truth, and it would be detected
+// at  n min over those k of (c sigma_k / |Delta_k|)^2.
+#include <string>
+#include <vector>
+
+#include "checks/relative_difference.hpp"
+#include "checks/verdict.hpp"
+
+namespace jam::checks {
+
+/// The outcome from a detection at alpha and the equivalence bound excluded_above, with the
+/// words of the reason (sets v.status, v.reason, v.margin, v.excluded_above).
+void decide(Verdict& v, bool detected, double excluded_above, double margin);
+
+/// Judges v on a relative difference of run sets with `samples` per set (the smaller set).
+void judge(Verdict& v, const RelativeDifference& t, double alpha, double margin,
+           std::size_t samples);
+
+/// Judges v on a difference of means (units of the values) with `samples` per set.
+void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std::size_t samples);
+
+/// The samples-per-set estimate above for per-point differences and errors.
+double samples_to_decide(const std::vector<double>& delta, const std::vector<double>& sigma,
+                         double critical, double margin, std::size_t samples);
+
+/// The first index of a pressure curve that the compression, not the start, sets: the first
+/// grid point after the start (index 0, t = 0) whose mean pressure is at least
+/// kTransientFactor times the start's (checks/margin.cpp says why). Returns the curve's size
+/// when there is none.
+constexpr double kTransientFactor = 10.0;
+std::size_t first_compression_point(const std::vector<std::vector<double>>& samples);
+
+}  // namespace jam::checks
