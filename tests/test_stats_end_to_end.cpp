@@ -13,6 +13,7 @@
 
 #include "process.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/process.hpp"
 
 namespace fs = std::filesystem;
 using jam::test::slurp;
@@ -132,6 +133,31 @@ BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
   BOOST_TEST(run_jam("check finite_size " + dir + " --set-a size=3 --set-b n=128", &out) != 0);
   BOOST_TEST(out.find("size=3") != std::string::npos, out);
   BOOST_TEST(run_jam("check nonsense " + dir, &out) != 0);
+  // Exit statuses from the command line: 0 all pass (a margin nothing exceeds), 3 only
+  // inconclusive (2 samples are too few for sample pairs), 1 a failure (a baseline whose rerun
+  // sample differs in one value), 2 a usage error naming the option.
+  BOOST_TEST(run_jam("check finite_size " + dir +
+                         " --set-a n=128,phi_init=0.7,rate=-3 --set-b "
+                         "n=256,phi_init=0.7,rate=-3 --margin 5",
+                     &out) == 0,
+             out);
+  BOOST_TEST(run_jam("check sample_pairs " + dir, &out) == 3, out);
+  const fs::path changed = kDir / "changed";
+  fs::create_directories(changed);
+  fs::copy_file(kDir / "ci" / "stats.h5", changed / "stats.h5");
+  BOOST_TEST_REQUIRE(
+      jam::run_program({"/usr/bin/python3", "-c",
+                        "import h5py, sys\n"
+                        "f = h5py.File(sys.argv[1], 'r+')\n"
+                        "d = f['ensembles/n128_phi0.7000_r-3.00/constant_phi/pressure_samples']\n"
+                        "d[1, 5] = d[1, 5] * 1.01\n",
+                        (changed / "stats.h5").string()}) == 0);
+  BOOST_TEST(run_jam("check regression " + dir + " --against " + changed.string(), &out) == 1, out);
+  for (const char* bad : {"0", "-0.1", "nan", "inf"}) {
+    BOOST_TEST(run_jam("check finite_size " + dir + " --margin " + bad, &out) == 2, out);
+    BOOST_TEST(out.find("--margin") != std::string::npos, out);
+    BOOST_TEST(std::count(out.begin(), out.end(), '\n') == 1, out);
+  }
   // Regression of the campaign against itself: every sample a bitwise-identical rerun. Its
   // verdicts go to checks-regression.*, leaving the full set in checks.* untouched.
   // (No new samples: that half is inconclusive, so the exit status is 3.)
