@@ -32,6 +32,9 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
               "Hold q at the paper's value for the dimension (phi_J and 1/(z nu) fitted)");
   s->add_flag(
       "--no-fit", [&a](std::int64_t) { a.options.fit = false; }, "Averages only");
+  s->add_flag("--refit", a.refit,
+              "Refit the averages already in DIR/stats.h5 instead of reading the runs (for "
+              "stored results whose runs are not kept); jamming points are not carried over");
 }
 
 int run_stats_command(const StatsArgs& a) {
@@ -47,12 +50,16 @@ int run_stats_command(const StatsArgs& a) {
     throw std::runtime_error(fmt::format("--z-step {:g}: must be > 0", o.z_step));
   if (a.fix_paper_exponents || a.fix_paper_q) {
     // Needs the dimension: read it with the data.
-    const auto dim = stats::read_campaign_runs(a.directory).dim;
+    stats::StatsOptions averages_only;
+    averages_only.fit = false;
+    const auto dim = a.refit ? stats::refit_campaign_stats(a.directory, averages_only).data.dim
+                             : stats::read_campaign_runs(a.directory).dim;
     o.fixed_q = paper_values(dim).q();
     if (a.fix_paper_exponents) o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
   const auto started = std::chrono::steady_clock::now();
-  stats::CampaignStats s = stats::compute_campaign_stats(a.directory, o);
+  stats::CampaignStats s = a.refit ? stats::refit_campaign_stats(a.directory, o)
+                                   : stats::compute_campaign_stats(a.directory, o);
   s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const std::string out = (std::filesystem::path(a.directory) / "stats.h5").string();
   stats::write_stats_file(out, s, o);

@@ -11,6 +11,7 @@ struct StatsArgs {
   double fit_phi_init = -1.0, fix_phi_j = -1.0, fix_q = -1.0, fix_inv_znu = -1.0;
   bool fix_paper_exponents = false;
   bool fix_paper_q = false;
+  bool refit = false;
 };
 
 /// Registers `jam stats DIR`.

@@ -50,7 +50,7 @@ Verdict rerun_verdict(const EnsembleTables& now, const EnsembleTables& base, con
               {"log10_rate", now.log10_rate}};
   double worst = 0.0;
   int compared = 0;
-  std::uint32_t worst_sample = 0;
+  std::int64_t worst_sample = 0;
   for (std::size_t i = 0; i < now.sample_ids.size(); ++i) {
     const auto it = std::find(base.sample_ids.begin(), base.sample_ids.end(), now.sample_ids[i]);
     if (it == base.sample_ids.end()) continue;
@@ -99,7 +99,7 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
       out.push_back(inconclusive("regression", describe(e), "the baseline has no such ensemble"));
   }
   // The statistical comparisons share alpha (Bonferroni over the ensembles with new samples).
-  auto is_new = [](const EnsembleTables& base, std::uint32_t id) {
+  auto is_new = [](const EnsembleTables& base, std::int64_t id) {
     return std::find(base.sample_ids.begin(), base.sample_ids.end(), id) == base.sample_ids.end();
   };
   std::size_t with_new = 0;

@@ -61,7 +61,7 @@ StatsData read_stats(const std::string& directory) {
     e.phi_grid = f.read_dataset(g + "/constant_phi/packing_fraction");
     e.pressure_at_phi = table(f, g + "/constant_phi/pressure_samples", e.phi_grid.size());
     for (double id : f.read_dataset(g + "/constant_phi/sample_ids"))
-      e.sample_ids.push_back(static_cast<std::uint32_t>(id));
+      e.sample_ids.push_back(static_cast<std::int64_t>(id));
     if (f.has_dataset(g + "/constant_z")) {
       const auto groups = f.list_group(g + "/constant_z");
       const std::string grid_name =

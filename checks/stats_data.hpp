@@ -13,7 +13,7 @@ struct EnsembleTables {
   double phi_init = 0, log10_rate = 0;
   std::vector<double> phi_grid;
   std::vector<std::vector<double>> pressure_at_phi;  // [sample][point]
-  std::vector<std::uint32_t> sample_ids;             // campaign sample number of each row
+  std::vector<std::int64_t> sample_ids;              // campaign sample number of each row
   std::vector<double> z_grid;
   std::vector<std::vector<double>> pressure_at_z;  // empty when no constant-Z average
   std::vector<double> jamming_points;  // phi_Ji per sample (NaN: not found); empty if not sought

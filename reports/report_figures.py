@@ -263,17 +263,26 @@ def scan_figure(c, out_dir):
     if not scan or not len(scan.get("rate_max", [])):
         return None
     paper = c.stats_attrs.get("paper", {})
-    windows = sorted({(a, b) for a, b in zip(scan["phi_min"], scan["phi_max"])},
-                     key=lambda w: w[1] - w[0])
+    # Windows are centred on each row's own fitted phi_J: grouped by their half-width.
+    half = scan.get("half_window")
+    if half is None:  # files written before the windows were re-centred
+        half = (scan["phi_max"] - scan["phi_min"]) / 2
+    windows = sorted(set(np.round(half[np.isfinite(half)], 6)), reverse=True)
+    chosen = scan.get("chosen", np.zeros(len(scan["rate_max"])))
     fig, axes = plt.subplots(1, 3, layout="constrained", figsize=(13, 3.8))
     markers = ["o", "s", "^", "D", "v"]
     for ax, name, label in zip(axes, ["phi_j", "beta", "y"], [r"$\phi_J$", r"$\beta$", "$y$"]):
         for k, w in enumerate(windows):
-            sel = (scan["phi_min"] == w[0]) & (scan["phi_max"] == w[1]) & np.isfinite(scan[name])
+            sel = (np.round(half, 6) == w) & np.isfinite(scan[name])
             ax.errorbar(np.log10(scan["rate_max"][sel]) + 0.03 * (k - 1), scan[name][sel],
                         yerr=scan[name + "_error"][sel], marker=markers[k % len(markers)],
                         capsize=3, ls="-", lw=0.8,
-                        label=f"$\\phi$ in [{w[0]:.4f}, {w[1]:.4f}]")
+                        label=f"$\\phi_J \\pm {w:g}$")
+            pick = sel & (chosen == 1)
+            if pick.any():
+                ax.plot(np.log10(scan["rate_max"][pick]) + 0.03 * (k - 1), scan[name][pick],
+                        marker="*", ms=16, color="black", ls="none",
+                        label="representative" if name == "phi_j" else None)
         if name in paper:
             ax.axhspan(paper[name] - paper[name + "_error"], paper[name] + paper[name + "_error"],
                        color="grey", alpha=0.25, label="paper")
@@ -285,9 +294,11 @@ def scan_figure(c, out_dir):
     file = _save(fig, out_dir, "fit_scan.png")
     fixed = (c.fit or {}).get("representative", {}).get("fixed", "none")
     return Figure(file, "Scaling fit against the fastest rate included",
-                  "Fit parameters of Eq. 1 with jackknife errors for three windows in phi against "
-                  f"the largest rate included (the paper's Fig. 2); held fixed: {fixed}. Grey: the "
-                  "paper's values.")
+                  "Fit parameters of Eq. 1 with jackknife errors for three windows in phi, each "
+                  "centred on its own fitted phi_J, against the largest rate included (the "
+                  f"paper's Fig. 2); held fixed: {fixed}. Star: the representative fit "
+                  f"({(c.fit or {}).get('representative', {}).get('chosen_because', '-')}). Grey: "
+                  "the paper's values, for comparison only (nothing is fitted with them).")
 
 
 def collapse_figure(c, out_dir):

@@ -125,18 +125,27 @@ def fit_table_html(c):
         failure = (c.fit or {}).get("attrs", {}).get("failure", "no fit in stats.h5")
         return f"<p>No scaling fit: {html.escape(str(failure))}</p>"
     rep = c.fit["representative"]
-    out = ["<table><tr><th>parameter</th><th>this campaign</th><th>paper</th></tr>"]
+    quality = str(rep.get("quality", "ok"))
+    flag = ("" if quality == "ok" else
+            f"<p class='summary'><b>Fit quality: {html.escape(quality)}</b> "
+            f"({html.escape(str(rep.get('quality_reason', '')))})</p>")
+    out = [flag, "<table><tr><th>parameter</th><th>this campaign (jackknife, bias-corrected)"
+           "</th><th>plain fit</th><th>quality</th><th>paper</th></tr>"]
     for name, value, error, paper, paper_error in rows:
         paper_text = "-" if paper is None else f"{paper:g} &plusmn; {paper_error:g}"
         out.append(f"<tr><td>{name}</td><td class='num'>{value:.5g} &plusmn; {_fmt(error)}</td>"
-                   f"<td class='num'>{paper_text}</td></tr>")
+                   f"<td class='num'>{_fmt(rep.get(name + '_plain'))}</td>"
+                   f"<td>{html.escape(quality)}</td><td class='num'>{paper_text}</td></tr>")
     out.append("</table>")
     out.append(
         f"<p>Window phi in [{rep.get('phi_min', 0):.4f}, {rep.get('phi_max', 0):.4f}], rates up "
         f"to {rep.get('rate_max', 0):.3g}, {rep.get('points', 0)} points, "
         f"{rep.get('samples', 0)} samples; held fixed: {html.escape(str(rep.get('fixed')))}; "
         f"chi^2/dof {_fmt(rep.get('chi2_diag_per_dof'))} (diagonal), "
-        f"{_fmt(rep.get('chi2_cov_per_dof'))} (with covariance); errors: "
+        f"{_fmt(rep.get('chi2_cov_per_dof'))} (with covariance); "
+        f"start: {html.escape(str(rep.get('start', '-')))}; window settled after "
+        f"{rep.get('iterations', '-')} iteration(s); chosen because: "
+        f"{html.escape(str(rep.get('chosen_because', '-')))}; errors: "
         f"{html.escape(str(rep.get('error_method', '')))}.</p>")
     return "\n".join(out)
 
@@ -196,9 +205,13 @@ def text_summary(c, report_path):
     lines.append("")
     lines.extend(headlines(c.verdicts))
     lines.append("")
+    rep = (c.fit or {}).get("representative") or {}
     for name, value, error, paper, paper_error in fit_rows(c):
         if name in ("phi_j", "beta", "y"):
             ref = "" if paper is None else f"   (paper {paper:g} +- {paper_error:g})"
-            lines.append(f"fit {name:<6} {value:.5g} +- {_fmt(error)}{ref}")
+            lines.append(f"fit {name:<6} {value:.5g} +- {_fmt(error)} "
+                         f"[plain {_fmt(rep.get(name + '_plain'))}]{ref}")
+    if rep and str(rep.get("quality", "ok")) != "ok":
+        lines.append(f"fit quality: {rep.get('quality')} ({rep.get('quality_reason', '')})")
     lines.append(f"report: {report_path}")
     return "\n".join(lines) + "\n"

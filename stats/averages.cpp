@@ -9,8 +9,8 @@
 
 namespace jam::stats {
 namespace {
-
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
 
 void finalize(GridAverage& a) {
   a.means.clear();
@@ -24,6 +24,8 @@ void finalize(GridAverage& a) {
     a.means.push_back(std::move(column));
   }
 }
+
+namespace {
 
 std::vector<double> grid_between(double lo, double hi, double step) {
   std::vector<double> g;

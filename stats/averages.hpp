@@ -29,6 +29,9 @@ struct GridAverage {
   const std::vector<SampleMean>& mean(const std::string& name) const;
 };
 
+/// Computes a.means from a.tables.
+void finalize(GridAverage& a);
+
 /// Linear interpolation of y(x) at x0 for increasing x; NaN outside [x.front(), x.back()].
 double interpolate(const std::vector<double>& x, const std::vector<double>& y, double x0);
 

@@ -6,10 +6,28 @@
 #include <cmath>
 #include <set>
 
-#include "sim/model/paper_values.hpp"
+#include "stats/fit_scan.hpp"
 
 namespace jam::stats {
-namespace {}  // namespace
+namespace {
+
+FitEnsemble fit_ensemble(const EnsembleStats& e, const GridAverage& a,
+                         const std::vector<double>& phi) {
+  FitEnsemble f;
+  f.rate = std::pow(10.0, e.key.log10_rate);
+  f.phi = phi;
+  f.pressure = a.table("pressure");
+  for (auto id : a.sample_ids) f.sample_ids.push_back(id);
+  return f;
+}
+
+std::vector<double> means_of(const GridAverage& a, const std::string& name) {
+  std::vector<double> out;
+  for (const auto& m : a.mean(name)) out.push_back(m.mean);
+  return out;
+}
+
+}  // namespace
 
 CampaignStats compute_campaign_stats(const std::string& directory, const StatsOptions& o) {
   CampaignStats s;
@@ -43,8 +61,13 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
     }
     s.ensembles.push_back(std::move(e));
   }
-  if (!o.fit) return s;
+  s.runs_averaged = static_cast<std::int64_t>(s.data.runs.size());
+  s.runs_skipped = static_cast<std::int64_t>(s.data.skipped.size());
+  if (o.fit) fit_campaign(s, directory, o);
+  return s;
+}
 
+void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOptions& o) {
   // Which ensembles enter the fit: one phi_init, the pooled or the largest size.
   std::set<double> phi_inits;
   std::set<std::int64_t> sizes;
@@ -54,62 +77,17 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
   }
   s.fit_phi_init = o.fit_phi_init.value_or(*phi_inits.begin());
   s.fit_size = *sizes.rbegin();
-  std::vector<FitEnsemble> fit_data;
+  std::vector<FitEnsemble> at_phi, at_z;
   for (const auto& e : s.ensembles) {
     if (std::abs(e.key.phi_init - s.fit_phi_init) > 1e-9 || e.key.n != s.fit_size) continue;
-    FitEnsemble f;
-    f.rate = std::pow(10.0, e.key.log10_rate);
-    f.phi = e.constant_phi.grid;
-    f.pressure = e.constant_phi.table("pressure");
-    for (auto id : e.constant_phi.sample_ids) f.sample_ids.push_back(id);
-    fit_data.push_back(std::move(f));
-  }
-  if (fit_data.empty()) {
-    s.fit_failure = fmt::format("no ensembles with phi_init {:g}", s.fit_phi_init);
-    return s;
-  }
-  std::sort(fit_data.begin(), fit_data.end(),
-            [](const FitEnsemble& a, const FitEnsemble& b) { return a.rate > b.rate; });
-
-  const PaperValues paper = paper_values(s.data.dim);  // starts and window centres
-  ScalingFitOptions base;
-  base.order = o.order;
-  base.fixed_phi_j = o.fixed_phi_j;
-  base.fixed_q = o.fixed_q;
-  base.fixed_inv_znu = o.fixed_inv_znu;
-  base.start_phi_j = paper.phi_j;
-  base.start_q = paper.q();
-  base.start_inv_znu = paper.inv_znu();
-  const double centre = o.fixed_phi_j.value_or(paper.phi_j);
-  // rate_max from the fastest rate down to the third slowest, so every fit sees >= 3 rates
-  // (or all of them when there are fewer).
-  std::vector<double> rate_max;
-  for (std::size_t k = 0; k < fit_data.size(); ++k) {
-    if (fit_data.size() - k >= 3 || k == 0) rate_max.push_back(fit_data[k].rate);
-  }
-  for (double half : o.half_windows) {
-    for (double rm : rate_max) {
-      ScanRow row;
-      row.rate_max = rm;
-      row.phi_min = centre - half;
-      row.phi_max = centre + half;
-      ScalingFitOptions f = base;
-      f.phi_min = row.phi_min;
-      f.phi_max = row.phi_max;
-      f.rate_max = rm;
-      try {
-        row.result = fit_scaling(fit_data, f);
-      } catch (const FitError& e) {
-        row.failure = e.what();
-      }
-      s.scan.push_back(row);
+    at_phi.push_back(fit_ensemble(e, e.constant_phi, e.constant_phi.grid));
+    if (e.constant_z) {
+      at_z.push_back(fit_ensemble(e, *e.constant_z, means_of(*e.constant_z, "packing_fraction")));
     }
   }
-  // The representative fit, as the paper: narrowest window, smallest rate_max.
-  s.fit_row = s.scan.back();
-  s.fit = s.fit_row.result;
-  s.fit_failure = s.fit_row.failure;
-  return s;
+  s.clearance = read_clearance(directory, s.fit_size, s.fit_phi_init, *phi_inits.begin());
+  s.fit = scan_fits(at_phi, o, s.clearance, "phi");
+  if (!at_z.empty()) s.fit_z = scan_fits(at_z, o, s.clearance, "Z");
 }
 
 }  // namespace jam::stats

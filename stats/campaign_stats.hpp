@@ -18,7 +18,7 @@ struct StatsOptions {
   std::optional<double> fit_phi_init;  // ensembles of this phi_init are fitted (default: lowest)
   int order = 5;
   std::optional<double> fixed_phi_j, fixed_q, fixed_inv_znu;
-  std::vector<double> half_windows = {0.03, 0.02, 0.01};  // phi windows phi_J0 +- these
+  std::vector<double> half_windows = {0.03, 0.02, 0.01};  // phi windows: fitted phi_J +- these
   bool fit = true;
 };
 
@@ -38,24 +38,53 @@ struct EnsembleStats {
 };
 
 struct ScanRow {
-  double rate_max = 0, phi_min = 0, phi_max = 0;
+  double rate_max = 0, half_window = 0;
   std::optional<ScalingFitResult> result;
   std::string failure;  // why the fit could not be done
+};
+
+/// The paper's scan (its Fig. 2): the fit for every phi window and rate_max, and the row taken
+/// as representative, with the reason.
+struct FitScan {
+  std::vector<ScanRow> rows;
+  std::optional<std::size_t> chosen;  // the representative row
+  std::string reason;                 // why that row
+  std::string failure;                // why there is none
+  const ScalingFitResult* representative() const {
+    return chosen && rows[*chosen].result ? &*rows[*chosen].result : nullptr;
+  }
+};
+
+/// Rates of the fitted ensembles that the phi_init check clears (no memory of the start within
+/// its margin), read from DIR/checks.json or checks-phi_init.json; empty optional when no
+/// verdict applies (then every rate is used, and the reason says so).
+struct RateClearance {
+  std::optional<std::vector<double>> cleared;  // log10 rates
+  std::string note;
 };
 
 struct CampaignStats {
   CampaignData data;
   std::vector<EnsembleStats> ensembles;
-  std::optional<ScalingFitResult> fit;  // narrowest window, slowest rate_max with >= 3 rates
-  std::string fit_failure;
-  ScanRow fit_row;
-  std::vector<ScanRow> scan;
+  FitScan fit;    // at constant phi
+  FitScan fit_z;  // the same fit on the averages at constant Z (phi = <phi> there)
+  RateClearance clearance;
   double fit_phi_init = 0.0;
   std::int64_t fit_size = 0;  // 0: pooled
+  std::int64_t runs_averaged = 0, runs_skipped = 0;
+  std::string refit_from;  // when refitted from an earlier stats.h5: its path
   double wall_time = 0.0;     // seconds spent reading and averaging (provenance for reports)
 };
 
 CampaignStats compute_campaign_stats(const std::string& directory, const StatsOptions& options);
+
+/// The fits (fit_scan.hpp) of s's ensembles; directory holds the phi_init verdicts, if any.
+void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOptions& options);
+
+/// The averages stored in DIR/stats.h5 (its per-sample tables), refitted with `options`,
+/// without reading a run: for stored results whose runs are not kept. Sizes are pooled only if
+/// they were pooled there.
+CampaignStats refit_campaign_stats(const std::string& directory, const StatsOptions& options);
 
 /// Writes DIR/stats.h5 atomically.
 void write_stats_file(const std::string& path, const CampaignStats& stats,

@@ -50,7 +50,9 @@ CampaignData read_campaign_runs(const std::string& directory) {
 Ensembles group_runs(const std::vector<RunCurves>& runs, bool pool_sizes) {
   Ensembles e;
   for (const RunCurves& r : runs) {
-    e[EnsembleKey{pool_sizes ? 0 : r.n, r.phi_init, r.log10_rate}].push_back(r);
+    auto& members = e[EnsembleKey{pool_sizes ? 0 : r.n, r.phi_init, r.log10_rate}];
+    members.push_back(r);
+    if (pool_sizes) members.back().sample = r.n * kPooledSampleStride + r.sample;
   }
   return e;
 }

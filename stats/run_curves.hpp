@@ -41,7 +41,9 @@ struct CampaignData {
 CampaignData read_campaign_runs(const std::string& directory);
 
 /// Groups runs by (size, phi_init, rate); with pool_sizes all sizes share one ensemble (n = 0)
-/// and the samples of every size are its members.
+/// and the samples of every size are its members, numbered n * kPooledSampleStride + sample so
+/// that sample k of one size and of another stay two samples (jackknife blocks, covariance).
+constexpr std::int64_t kPooledSampleStride = 10'000'000;
 Ensembles group_runs(const std::vector<RunCurves>& runs, bool pool_sizes);
 
 }  // namespace jam::stats

@@ -1,152 +1,27 @@
 #include "stats/scaling_fit.hpp"
 
 #include <fmt/format.h>
-#include <gsl/gsl_blas.h>
 #include <gsl/gsl_errno.h>
-#include <gsl/gsl_multifit_nlinear.h>
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "stats/covariance.hpp"
 #include "stats/jackknife.hpp"
+#include "stats/scaling_solver.hpp"
 
 namespace jam::stats {
 namespace {
 
-// Full parameter vector: [phi_J, q, 1/(z nu), c_0 .. c_K].
-enum { kPhiJ = 0, kQ = 1, kA = 2, kC0 = 3 };
+using namespace solver;
 
-struct Point {
-  std::size_t ensemble, index;
-  double phi, ln_rate, ln_p, sigma;  // sigma: standard error of ln p = dp / p
-};
-
-struct Problem {
-  std::vector<Point> points;
-  std::vector<double> full;       // current full parameter vector (fixed entries stay)
-  std::vector<std::size_t> free;  // indices of the free parameters in full
-};
-
-double scaling_variable(const std::vector<double>& par, double phi, double ln_rate) {
-  return (phi - par[kPhiJ]) * std::exp(-par[kA] * ln_rate);
-}
-
-double model(const std::vector<double>& par, double phi, double ln_rate) {
-  const double x = scaling_variable(par, phi, ln_rate);
-  double ln_f = 0.0;
-  for (std::size_t n = par.size() - 1; n >= kC0; --n) ln_f = ln_f * x + par[n];
-  return par[kQ] * ln_rate + ln_f;
-}
-
-std::vector<double> expand(const Problem& pr, const gsl_vector* v) {
-  std::vector<double> par = pr.full;
-  for (std::size_t k = 0; k < pr.free.size(); ++k) par[pr.free[k]] = gsl_vector_get(v, k);
-  return par;
-}
-
-int residuals(const gsl_vector* v, void* data, gsl_vector* f) {
-  const auto& pr = *static_cast<const Problem*>(data);
-  const auto par = expand(pr, v);
-  for (std::size_t i = 0; i < pr.points.size(); ++i) {
-    const Point& p = pr.points[i];
-    gsl_vector_set(f, i, (p.ln_p - model(par, p.phi, p.ln_rate)) / p.sigma);
-  }
-  return GSL_SUCCESS;
-}
-
-int jacobian(const gsl_vector* v, void* data, gsl_matrix* j) {
-  const auto& pr = *static_cast<const Problem*>(data);
-  const auto par = expand(pr, v);
-  const std::size_t order = par.size() - kC0 - 1;
-  for (std::size_t i = 0; i < pr.points.size(); ++i) {
-    const Point& p = pr.points[i];
-    const double scale = std::exp(-par[kA] * p.ln_rate);
-    const double x = (p.phi - par[kPhiJ]) * scale;
-    double dlnf_dx = 0.0;  // d ln f / dx
-    for (std::size_t n = order; n >= 1; --n)
-      dlnf_dx = dlnf_dx * x + static_cast<double>(n) * par[kC0 + n];
-    std::vector<double> d(par.size());
-    d[kPhiJ] = -dlnf_dx * scale;
-    d[kQ] = p.ln_rate;
-    d[kA] = -dlnf_dx * x * p.ln_rate;
-    double power = 1.0;
-    for (std::size_t n = 0; n <= order; ++n, power *= x) d[kC0 + n] = power;
-    for (std::size_t k = 0; k < pr.free.size(); ++k) {
-      gsl_matrix_set(j, i, k, -d[pr.free[k]] / p.sigma);  // residual = (data - model)/sigma
-    }
-  }
-  return GSL_SUCCESS;
-}
-
-struct Solution {
-  std::vector<double> par;
-  double chi2 = 0.0, rcond = 0.0;
-};
-
-Solution solve(Problem& pr) {
-  const std::size_t n = pr.points.size(), p = pr.free.size();
-  if (n <= p) {
-    throw FitError(fmt::format("fit: {} points in the window for {} free parameters", n, p));
-  }
-  gsl_multifit_nlinear_fdf fdf{};
-  fdf.f = residuals;
-  fdf.df = jacobian;
-  fdf.fvv = nullptr;
-  fdf.n = n;
-  fdf.p = p;
-  fdf.params = &pr;
-  gsl_multifit_nlinear_parameters params = gsl_multifit_nlinear_default_parameters();
-  gsl_multifit_nlinear_workspace* w =
-      gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &params, n, p);
-  gsl_vector* x0 = gsl_vector_alloc(p);
-  for (std::size_t k = 0; k < p; ++k) gsl_vector_set(x0, k, pr.full[pr.free[k]]);
-  gsl_multifit_nlinear_init(x0, &fdf, w);
-  int info = 0;
-  const int status =
-      gsl_multifit_nlinear_driver(500, 1e-12, 1e-12, 1e-12, nullptr, nullptr, &info, w);
-  Solution s;
-  s.par = expand(pr, gsl_multifit_nlinear_position(w));
-  gsl_blas_ddot(gsl_multifit_nlinear_residual(w), gsl_multifit_nlinear_residual(w), &s.chi2);
-  gsl_multifit_nlinear_rcond(&s.rcond, w);
-  gsl_vector_free(x0);
-  gsl_multifit_nlinear_free(w);
-  if (status != GSL_SUCCESS || !std::isfinite(s.chi2)) {
-    throw FitError(fmt::format("fit did not converge: {}", gsl_strerror(status)));
-  }
-  return s;
-}
-
-// Linear start: for given phi_J and 1/(z nu), ln p - q ln rate = sum c_n x^n is linear in
-// (q, c_n); solve it by weighted least squares.
-void linear_start(Problem& pr) {
-  std::vector<std::size_t> linear;
-  for (std::size_t k : pr.free)
-    if (k == kQ || k >= kC0) linear.push_back(k);
-  const auto n = static_cast<Eigen::Index>(pr.points.size());
-  Eigen::MatrixXd a(n, static_cast<Eigen::Index>(linear.size()));
-  Eigen::VectorXd b(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Point& p = pr.points[static_cast<std::size_t>(i)];
-    const double x = scaling_variable(pr.full, p.phi, p.ln_rate);
-    double rhs = p.ln_p;
-    if (std::find(linear.begin(), linear.end(), std::size_t{kQ}) == linear.end())
-      rhs -= pr.full[kQ] * p.ln_rate;
-    for (std::size_t c = 0; c < linear.size(); ++c) {
-      const std::size_t k = linear[c];
-      a(i, static_cast<Eigen::Index>(c)) =
-          (k == kQ ? p.ln_rate : std::pow(x, static_cast<double>(k - kC0))) / p.sigma;
-    }
-    b(i) = rhs / p.sigma;
-  }
-  const Eigen::VectorXd sol = a.colPivHouseholderQr().solve(b);
-  for (std::size_t c = 0; c < linear.size(); ++c)
-    pr.full[linear[c]] = sol(static_cast<Eigen::Index>(c));
-}
+// Where a bounded parameter counts as having run onto its bound: q within this of 0 or 1,
+// 1/(z nu) below it or above its inverse.
+constexpr double kBound = 1e-3;
 
 struct Means {
   std::vector<std::vector<double>> mean, error;  // [ensemble][point]
@@ -178,50 +53,176 @@ Means ensemble_means(const std::vector<FitEnsemble>& ens, std::int64_t excluded_
   return m;
 }
 
-// Candidate points: inside the phi window and below rate_max, with a usable mean.
+bool fitted_rate(const FitEnsemble& e, const ScalingFitOptions& o) {
+  return e.rate <= o.rate_max * (1 + 1e-9);
+}
+
+// Candidate points: phi within centre +- half_window, rate <= rate_max, a usable mean.
 std::vector<Point> candidates(const std::vector<FitEnsemble>& ens, const Means& m,
-                              const ScalingFitOptions& o) {
+                              const ScalingFitOptions& o, double centre) {
   std::vector<Point> pts;
   for (std::size_t e = 0; e < ens.size(); ++e) {
-    if (ens[e].rate > o.rate_max * (1 + 1e-9)) continue;
+    if (!fitted_rate(ens[e], o)) continue;
     for (std::size_t k = 0; k < ens[e].phi.size(); ++k) {
       const double phi = ens[e].phi[k], p = m.mean[e][k], dp = m.error[e][k];
-      if (phi < o.phi_min || phi > o.phi_max || !(p > 0) || !(dp > 0)) continue;
+      if (std::abs(phi - centre) > o.half_window + 1e-12 || !(p > 0) || !(dp > 0)) continue;
       pts.push_back({e, k, phi, std::log(ens[e].rate), std::log(p), dp / p});
     }
   }
   return pts;
 }
 
-std::vector<Point> in_window(const std::vector<Point>& all, const std::vector<double>& par,
-                             double x_max) {
+// The point set at parameters par: the candidates around par's phi_J with |x| <= x_max.
+std::vector<Point> point_set(const std::vector<FitEnsemble>& ens, const Means& m,
+                             const ScalingFitOptions& o, const std::vector<double>& par) {
   std::vector<Point> pts;
-  for (const Point& p : all)
-    if (std::abs(scaling_variable(par, p.phi, p.ln_rate)) <= x_max) pts.push_back(p);
+  for (const Point& p : candidates(ens, m, o, par[kPhiJ])) {
+    if (std::abs(scaling_variable(par, p.phi, p.ln_rate)) <= o.x_max) pts.push_back(p);
+  }
   return pts;
 }
 
-// Fit with the |x| <= x_max window re-selected at the current parameters until it is stable.
-Solution fit_with_window(const std::vector<Point>& all, std::vector<double> start,
-                         const std::vector<std::size_t>& free, double x_max,
-                         std::vector<Point>& used) {
-  Problem pr{in_window(all, start, x_max), start, free};
-  linear_start(pr);
-  Solution s;
-  for (int iteration = 0; iteration < 20; ++iteration) {
-    s = solve(pr);
-    std::vector<Point> next = in_window(all, s.par, x_max);
-    const bool same =
-        next.size() == pr.points.size() &&
-        std::equal(next.begin(), next.end(), pr.points.begin(), [](const Point& a, const Point& b) {
-          return a.ensemble == b.ensemble && a.index == b.index;
-        });
-    if (same) break;
-    pr.points = std::move(next);
-    pr.full = s.par;
+/// ln <p> of ensemble e at phi, linear in phi between grid points; NaN outside its data.
+double ln_mean_at(const FitEnsemble& e, const std::vector<double>& mean, double phi) {
+  const auto it = std::lower_bound(e.phi.begin(), e.phi.end(), phi - 1e-12);
+  if (it == e.phi.end()) return NAN;
+  const auto k = static_cast<std::size_t>(it - e.phi.begin());
+  if (std::abs(e.phi[k] - phi) <= 1e-12) return mean[k] > 0 ? std::log(mean[k]) : NAN;
+  if (k == 0 || !(mean[k] > 0) || !(mean[k - 1] > 0)) return NAN;
+  const double t = (phi - e.phi[k - 1]) / (e.phi[k] - e.phi[k - 1]);
+  return (1 - t) * std::log(mean[k - 1]) + t * std::log(mean[k]);
+}
+
+/// The start of phi_J from the data alone: q_eff(phi) = d ln<p>/d ln rate, fitted across the
+/// rates at each packing of the slowest rate's grid, is about 1 below jamming (p ~ rate) and
+/// about 0 above it (p independent of the rate); phi_J0 is where it last crosses 1/2 going
+/// down. Returns phi_J0 and the words for the result.
+std::pair<double, std::string> crossover(const std::vector<FitEnsemble>& ens, const Means& m,
+                                         const ScalingFitOptions& o) {
+  std::vector<std::size_t> rates;
+  for (std::size_t e = 0; e < ens.size(); ++e)
+    if (fitted_rate(ens[e], o)) rates.push_back(e);
+  if (rates.size() < 2) {
+    throw FitError(fmt::format("fit: {} rate(s) at or below rate_max {:g}; the start needs 2",
+                               rates.size(), o.rate_max));
   }
-  used = pr.points;
-  return s;
+  const std::size_t slowest = *std::min_element(
+      rates.begin(), rates.end(), [&](auto a, auto b) { return ens[a].rate < ens[b].rate; });
+  std::vector<double> phi, slope;
+  for (double x : ens[slowest].phi) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+    for (auto e : rates) {
+      const double y = ln_mean_at(ens[e], m.mean[e], x), lr = std::log(ens[e].rate);
+      if (!std::isfinite(y)) break;
+      sx += lr, sy += y, sxx += lr * lr, sxy += lr * y, n += 1;
+    }
+    if (n < static_cast<double>(rates.size())) continue;  // a rate without data here
+    phi.push_back(x);
+    slope.push_back((n * sxy - sx * sy) / (n * sxx - sx * sx));
+  }
+  for (std::size_t k = slope.size(); k-- > 1;) {
+    if (slope[k - 1] >= 0.5 && slope[k] < 0.5) {
+      const double t = (slope[k - 1] - 0.5) / (slope[k - 1] - slope[k]);
+      const double phi_j = phi[k - 1] + t * (phi[k] - phi[k - 1]);
+      return {phi_j, fmt::format("from the data: d ln p / d ln rate crosses 1/2 at phi {:.4f}",
+                                 phi_j)};
+    }
+  }
+  throw FitError(
+      "fit: no start from the data: d ln p / d ln rate never crosses 1/2 (no crossover from "
+      "p ~ rate to a rate-independent p at these rates and packings)");
+}
+
+struct Fitted {
+  Solution solution;
+  std::vector<Point> points;
+  int iterations = 0;
+  std::string start;
+};
+
+/// The first minimisation: starts around the data's start, each minimised on the same point
+/// set (chosen at the central start); the best chi^2 wins.
+Solution multistart(const std::vector<Point>& points, std::vector<double> central,
+                    const std::vector<std::size_t>& free, const ScalingFitOptions& o) {
+  const bool phi_free = !o.fixed_phi_j, a_free = !o.fixed_inv_znu;
+  std::vector<double> phis = {central[kPhiJ]}, as = {central[kA]};
+  if (phi_free) phis = {central[kPhiJ], central[kPhiJ] - o.half_window / 3,
+                        central[kPhiJ] + o.half_window / 3};
+  if (a_free) as = {central[kA], 0.25, 1.0};
+  Solution best;
+  best.chi2 = std::numeric_limits<double>::infinity();
+  std::string last = "no start converged";
+  for (double phi0 : phis) {
+    for (double a0 : as) {
+      Problem pr{points, central, free};
+      pr.full[kPhiJ] = phi0;
+      pr.full[kA] = a0;
+      linear_start(pr);
+      try {
+        const Solution s = solve(pr);
+        if (s.chi2 < best.chi2) best = s;
+      } catch (const FitError& e) {
+        last = e.what();
+      }
+    }
+  }
+  if (!std::isfinite(best.chi2)) throw FitError(last);
+  return best;
+}
+
+/// The outer iteration: window centred on the current phi_J, point set chosen at the current
+/// parameters and held while the minimiser runs, until both stop changing. The first
+/// minimisation takes the whole window (no estimate of 1/(z nu) to cut |x| with yet). The
+/// grid is discrete, so a window edge can flip a point in and out for ever: a cycle whose
+/// last four phi_J lie within five tolerances also counts as settled.
+Fitted iterate_window(const std::vector<FitEnsemble>& ens, const Means& m,
+                      const ScalingFitOptions& o, std::vector<double> par,
+                      const std::vector<std::size_t>& free) {
+  Fitted f;
+  std::vector<double> history;
+  for (int it = 1; it <= o.max_iterations; ++it) {
+    const std::vector<Point> pts =
+        it == 1 ? candidates(ens, m, o, par[kPhiJ]) : point_set(ens, m, o, par);
+    if (pts.size() <= free.size()) {
+      throw FitError(fmt::format("fit: {} points in the window phi {:.4f} +- {:g} for {} free "
+                                 "parameters",
+                                 pts.size(), par[kPhiJ], o.half_window, free.size()));
+    }
+    const double centre = par[kPhiJ];
+    Problem pr{pts, par, free};
+    f.solution = it == 1 ? multistart(pts, par, free, o) : solve(pr);
+    par = f.solution.par;
+    history.push_back(par[kPhiJ]);
+    const std::size_t h = history.size();
+    const bool settled = it > 1 && std::abs(par[kPhiJ] - centre) < o.tolerance &&
+                         same_points(point_set(ens, m, o, par), pts);
+    const bool cycle = h >= 4 && *std::max_element(history.end() - 4, history.end()) -
+                                         *std::min_element(history.end() - 4, history.end()) <
+                                     5 * o.tolerance;
+    if (settled || cycle) {
+      f.points = pts;
+      f.iterations = it;
+      return f;
+    }
+  }
+  std::string last;
+  for (std::size_t k = history.size() > 3 ? history.size() - 3 : 0; k < history.size(); ++k)
+    last += fmt::format("{}{:.5f}", last.empty() ? "" : ", ", history[k]);
+  throw FitError(fmt::format("fit: the window did not settle in {} iterations (phi_J last {})",
+                             o.max_iterations, last));
+}
+
+void check_bounds(const std::vector<double>& par, const ScalingFitOptions& o) {
+  if (!o.fixed_q && (par[kQ] < kBound || par[kQ] > 1 - kBound)) {
+    throw FitError(fmt::format("fit ends on a bound: q = {:.6g} (0 < q < 1)", par[kQ]));
+  }
+  if (!o.fixed_inv_znu && (par[kA] < kBound || par[kA] > 1 / kBound)) {
+    throw FitError(fmt::format("fit ends on a bound: 1/(z nu) = {:.6g} (> 0)", par[kA]));
+  }
+}
+
+std::vector<double> derived(const std::vector<double>& par) {
+  return {par[kPhiJ], par[kQ], par[kA], (1.0 - par[kQ]) / par[kA], par[kQ] / par[kA]};
 }
 
 }  // namespace
@@ -231,73 +232,68 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
     throw FitError(fmt::format("fit: polynomial order {} (0..9)", o.order));
   gsl_set_error_handler_off();
   const Means full_means = ensemble_means(ens, std::numeric_limits<std::int64_t>::min());
-  const std::vector<Point> all = candidates(ens, full_means, o);
-  if (all.empty()) {
-    throw FitError(fmt::format("fit: no data in the window phi in [{:g}, {:g}], rate <= {:g}",
-                               o.phi_min, o.phi_max, o.rate_max));
+
+  // The start: held values where given, the data's crossover otherwise; q and ln f from the
+  // linear sub-problem at 1/(z nu) = 1/2 (the middle of its usual range) unless held.
+  std::vector<double> par(kC0 + static_cast<std::size_t>(o.order) + 1, 0.0);
+  std::string start;
+  if (o.fixed_phi_j) {
+    par[kPhiJ] = *o.fixed_phi_j;
+    start = fmt::format("phi_J held at {:g}", *o.fixed_phi_j);
+  } else {
+    std::tie(par[kPhiJ], start) = crossover(ens, full_means, o);
   }
-  std::vector<double> start(kC0 + static_cast<std::size_t>(o.order) + 1, 0.0);
-  start[kPhiJ] = o.fixed_phi_j.value_or(o.start_phi_j);
-  start[kQ] = o.fixed_q.value_or(o.start_q);
-  start[kA] = o.fixed_inv_znu.value_or(o.start_inv_znu);
+  par[kQ] = o.fixed_q.value_or(0.5);
+  par[kA] = o.fixed_inv_znu.value_or(0.5);
   std::vector<std::size_t> free;
   std::vector<std::string> fixed;
-  if (!o.fixed_phi_j)
-    free.push_back(kPhiJ);
-  else
-    fixed.push_back("phi_J");
-  if (!o.fixed_q)
-    free.push_back(kQ);
-  else
-    fixed.push_back("q");
-  if (!o.fixed_inv_znu)
-    free.push_back(kA);
-  else
-    fixed.push_back("1/(z nu)");
-  for (std::size_t k = kC0; k < start.size(); ++k) free.push_back(k);
-
-  // Multi-start around the starting values; the best converged fit wins.
-  std::vector<double> phi_starts = {start[kPhiJ]}, a_starts = {start[kA]};
-  if (!o.fixed_phi_j)
-    phi_starts = {start[kPhiJ], start[kPhiJ] - 0.005, start[kPhiJ] + 0.005, start[kPhiJ] - 0.01,
-                  start[kPhiJ] + 0.01};
-  if (!o.fixed_inv_znu) a_starts = {start[kA], 0.8 * start[kA], 1.25 * start[kA]};
-  Solution best;
-  std::vector<Point> best_points;
-  double best_score = std::numeric_limits<double>::infinity();
-  std::string last_error = "no start converged";
-  for (double phi0 : phi_starts) {
-    for (double a0 : a_starts) {
-      std::vector<double> s0 = start;
-      s0[kPhiJ] = phi0;
-      s0[kA] = a0;
-      try {
-        std::vector<Point> used;
-        const Solution s = fit_with_window(all, s0, free, o.x_max, used);
-        const double score = s.chi2 / static_cast<double>(used.size() - free.size());
-        if (score < best_score) {
-          best_score = score;
-          best = s;
-          best_points = used;
-        }
-      } catch (const FitError& e) {
-        last_error = e.what();
-      }
+  (o.fixed_phi_j ? fixed.push_back("phi_J") : free.push_back(kPhiJ));
+  (o.fixed_q ? fixed.push_back("q") : free.push_back(kQ));
+  (o.fixed_inv_znu ? fixed.push_back("1/(z nu)") : free.push_back(kA));
+  for (std::size_t k = kC0; k < par.size(); ++k) free.push_back(k);
+  {
+    Problem pr{candidates(ens, full_means, o, par[kPhiJ]), par, free};
+    if (pr.points.size() <= free.size()) {
+      throw FitError(fmt::format("fit: {} points in the window phi {:.4f} +- {:g}, rate <= {:g}, "
+                                 "for {} free parameters",
+                                 pr.points.size(), par[kPhiJ], o.half_window, o.rate_max,
+                                 free.size()));
     }
+    linear_start(pr);
+    par = pr.full;
   }
-  if (!std::isfinite(best_score)) throw FitError(last_error);
+  const Fitted fit = iterate_window(ens, full_means, o, par, free);
+  const Solution& best = fit.solution;
+  check_bounds(best.par, o);
 
   ScalingFitResult r;
-  r.points = best_points.size();
+  r.start = start;
+  r.iterations = fit.iterations;
+  r.phi_min = best.par[kPhiJ] - o.half_window;
+  r.phi_max = best.par[kPhiJ] + o.half_window;
+  r.points = fit.points.size();
   r.free_parameters = free.size();
   const double dof = static_cast<double>(r.points - r.free_parameters);
   r.chi2_diag_per_dof = best.chi2 / dof;
   r.condition_number = best.rcond > 0 ? 1.0 / best.rcond : std::numeric_limits<double>::infinity();
   r.coefficients.assign(best.par.begin() + kC0, best.par.end());
   for (std::size_t k = 0; k < fixed.size(); ++k) r.fixed += (k ? ", " : "") + fixed[k];
-  r.phi_j_plain = best.par[kPhiJ];
-  r.q_plain = best.par[kQ];
-  r.inv_znu_plain = best.par[kA];
+  const std::vector<double> plain = derived(best.par);
+  r.phi_j_plain = plain[0];
+  r.q_plain = plain[1];
+  r.inv_znu_plain = plain[2];
+  r.beta_plain = plain[3];
+  r.y_plain = plain[4];
+  {
+    std::map<std::size_t, std::size_t> per_rate;
+    for (std::size_t e = 0; e < ens.size(); ++e)
+      if (fitted_rate(ens[e], o)) per_rate[e] = 0;
+    for (const Point& p : fit.points) ++per_rate[p.ensemble];
+    r.min_points_per_rate = per_rate.empty() ? 0 : std::min_element(per_rate.begin(), per_rate.end(),
+                                                                     [](auto& a, auto& b) {
+                                                                       return a.second < b.second;
+                                                                     })->second;
+  }
 
   // Sample ids (a sample is left out of every rate at once) and chi^2 with the covariance.
   std::set<std::int64_t> ids;
@@ -308,7 +304,7 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
     std::vector<std::vector<double>> deviations;
     for (auto id : ids) {
       std::vector<double> row;
-      for (const Point& p : best_points) {
+      for (const Point& p : fit.points) {
         const auto& e = ens[p.ensemble];
         const auto it = std::find(e.sample_ids.begin(), e.sample_ids.end(), id);
         const double mean = full_means.mean[p.ensemble][p.index];
@@ -322,8 +318,7 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
       deviations.push_back(std::move(row));
     }
     std::vector<double> residual;
-    for (const Point& p : best_points)
-      residual.push_back(p.ln_p - model(best.par, p.phi, p.ln_rate));
+    for (const Point& p : fit.points) residual.push_back(p.ln_p - model(best.par, p.phi, p.ln_rate));
     // With fewer than 3 samples a covariance cannot be estimated at all; if the shrunk
     // estimate is still singular the chi^2 is reported as not available (NaN).
     r.chi2_cov_per_dof = std::numeric_limits<double>::quiet_NaN();
@@ -338,22 +333,18 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
     }
   }
 
-  auto derived = [](const std::vector<double>& par) {
-    return std::vector<double>{par[kPhiJ], par[kQ], par[kA], (1.0 - par[kQ]) / par[kA],
-                               par[kQ] / par[kA]};
-  };
-  std::vector<double> est = derived(best.par), err(5, 0.0);
+  std::vector<double> est = plain, err(5, 0.0);
   if (o.jackknife && ids.size() >= 2) {
     const std::vector<std::int64_t> id_list(ids.begin(), ids.end());
     std::vector<std::vector<double>> replicas;
     for (auto id : id_list) {
       const Means m = ensemble_means(ens, id);
-      Problem pr{best_points, best.par, free};
+      Problem pr{fit.points, best.par, free};
       for (Point& p : pr.points) p.ln_p = std::log(m.mean[p.ensemble][p.index]);  // same weights
       replicas.push_back(derived(solve(pr).par));
     }
     const JackknifeResult j = jackknife(id_list.size(), [&](std::size_t k) {
-      return k == id_list.size() ? derived(best.par) : replicas[k];
+      return k == id_list.size() ? plain : replicas[k];
     });
     est = j.estimate;
     err = j.error;
@@ -380,9 +371,31 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
   r.beta_err = err[3];
   r.y_err = err[4];
 
+  // The quality flag: a result, but one to read with care.
+  std::vector<std::string> poor;
+  const double ratio = r.chi2_cov_per_dof / r.chi2_diag_per_dof;
+  if (std::isfinite(ratio) &&
+      (ratio > kChi2DisagreementFactor || ratio < 1.0 / kChi2DisagreementFactor)) {
+    poor.push_back(fmt::format("chi^2/dof with the covariance ({:.3g}) and with diagonal errors "
+                               "({:.3g}) differ by more than a factor {:g}",
+                               r.chi2_cov_per_dof, r.chi2_diag_per_dof, kChi2DisagreementFactor));
+  }
+  if (r.condition_number > kIllConditioned) {
+    poor.push_back(fmt::format("ill-conditioned Jacobian (condition number {:.2g} > {:g})",
+                               r.condition_number, kIllConditioned));
+  }
+  if (r.min_points_per_rate < kMinPointsPerRate) {
+    poor.push_back(fmt::format("a fitted rate has only {} points in the window (fewer than {})",
+                               r.min_points_per_rate, kMinPointsPerRate));
+  }
+  if (!poor.empty()) {
+    r.quality = "poor";
+    for (std::size_t k = 0; k < poor.size(); ++k) r.quality_reason += (k ? "; " : "") + poor[k];
+  }
+
   // The collapse, for every point of every rate, with the plain fit's parameters.
   std::set<std::pair<std::size_t, std::size_t>> used;
-  for (const Point& p : best_points) used.insert({p.ensemble, p.index});
+  for (const Point& p : fit.points) used.insert({p.ensemble, p.index});
   for (std::size_t e = 0; e < ens.size(); ++e) {
     for (std::size_t k = 0; k < ens[e].phi.size(); ++k) {
       const double p = full_means.mean[e][k], dp = full_means.error[e][k];

@@ -3,7 +3,13 @@
 //   p = rate^q f(x),  x = (phi - phi_J) / rate^(1/(z nu)),  ln f(x) = sum_{n=0..K} c_n x^n,
 // fitted to ensemble-averaged pressures by weighted nonlinear least squares in ln p
 // (gsl_multifit_nlinear, trust region, analytic Jacobian), on the window
-// phi in [phi_min, phi_max], rate <= rate_max, |x| <= x_max at the fitted parameters.
+// phi in phi_J +- half_window, rate <= rate_max, |x| <= x_max. Nothing depends on the paper's
+// values: the start comes from the data (where d ln p / d ln rate crosses 1/2: the crossover
+// from p ~ rate below jamming to a rate-independent p above it), the window is centred on the
+// fitted phi_J by an outer iteration to a fixed point, and the point set is chosen from the
+// current estimate and held fixed while the minimiser runs (re-choosing it is the outer
+// iteration; starts are compared only on the same point set). 1/(z nu) > 0 and 0 < q < 1 by
+// parametrisation (exp, logistic); a fit that ends on a bound is a failure, not a result.
 // Derived exponents: beta = (1 - q) z nu, y = q z nu. Errors and bias correction by jackknife
 // over samples (each sample left out of every rate at once, the fit repeated on the same
 // points), as the paper does. Any of phi_J, q, 1/(z nu) can be held fixed.
@@ -13,7 +19,6 @@
 #include <string>
 #include <vector>
 
-#include "sim/model/paper_values.hpp"
 namespace jam::stats {
 
 /// One rate's constant-phi averages: its grid and the per-sample pressures on it.
@@ -25,15 +30,14 @@ struct FitEnsemble {
 };
 
 struct ScalingFitOptions {
-  int order = 5;  // K, the polynomial order of ln f (the paper's 5)
-  double phi_min = 0.0, phi_max = 1.0;
+  int order = 5;              // K, the polynomial order of ln f (the paper's 5)
+  double half_window = 0.01;  // phi window: the fitted phi_J +- this (an outer iteration)
   double rate_max = 1.0;
   double x_max = 1.0;
   std::optional<double> fixed_phi_j, fixed_q, fixed_inv_znu;
-  // Starting values (also the centre of a small multi-start); the paper's 2D values.
-  double start_phi_j = paper_values(2).phi_j, start_q = paper_values(2).q(),
-         start_inv_znu = paper_values(2).inv_znu();
   bool jackknife = true;
+  int max_iterations = 30;   // of the window's re-centring
+  double tolerance = 1e-4;   // the window has settled when phi_J moves less than this
 };
 
 struct CollapsePoint {
@@ -41,17 +45,29 @@ struct CollapsePoint {
   bool in_fit;
 };
 
+/// Thresholds of the quality flag (docs/statistics-and-checks.md says why).
+constexpr double kChi2DisagreementFactor = 10.0;  // chi^2 with the covariance vs diagonal
+constexpr double kIllConditioned = 1e10;          // condition number of the weighted Jacobian
+constexpr std::size_t kMinPointsPerRate = 5;      // points of every fitted rate in the window
+
 struct ScalingFitResult {
   // Jackknife bias-corrected estimates (plain fit values if jackknife is off) and errors.
   double phi_j = 0, q = 0, inv_znu = 0, beta = 0, y = 0;
   double phi_j_err = 0, q_err = 0, inv_znu_err = 0, beta_err = 0, y_err = 0;
-  double phi_j_plain = 0, q_plain = 0, inv_znu_plain = 0;
+  // The plain fit to all samples.
+  double phi_j_plain = 0, q_plain = 0, inv_znu_plain = 0, beta_plain = 0, y_plain = 0;
   std::vector<double> coefficients;  // c_0 .. c_K of the plain fit
   std::size_t points = 0, free_parameters = 0, samples = 0;
+  std::size_t min_points_per_rate = 0;  // the fewest points of any fitted rate in the window
+  double phi_min = 0, phi_max = 0;      // the window the fit settled on
+  int iterations = 0;                   // re-centrings of the window until it settled
+  std::string start;                    // where the minimiser started, and why
   double chi2_diag_per_dof = 0;  // diagonal errors (standard errors of the means)
   double chi2_cov_per_dof = 0;   // covariance of the means from the samples, shrunk
   double shrinkage = 0;          // its shrinkage intensity lambda
   double condition_number = 0;   // of the weighted Jacobian at the solution
+  std::string quality = "ok";    // "ok" or "poor"
+  std::string quality_reason;    // why poor
   std::string fixed;             // which of phi_J, q, 1/(z nu) were held fixed
   std::string error_method;
   std::vector<CollapsePoint> collapse;

@@ -7,6 +7,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/model/paper_values.hpp"
 #include "sim/version.hpp"
 #include "stats/campaign_stats.hpp"
 
@@ -27,7 +28,9 @@ std::vector<double> flatten(const std::vector<std::vector<double>>& table) {
 void write_average(h5::File& f, const std::string& group, const GridAverage& a) {
   f.create_group(group);
   f.write_dataset(group + "/" + a.grid_name, a.grid);
-  std::vector<std::uint32_t> ids(a.sample_ids.begin(), a.sample_ids.end());
+  // float64: pooled sizes number their samples n * 10^7 + sample (run_curves.hpp), beyond 32
+  // bits; every such integer is exact in a double.
+  std::vector<double> ids(a.sample_ids.begin(), a.sample_ids.end());
   f.write_dataset(group + "/sample_ids", ids);
   for (std::size_t o = 0; o < a.names.size(); ++o) {
     std::vector<double> mean, error, relative;
@@ -49,24 +52,34 @@ void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r,
                int order) {
   f.create_group(group);
   auto attr = [&](const char* name, double v) { f.write_attribute(name, v, group); };
-  attr("phi_j", r.phi_j);
-  attr("phi_j_error", r.phi_j_err);
-  attr("q", r.q);
-  attr("q_error", r.q_err);
-  attr("inv_znu", r.inv_znu);
-  attr("inv_znu_error", r.inv_znu_err);
-  attr("beta", r.beta);
-  attr("beta_error", r.beta_err);
-  attr("y", r.y);
-  attr("y_error", r.y_err);
+  // Bias-corrected (jackknife) values with their errors, and the plain fit beside them.
+  const double values[][3] = {{r.phi_j, r.phi_j_err, r.phi_j_plain},
+                              {r.q, r.q_err, r.q_plain},
+                              {r.inv_znu, r.inv_znu_err, r.inv_znu_plain},
+                              {r.beta, r.beta_err, r.beta_plain},
+                              {r.y, r.y_err, r.y_plain}};
+  const char* names[] = {"phi_j", "q", "inv_znu", "beta", "y"};
+  for (int k = 0; k < 5; ++k) {
+    attr(names[k], values[k][0]);
+    f.write_attribute(std::string(names[k]) + "_error", values[k][1], group);
+    f.write_attribute(std::string(names[k]) + "_plain", values[k][2], group);
+  }
   attr("chi2_diag_per_dof", r.chi2_diag_per_dof);
   attr("chi2_cov_per_dof", r.chi2_cov_per_dof);
   attr("covariance_shrinkage", r.shrinkage);
   attr("condition_number", r.condition_number);
-  attr("phi_min", row.phi_min);
-  attr("phi_max", row.phi_max);
+  attr("phi_min", r.phi_min);
+  attr("phi_max", r.phi_max);
+  attr("half_window", row.half_window);
   attr("rate_max", row.rate_max);
   f.write_attribute("points", static_cast<std::int64_t>(r.points), group);
+  f.write_attribute("min_points_per_rate", static_cast<std::int64_t>(r.min_points_per_rate),
+                    group);
+  f.write_attribute("iterations", std::int64_t{r.iterations}, group);
+  f.write_attribute("start", r.start, group);
+  f.write_attribute("quality", r.quality, group);
+  f.write_attribute("quality_reason", r.quality_reason.empty() ? std::string("-") : r.quality_reason,
+                    group);
   f.write_attribute("samples", static_cast<std::int64_t>(r.samples), group);
   f.write_attribute("order", std::int64_t{order}, group);
   f.write_attribute("fixed", r.fixed.empty() ? std::string("none") : r.fixed, group);
@@ -89,6 +102,47 @@ void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r,
   f.write_dataset(group + "/collapse/in_fit", in_fit);
 }
 
+void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
+  const char* names[] = {"rate_max", "half_window", "phi_min", "phi_max", "phi_j",
+                         "phi_j_error", "q", "q_error", "inv_znu", "inv_znu_error",
+                         "beta", "beta_error", "y", "y_error", "chi2_diag_per_dof",
+                         "chi2_cov_per_dof", "iterations", "quality_ok", "chosen"};
+  constexpr std::size_t columns = std::size(names);
+  std::vector<double> cols[columns];
+  std::string failures;
+  for (std::size_t k = 0; k < scan.rows.size(); ++k) {
+    const auto& row = scan.rows[k];
+    const double nan = std::nan("");
+    const auto& r = row.result;
+    const double values[columns] = {row.rate_max,
+                                    row.half_window,
+                                    r ? r->phi_min : nan,
+                                    r ? r->phi_max : nan,
+                                    r ? r->phi_j : nan,
+                                    r ? r->phi_j_err : nan,
+                                    r ? r->q : nan,
+                                    r ? r->q_err : nan,
+                                    r ? r->inv_znu : nan,
+                                    r ? r->inv_znu_err : nan,
+                                    r ? r->beta : nan,
+                                    r ? r->beta_err : nan,
+                                    r ? r->y : nan,
+                                    r ? r->y_err : nan,
+                                    r ? r->chi2_diag_per_dof : nan,
+                                    r ? r->chi2_cov_per_dof : nan,
+                                    r ? static_cast<double>(r->iterations) : nan,
+                                    r ? (r->quality == "ok" ? 1.0 : 0.0) : nan,
+                                    scan.chosen == k ? 1.0 : 0.0};
+    for (std::size_t c = 0; c < columns; ++c) cols[c].push_back(values[c]);
+    if (!r) {
+      failures += fmt::format("rate_max {:g} window +-{:g}: {}\n", row.rate_max, row.half_window,
+                              row.failure);
+    }
+  }
+  for (std::size_t c = 0; c < columns; ++c) f.write_dataset(group + "/" + names[c], cols[c]);
+  f.write_attribute("failures", failures.empty() ? std::string("none") : failures, group);
+}
+
 }  // namespace
 
 void write_stats_file(const std::string& path, const CampaignStats& s, const StatsOptions& o) {
@@ -98,8 +152,9 @@ void write_stats_file(const std::string& path, const CampaignStats& s, const Sta
     f.write_attribute("campaign", s.data.name);
     f.write_attribute("dim", std::int64_t{s.data.dim});
     f.write_attribute("version", std::string(kVersion));
-    f.write_attribute("runs", static_cast<std::int64_t>(s.data.runs.size()));
-    f.write_attribute("runs_skipped", static_cast<std::int64_t>(s.data.skipped.size()));
+    f.write_attribute("runs", s.runs_averaged);
+    f.write_attribute("runs_skipped", s.runs_skipped);
+    if (!s.refit_from.empty()) f.write_attribute("refit_from", s.refit_from);
     f.write_attribute("pooled_sizes", std::int64_t{o.pool_sizes});
     f.write_attribute("z_step", o.z_step);
     f.write_attribute("constant_z_without_rattlers", std::int64_t{o.no_rattlers});
@@ -129,48 +184,26 @@ void write_stats_file(const std::string& path, const CampaignStats& s, const Sta
         f.write_dataset(jg + "/packing_fraction_samples", e.jamming->samples);
         f.write_dataset(
             jg + "/sample_ids",
-            std::vector<std::uint32_t>(e.jamming->sample_ids.begin(), e.jamming->sample_ids.end()));
+            std::vector<double>(e.jamming->sample_ids.begin(), e.jamming->sample_ids.end()));
         f.write_attribute("mean", e.jamming->mean.mean, jg);
         f.write_attribute("error", e.jamming->mean.error, jg);
         f.write_attribute("spread", e.jamming->spread, jg);
         f.write_attribute("found", static_cast<std::int64_t>(e.jamming->mean.samples), jg);
       }
     }
-    if (!s.scan.empty()) {
-      f.create_group("fit");
-      f.write_attribute("phi_init", s.fit_phi_init, "fit");
-      f.write_attribute("n", s.fit_size, "fit");
-      if (s.fit) write_fit(f, "fit/representative", *s.fit, s.fit_row, o.order);
-      if (!s.fit_failure.empty()) f.write_attribute("failure", s.fit_failure, "fit");
-      std::vector<double> cols[11];
-      std::string failures;
-      for (const auto& row : s.scan) {
-        const double nan = std::nan("");
-        const auto& r = row.result;
-        const double values[11] = {row.rate_max,
-                                   row.phi_min,
-                                   row.phi_max,
-                                   r ? r->phi_j : nan,
-                                   r ? r->phi_j_err : nan,
-                                   r ? r->beta : nan,
-                                   r ? r->beta_err : nan,
-                                   r ? r->y : nan,
-                                   r ? r->y_err : nan,
-                                   r ? r->chi2_diag_per_dof : nan,
-                                   r ? r->chi2_cov_per_dof : nan};
-        for (int k = 0; k < 11; ++k) cols[k].push_back(values[k]);
-        if (!r)
-          failures += fmt::format("rate_max {:g} phi [{:g}, {:g}]: {}\n", row.rate_max, row.phi_min,
-                                  row.phi_max, row.failure);
+    for (const auto& [group, scan] : {std::pair{std::string("fit"), &s.fit},
+                                       std::pair{std::string("fit_z"), &s.fit_z}}) {
+      if (scan->rows.empty()) continue;
+      f.create_group(group);
+      f.write_attribute("phi_init", s.fit_phi_init, group);
+      f.write_attribute("n", s.fit_size, group);
+      f.write_attribute("rates_note", s.clearance.note, group);
+      if (const auto* r = scan->representative()) {
+        write_fit(f, group + "/representative", *r, scan->rows[*scan->chosen], o.order);
+        f.write_attribute("chosen_because", scan->reason, group + "/representative");
       }
-      const char* names[11] = {"rate_max",        "phi_min",
-                               "phi_max",         "phi_j",
-                               "phi_j_error",     "beta",
-                               "beta_error",      "y",
-                               "y_error",         "chi2_diag_per_dof",
-                               "chi2_cov_per_dof"};
-      for (int k = 0; k < 11; ++k) f.write_dataset(std::string("fit/scan/") + names[k], cols[k]);
-      f.write_attribute("failures", failures.empty() ? std::string("none") : failures, "fit/scan");
+      if (!scan->failure.empty()) f.write_attribute("failure", scan->failure, group);
+      write_scan(f, group + "/scan", *scan);
     }
     f.close();
     AtomicFile::publish(path);
@@ -183,7 +216,7 @@ void write_stats_file(const std::string& path, const CampaignStats& s, const Sta
 std::string format_stats_summary(const CampaignStats& s) {
   std::ostringstream out;
   out << fmt::format("campaign {}: {} runs averaged, {} skipped (not finished)\n", s.data.name,
-                     s.data.runs.size(), s.data.skipped.size());
+                     s.runs_averaged, s.runs_skipped);
   const double probe = s.data.dim == 2 ? 0.84 : 0.64;
   out << fmt::format("\n{:>8} {:>8} {:>9} {:>7} {:>13} {:>9} {:>9} {:>9}\n", "N", "phi_init",
                      "rate", "samples", fmt::format("p({:.2f})", probe), "dp/p", "Z", "dZ/Z");
@@ -214,28 +247,42 @@ std::string format_stats_summary(const CampaignStats& s) {
                          e.jamming->samples.size());
     }
   }
-  if (!s.scan.empty()) {
+  for (const auto& [title, scan] : {std::pair{"constant phi", &s.fit},
+                                    std::pair{"constant Z", &s.fit_z}}) {
+    if (scan->rows.empty()) continue;
     out << fmt::format(
-        "\nscaling fit (phi_init {:g}, N {}): phi_J, beta = (1-q) z nu, y = q z nu; "
-        "errors: jackknife over samples\n",
-        s.fit_phi_init, s.fit_size ? std::to_string(s.fit_size) : "pooled");
-    out << fmt::format("{:>9} {:>15} {:>17} {:>13} {:>13} {:>9} {:>9} {:>8} {:>6}\n", "rate_max",
-                       "phi window", "phi_J", "beta", "y", "chi2/nf", "(cov)", "cond", "points");
-    for (const auto& row : s.scan) {
-      const std::string window = fmt::format("{:.4f}-{:.4f}", row.phi_min, row.phi_max);
+        "\nscaling fit at {} (phi_init {:g}, N {}): phi_J, beta = (1-q) z nu, y = q z nu; "
+        "jackknife over samples, bias-corrected (plain fit in the representative line)\n",
+        title, s.fit_phi_init, s.fit_size ? std::to_string(s.fit_size) : "pooled");
+    out << fmt::format("{:>9} {:>15} {:>17} {:>13} {:>13} {:>9} {:>9} {:>8} {:>4} {:>5}\n",
+                       "rate_max", "phi window", "phi_J", "beta", "y", "chi2/nf", "(cov)", "cond",
+                       "it", "flag");
+    for (std::size_t k = 0; k < scan->rows.size(); ++k) {
+      const auto& row = scan->rows[k];
       if (!row.result) {
-        out << fmt::format("{:>9.2e} {:>15}   fit failed: {}\n", row.rate_max, window, row.failure);
+        out << fmt::format("{:>9.2e} {:>15}   fit failed: {}\n", row.rate_max,
+                           fmt::format("+-{:g}", row.half_window), row.failure);
         continue;
       }
       const auto& r = *row.result;
       out << fmt::format(
           "{:>9.2e} {:>15} {:>8.5f}({:>7.5f}) {:>6.3f}({:>5.3f}) {:>6.3f}({:>5.3f}) {:>9.3f} "
-          "{:>9.3f} {:>8.1e} {:>6}\n",
-          row.rate_max, window, r.phi_j, r.phi_j_err, r.beta, r.beta_err, r.y, r.y_err,
-          r.chi2_diag_per_dof, r.chi2_cov_per_dof, r.condition_number, r.points);
+          "{:>9.3f} {:>8.1e} {:>4} {:>5}{}\n",
+          row.rate_max, fmt::format("{:.4f}-{:.4f}", r.phi_min, r.phi_max), r.phi_j, r.phi_j_err,
+          r.beta, r.beta_err, r.y, r.y_err, r.chi2_diag_per_dof, r.chi2_cov_per_dof,
+          r.condition_number, r.iterations, r.quality, scan->chosen == k ? "  <- representative" : "");
     }
-    if (s.fit) {
-      out << fmt::format("fixed: {}\n", s.fit->fixed.empty() ? "nothing" : s.fit->fixed);
+    if (const auto* r = scan->representative()) {
+      out << fmt::format("representative: phi_J {:.5f}({:.5f}) [plain {:.5f}], q {:.4f} [{:.4f}], "
+                         "1/(z nu) {:.4f} [{:.4f}], beta {:.3f} [{:.3f}], y {:.3f} [{:.3f}]; "
+                         "fixed: {}; quality {}{}\n",
+                         r->phi_j, r->phi_j_err, r->phi_j_plain, r->q, r->q_plain, r->inv_znu,
+                         r->inv_znu_plain, r->beta, r->beta_plain, r->y, r->y_plain,
+                         r->fixed.empty() ? "nothing" : r->fixed, r->quality,
+                         r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
+      out << "  chosen: " << scan->reason << "\n";
+    } else {
+      out << "no representative fit: " << scan->failure << "\n";
     }
   }
   return out.str();

@@ -37,7 +37,7 @@ inline EnsembleTables ensemble(std::int64_t n, double phi_init, double log10_rat
   e.log10_rate = log10_rate;
   for (std::size_t k = 0; k < p.front().size(); ++k) e.phi_grid.push_back(0.80 + 0.001 * k);
   for (std::size_t s = 0; s < p.size(); ++s)
-    e.sample_ids.push_back(first_id + static_cast<std::uint32_t>(s));
+    e.sample_ids.push_back(first_id + static_cast<std::int64_t>(s));
   e.pressure_at_phi = std::move(p);
   return e;
 }

@@ -29,7 +29,8 @@ struct Truth {
 // Rates 1e-5 .. 10^-6.5, 10 samples sharing ids across rates, packings every 0.001. Each
 // sample's pressure is the truth times exp(eps), eps an AR(1) process along phi with
 // neighbour correlation 0.95 and 10% amplitude (the scatter seen at these sizes).
-std::vector<FitEnsemble> synthetic(const Truth& t, std::uint64_t seed, int samples = 10) {
+std::vector<FitEnsemble> synthetic(const Truth& t, std::uint64_t seed, int samples = 10,
+                                   double phi_lo = 0.78, double phi_hi = 0.90) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   const double rho = 0.95, sigma = 0.10;
@@ -37,7 +38,7 @@ std::vector<FitEnsemble> synthetic(const Truth& t, std::uint64_t seed, int sampl
   for (double lr : {-5.0, -5.5, -6.0, -6.5}) {
     FitEnsemble e;
     e.rate = std::pow(10.0, lr);
-    for (double phi = 0.78; phi <= 0.90 + 1e-9; phi += 0.001) e.phi.push_back(phi);
+    for (double phi = phi_lo; phi <= phi_hi + 1e-9; phi += 0.001) e.phi.push_back(phi);
     for (int s = 0; s < samples; ++s) {
       e.sample_ids.push_back(s);
       std::vector<double> row;
@@ -56,11 +57,9 @@ std::vector<FitEnsemble> synthetic(const Truth& t, std::uint64_t seed, int sampl
 ScalingFitOptions cubic_options() {
   ScalingFitOptions o;
   o.order = 3;
-  o.phi_min = 0.80;
-  o.phi_max = 0.88;
+  o.half_window = 0.04;
   o.rate_max = 1e-5;
-  o.start_phi_j = 0.845;  // deliberately off the truth
-  return o;
+  return o;  // no start: it comes from the data
 }
 
 }  // namespace
@@ -76,7 +75,12 @@ BOOST_AUTO_TEST_CASE(recovers_the_truth_within_errors) {
   BOOST_TEST(std::abs(r.phi_j - t.phi_j) < 3 * r.phi_j_err);
   BOOST_TEST(std::abs(r.beta - t.beta()) < 3 * r.beta_err);
   BOOST_TEST(std::abs(r.y - t.y()) < 3 * r.y_err);
-  BOOST_TEST(r.phi_j_err < 0.006);  // and informative: the window is +-0.045 wide
+  BOOST_TEST(r.phi_j_err < 0.006);  // and informative: the window is +-0.04 wide
+  // The window is centred on the fitted phi_J (the plain fit's), after at least one iteration.
+  BOOST_TEST(0.5 * (r.phi_min + r.phi_max) == r.phi_j_plain, boost::test_tools::tolerance(1e-12));
+  BOOST_TEST(r.iterations >= 1);
+  BOOST_TEST(r.start.find("from the data") != std::string::npos, r.start);
+  BOOST_TEST(r.quality == "ok", r.quality_reason);
   BOOST_TEST(r.samples == 10u);
   BOOST_TEST(r.fixed.empty());
   BOOST_TEST(r.condition_number > 1.0);
@@ -137,19 +141,89 @@ BOOST_AUTO_TEST_CASE(chi2_with_the_sample_covariance_is_near_one_on_the_true_mod
   }
 }
 
+// Planted truths away from the paper's values, 2D-like and 3D-like: phi_J, q and 1/(z nu)
+// recovered within three standard errors, with the window centred on the recovered phi_J.
+BOOST_AUTO_TEST_CASE(planted_truths_away_from_the_paper_are_recovered) {
+  Truth two;
+  two.phi_j = 0.826;
+  two.q = 0.35;
+  two.inv_znu = 0.32;
+  Truth three;  // 3D-like, on packings 0.60 .. 0.72
+  three.phi_j = 0.660;
+  three.q = 0.25;
+  three.inv_znu = 0.22;
+  for (const Truth* t : {&two, &three}) {
+    const auto data = t == &three ? synthetic(*t, 21, 10, 0.60, 0.72) : synthetic(*t, 21);
+    const ScalingFitResult r = fit_scaling(data, cubic_options());
+    BOOST_TEST_MESSAGE("planted phi_J " << t->phi_j << ": " << r.phi_j << " +- " << r.phi_j_err
+                                        << ", q " << r.q << " +- " << r.q_err << ", 1/(z nu) "
+                                        << r.inv_znu << " +- " << r.inv_znu_err << ", "
+                                        << r.iterations << " iterations; " << r.start);
+    BOOST_TEST(std::abs(r.phi_j - t->phi_j) < 3 * r.phi_j_err);
+    BOOST_TEST(std::abs(r.q - t->q) < 3 * r.q_err);
+    BOOST_TEST(std::abs(r.inv_znu - t->inv_znu) < 3 * r.inv_znu_err);
+    BOOST_TEST(0.5 * (r.phi_min + r.phi_max) == r.phi_j_plain, boost::test_tools::tolerance(1e-12));
+  }
+}
+
 BOOST_AUTO_TEST_CASE(impossible_fits_fail_with_a_message) {
   const Truth t;
   ScalingFitOptions o = cubic_options();
-  o.phi_min = 0.95;
-  o.phi_max = 0.99;
+  o.rate_max = 1e-7;  // below every rate
   BOOST_CHECK_EXCEPTION(fit_scaling(synthetic(t, 4), o), FitError, [](const FitError& e) {
-    return std::string(e.what()).find("no data in the window") != std::string::npos;
+    return std::string(e.what()).find("0 rate(s) at or below rate_max") != std::string::npos;
   });
   o = cubic_options();
-  o.phi_min = 0.8410;
-  o.phi_max = 0.8420;
-  o.rate_max = 1e-6;
+  o.half_window = 0.0005;
   BOOST_CHECK_EXCEPTION(fit_scaling(synthetic(t, 4), o), FitError, [](const FitError& e) {
     return std::string(e.what()).find("free parameters") != std::string::npos;
   });
+  // The window cannot settle in one re-centring at a tolerance no fit meets.
+  o = cubic_options();
+  o.max_iterations = 1;
+  o.tolerance = 1e-300;
+  BOOST_CHECK_EXCEPTION(fit_scaling(synthetic(t, 4), o), FitError, [](const FitError& e) {
+    return std::string(e.what()).find("did not settle") != std::string::npos;
+  });
+}
+
+// A pressure that does not depend on the rate at all (q = 0) drives q onto its bound: a
+// failure naming it, not a result. Data without a crossover give no start.
+BOOST_AUTO_TEST_CASE(a_fit_on_a_bound_or_without_a_start_is_no_result) {
+  Truth flat;
+  flat.q = 0.0;
+  flat.inv_znu = 0.3;
+  ScalingFitOptions o = cubic_options();
+  o.fixed_phi_j = flat.phi_j;  // the start needs a crossover, which q = 0 has not
+  BOOST_CHECK_EXCEPTION(fit_scaling(synthetic(flat, 5), o), FitError, [](const FitError& e) {
+    return std::string(e.what()).find("ends on a bound: q") != std::string::npos;
+  });
+  // p proportional to the rate at every packing (q_eff = 1 throughout): no crossover.
+  auto viscous = synthetic(Truth{}, 5);
+  for (auto& e : viscous)
+    for (auto& row : e.pressure)
+      for (std::size_t k = 0; k < row.size(); ++k) row[k] = e.rate * std::exp(10 * e.phi[k]);
+  BOOST_CHECK_EXCEPTION(fit_scaling(viscous, cubic_options()), FitError, [](const FitError& e) {
+    return std::string(e.what()).find("no start from the data") != std::string::npos;
+  });
+}
+
+// Too few points of a rate in the window: a result, flagged poor with the reason.
+BOOST_AUTO_TEST_CASE(too_few_points_per_rate_is_flagged) {
+  const Truth t;
+  auto data = synthetic(t, 6);
+  // The slowest rate keeps one packing in 25: about 3 in the window.
+  FitEnsemble& slow = data.back();
+  FitEnsemble sparse = slow;
+  sparse.phi.clear();
+  for (auto& row : sparse.pressure) row.clear();
+  for (std::size_t k = 0; k < slow.phi.size(); k += 25) {
+    sparse.phi.push_back(slow.phi[k]);
+    for (std::size_t s = 0; s < slow.pressure.size(); ++s) sparse.pressure[s].push_back(slow.pressure[s][k]);
+  }
+  slow = sparse;
+  const ScalingFitResult r = fit_scaling(data, cubic_options());
+  BOOST_TEST(r.min_points_per_rate < kMinPointsPerRate);
+  BOOST_TEST(r.quality == "poor");
+  BOOST_TEST(r.quality_reason.find("points in the window") != std::string::npos, r.quality_reason);
 }

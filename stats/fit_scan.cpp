@@ -1,0 +1,154 @@
+#include "stats/fit_scan.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace jam::stats {
+namespace {
+
+// Two fits agree when their free parameters differ by at most this many combined sigma.
+constexpr double kAgreement = 2.0;
+
+bool agree(const ScalingFitResult& a, const ScalingFitResult& b) {
+  auto close = [](double x, double ex, double y, double ey) {
+    return std::abs(x - y) <= kAgreement * std::sqrt(ex * ex + ey * ey);
+  };
+  return close(a.phi_j, a.phi_j_err, b.phi_j, b.phi_j_err) && close(a.q, a.q_err, b.q, b.q_err) &&
+         close(a.inv_znu, a.inv_znu_err, b.inv_znu, b.inv_znu_err);
+}
+
+bool cleared(const RateClearance& c, double rate) {
+  if (!c.cleared) return true;
+  return std::any_of(c.cleared->begin(), c.cleared->end(),
+                     [rate](double lr) { return std::abs(std::pow(10.0, lr) / rate - 1) < 1e-6; });
+}
+
+}  // namespace
+
+RateClearance read_clearance(const std::string& directory, std::int64_t n, double fit_phi_init,
+                             double lowest_phi_init) {
+  RateClearance c;
+  if (std::abs(fit_phi_init - lowest_phi_init) < 1e-9) {
+    c.note = fmt::format(
+        "phi_init {:g} is the campaign's lowest start: the phi_init check compares the others "
+        "with it, so no verdict bears on its memory of the start; all its rates are used",
+        fit_phi_init);
+    return c;
+  }
+  namespace fs = std::filesystem;
+  for (const char* name : {"checks.json", "checks-phi_init.json"}) {
+    const fs::path file = fs::path(directory) / name;
+    if (!fs::exists(file)) continue;
+    std::ifstream in(file);
+    const auto verdicts = nlohmann::json::parse(in, nullptr, false);
+    if (!verdicts.is_array()) continue;
+    std::vector<double> rates;
+    bool any = false;
+    for (const auto& v : verdicts) {
+      if (v.value("check", "") != "phi_init" || !v.contains("values")) continue;
+      const auto& x = v["values"];
+      if (!x.contains("n") || !x.contains("phi_init") || !x.contains("log10_rate")) continue;
+      if (x["n"].get<double>() != static_cast<double>(n) ||
+          std::abs(x["phi_init"].get<double>() - fit_phi_init) > 1e-9)
+        continue;
+      any = true;
+      if (v.value("status", "") == "pass") rates.push_back(x["log10_rate"].get<double>());
+    }
+    if (!any) continue;
+    c.cleared = rates;
+    c.note = fmt::format("rates cleared by the phi_init check ({}): {}", name,
+                         rates.empty() ? std::string("none") : fmt::format("1e{:g}", fmt::join(rates, ", 1e")));
+    return c;
+  }
+  c.note = "no phi_init verdict for the fitted ensembles (run `jam check phi_init`): all rates used";
+  return c;
+}
+
+FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
+                  const RateClearance& clearance, const std::string& variable) {
+  FitScan scan;
+  if (data.empty()) {
+    scan.failure = fmt::format("no ensembles to fit at constant {}", variable);
+    return scan;
+  }
+  std::sort(data.begin(), data.end(),
+            [](const FitEnsemble& a, const FitEnsemble& b) { return a.rate > b.rate; });
+  // rate_max from the fastest rate down to the third slowest, so every fit sees >= 3 rates
+  // (or all of them when there are fewer).
+  std::vector<double> rate_max;
+  for (std::size_t k = 0; k < data.size(); ++k) {
+    if (data.size() - k >= 3 || k == 0) rate_max.push_back(data[k].rate);
+  }
+  for (double half : o.half_windows) {
+    for (double rm : rate_max) {
+      ScanRow row;
+      row.rate_max = rm;
+      row.half_window = half;
+      ScalingFitOptions f;
+      f.order = o.order;
+      f.fixed_phi_j = o.fixed_phi_j;
+      f.fixed_q = o.fixed_q;
+      f.fixed_inv_znu = o.fixed_inv_znu;
+      f.half_window = half;
+      f.rate_max = rm;
+      try {
+        row.result = fit_scaling(data, f);
+      } catch (const FitError& e) {
+        row.failure = e.what();
+      }
+      scan.rows.push_back(std::move(row));
+    }
+  }
+  // The narrowest window's rows, fastest rate_max first, that use cleared rates only.
+  const double narrowest = *std::min_element(o.half_windows.begin(), o.half_windows.end());
+  std::vector<std::size_t> rows;
+  for (std::size_t k = 0; k < scan.rows.size(); ++k) {
+    if (scan.rows[k].half_window != narrowest) continue;
+    bool all_cleared = true;
+    for (const auto& e : data)
+      if (e.rate <= scan.rows[k].rate_max * (1 + 1e-9)) all_cleared = all_cleared && cleared(clearance, e.rate);
+    if (all_cleared) rows.push_back(k);
+  }
+  if (rows.empty()) {
+    scan.failure = "no rate_max whose rates the phi_init check all clears; " + clearance.note;
+    return scan;
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& candidate = scan.rows[rows[i]];
+    if (!candidate.result || candidate.result->quality != "ok") continue;
+    std::size_t compared = 0;
+    bool stable = true;
+    for (std::size_t j = i + 1; j < rows.size(); ++j) {
+      const auto& slower = scan.rows[rows[j]];
+      if (!slower.result) continue;
+      ++compared;
+      stable = stable && agree(*candidate.result, *slower.result);
+    }
+    if (!stable) continue;
+    scan.chosen = rows[i];
+    scan.reason = fmt::format(
+        "narrowest window (+-{:g}); rate_max {:.3g}: the largest from which phi_J, q and 1/(z nu) "
+        "agree within {:g} sigma with the fit at every slower rate_max ({} compared); {}",
+        narrowest, candidate.rate_max, kAgreement, compared, clearance.note);
+    return scan;
+  }
+  // No plateau: the slowest rate_max with a result, said so.
+  for (std::size_t i = rows.size(); i-- > 0;) {
+    if (!scan.rows[rows[i]].result) continue;
+    scan.chosen = rows[i];
+    scan.reason = fmt::format(
+        "narrowest window (+-{:g}); no rate_max from which the fits agree within {:g} sigma with "
+        "every slower one (or none of quality ok): the slowest rate_max {:.3g} taken; {}",
+        narrowest, kAgreement, scan.rows[rows[i]].rate_max, clearance.note);
+    return scan;
+  }
+  scan.failure = scan.rows[rows.back()].failure;
+  return scan;
+}
+
+}  // namespace jam::stats

@@ -1,0 +1,75 @@
+// Reading the averages back from a stats.h5 (refit_campaign_stats in campaign_stats.hpp).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "sim/io/hdf5_file.hpp"
+#include "stats/campaign_stats.hpp"
+
+namespace jam::stats {
+namespace {
+
+/// One averaging of an ensemble: its grid, sample ids and per-sample tables.
+GridAverage read_average(const h5::File& f, const std::string& group, const std::string& grid) {
+  GridAverage a;
+  a.grid_name = grid;
+  a.grid = f.read_dataset(group + "/" + grid);
+  for (double id : f.read_dataset(group + "/sample_ids"))
+    a.sample_ids.push_back(static_cast<std::int64_t>(id));
+  const std::size_t m = a.grid.size();
+  for (const auto& name : f.list_group(group)) {
+    const auto at = name.rfind("_samples");
+    if (at == std::string::npos || at + 8 != name.size()) continue;
+    const auto flat = f.read_dataset(group + "/" + name);
+    std::vector<std::vector<double>> rows;
+    for (std::size_t s = 0; m > 0 && (s + 1) * m <= flat.size(); ++s) {
+      rows.emplace_back(flat.begin() + static_cast<long>(s * m),
+                        flat.begin() + static_cast<long>((s + 1) * m));
+    }
+    a.names.push_back(name.substr(0, at));
+    a.tables.push_back(std::move(rows));
+  }
+  finalize(a);
+  return a;
+}
+
+}  // namespace
+
+CampaignStats refit_campaign_stats(const std::string& directory, const StatsOptions& o) {
+  const std::string path = (std::filesystem::path(directory) / "stats.h5").string();
+  if (!std::filesystem::exists(path)) {
+    throw std::runtime_error(fmt::format("{}: no stats.h5 to refit", directory));
+  }
+  CampaignStats s;
+  s.refit_from = path;
+  {
+    const h5::File f = h5::File::open_read(path);
+    s.data.name = f.read_attribute_string("campaign");
+    s.data.dim = static_cast<int>(f.read_attribute_int("dim"));
+    s.runs_averaged = f.read_attribute_int("runs");
+    s.runs_skipped = f.read_attribute_int("runs_skipped");
+    for (const auto& name : f.list_group("ensembles")) {
+      const std::string g = "ensembles/" + name;
+      EnsembleStats e;
+      e.key = {f.read_attribute_int("n", g), f.read_attribute_double("phi_init", g),
+               f.read_attribute_double("log10_rate", g)};
+      e.constant_phi = read_average(f, g + "/constant_phi", "packing_fraction");
+      if (f.has_dataset(g + "/constant_z")) {
+        const auto names = f.list_group(g + "/constant_z");
+        const bool no_rattlers = std::find(names.begin(), names.end(),
+                                           std::string("contacts_per_particle_no_rattlers")) != names.end();
+        e.constant_z = read_average(f, g + "/constant_z",
+                                    no_rattlers ? "contacts_per_particle_no_rattlers"
+                                                : "contacts_per_particle");
+      }
+      s.ensembles.push_back(std::move(e));
+    }
+  }
+  if (s.ensembles.empty()) throw std::runtime_error(path + ": no ensembles");
+  if (o.fit) fit_campaign(s, directory, o);
+  return s;
+}
+
+}  // namespace jam::stats
