@@ -82,7 +82,7 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
     }
     if (!a || !b) {
       return {inconclusive("finite_size", "named run sets",
-                      "a named run set matches no ensemble of stats.h5")};
+                           "a named run set matches no ensemble of stats.h5")};
     }
     for (bool z : {false, true}) {
       comparisons.push_back(
@@ -92,7 +92,7 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
   } else {
     if (d.pooled) {
       return {inconclusive("finite_size", "all",
-                      "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
+                           "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
     }
     // Smallest against largest size at every (phi_init, rate).
     std::map<std::pair<double, double>, std::map<std::int64_t, const EnsembleTables*>> by;

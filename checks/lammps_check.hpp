@@ -17,10 +17,10 @@
 namespace jam::checks {
 
 struct LammpsCheckOptions {
-  std::string work_directory;       // scratch files
-  std::string reference_directory;  // reference/lammps
-  bool use_lmp = true;              // run lmp when available
-  bool regenerate = false;          // rewrite the stored reference from a fresh LAMMPS run
+  std::string work_directory;                // scratch files
+  std::string reference_directory;           // reference/lammps
+  bool use_lmp = true;                       // run lmp when available
+  bool regenerate = false;                   // rewrite the stored reference from a fresh LAMMPS run
   double margin = default_margin("lammps");  // overdamped comparison: |<Delta p/p>| allowed
 };
 

@@ -13,18 +13,19 @@ void decide(Verdict& v, bool detected, double excluded_above, double margin) {
   v.excluded_above = excluded_above;
   if (excluded_above <= margin) {
     v.status = "pass";
-    v.reason = fmt::format("no effect above the margin {:.3g}: effects above {:.3g} excluded{}",
-                           margin, excluded_above,
-                           detected ? "; a smaller difference is detected" : "");
+    v.reason =
+        fmt::format("no effect above the margin {:.3g}: effects above {:.3g} excluded{}", margin,
+                    excluded_above, detected ? "; a smaller difference is detected" : "");
   } else if (detected) {
     v.status = "fail";
     v.reason = fmt::format("difference detected; effects up to {:.3g} allowed, margin {:.3g}",
                            excluded_above, margin);
   } else {
     v.status = "inconclusive";
-    v.reason = fmt::format("no difference detected, but only effects above {:.3g} are "
-                           "excluded (margin {:.3g})",
-                           excluded_above, margin);
+    v.reason = fmt::format(
+        "no difference detected, but only effects above {:.3g} are "
+        "excluded (margin {:.3g})",
+        excluded_above, margin);
   }
 }
 

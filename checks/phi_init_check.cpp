@@ -3,9 +3,9 @@
 // phi >= phi_min, with the statistics and the margins of the finite-size check. phi_min is
 // --phi-min, else the lower edge of the scaling fit's window (stats.h5), since independence of
 // the start is what the fitted data need, else where the compression, not the start, sets the
-// pressure in both sets (margin.hpp): the whole compressed range. Memory of the random start fades at slower rates, so the
-// verdicts are per rate; each summary says the largest phi_init still consistent with the lowest
-// and the share of compression time that starting there saves.
+// pressure in both sets (margin.hpp): the whole compressed range. Memory of the random start fades
+// at slower rates, so the verdicts are per rate; each summary says the largest phi_init still
+// consistent with the lowest and the share of compression time that starting there saves.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -36,7 +36,8 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
     for (const auto& [phi, e] : starts)
       jamming_comparisons += !e->jamming_points.empty() && phi != starts.begin()->first &&
                              !starts.begin()->second->jamming_points.empty();
-  if (comparisons == 0) return {inconclusive("phi_init", "all", "the campaign has a single phi_init")};
+  if (comparisons == 0)
+    return {inconclusive("phi_init", "all", "the campaign has a single phi_init")};
   const double alpha = o.alpha / static_cast<double>(comparisons);
   std::vector<Verdict> out;
   for (const auto& [key, starts] : by) {

@@ -84,8 +84,9 @@ Verdict rerun_verdict(const EnsembleTables& now, const EnsembleTables& base, con
 std::vector<Verdict> regression_check(const StatsData& now, const StatsData& baseline,
                                       const CheckOptions& o, const RegressionOptions& r) {
   if (now.dim != baseline.dim)
-    return {inconclusive("regression", "all",
-                    fmt::format("dimension {} against a {}D baseline", now.dim, baseline.dim))};
+    return {
+        inconclusive("regression", "all",
+                     fmt::format("dimension {} against a {}D baseline", now.dim, baseline.dim))};
   struct Pair {
     const EnsembleTables* now;
     const EnsembleTables* base;
@@ -126,8 +127,9 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
     v.statistic_name = "max |Delta p/p| / sigma";
     v.values = out.back().values;
     if (fresh.size() < 2 || al.b.size() < 2 || al.grid.empty()) {
-      out.push_back(inconclusive("regression", v.case_name,
-                            "fewer than 2 new samples (or 2 baseline samples) on a common grid"));
+      out.push_back(
+          inconclusive("regression", v.case_name,
+                       "fewer than 2 new samples (or 2 baseline samples) on a common grid"));
       continue;
     }
     try {
@@ -135,8 +137,8 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
       judge(v, t, alpha, o.margin("regression"), std::min(fresh.size(), al.b.size()));
       v.curves = {{"grid", {}}, {"delta", t.delta}, {"sigma", t.sigma}};
       for (auto k : t.points) v.curves[0].second.push_back(al.grid[k]);
-      v.reason = fmt::format("{} new vs {} baseline samples: ", fresh.size(), al.b.size()) +
-                 v.reason;
+      v.reason =
+          fmt::format("{} new vs {} baseline samples: ", fresh.size(), al.b.size()) + v.reason;
     } catch (const std::invalid_argument& e) {
       v = inconclusive("regression", v.case_name, e.what());
     }

@@ -45,7 +45,7 @@ double pair_ratio(const std::vector<const std::vector<double>*>& a,
 std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& o) {
   if (d.pooled) {
     return {inconclusive("sample_pairs", "all",
-                    "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
+                         "stats.h5 pooled the sizes; run `jam stats` without --pool-sizes")};
   }
   std::map<std::pair<double, double>, std::map<std::int64_t, const EnsembleTables*>> by;
   for (const auto& e : d.ensembles) by[{e.phi_init, e.log10_rate}][e.n] = &e;

@@ -72,9 +72,8 @@ StatsData read_stats(const std::string& directory) {
       e.pressure_at_z = table(f, g + "/constant_z/pressure_samples", e.z_grid.size());
     }
     const std::string z_name = g + "/constant_phi/contacts_per_particle_samples";
-    find_compressed_range(
-        e, f.has_dataset(z_name) ? table(f, z_name, e.phi_grid.size())
-                                 : std::vector<std::vector<double>>{});
+    find_compressed_range(e, f.has_dataset(z_name) ? table(f, z_name, e.phi_grid.size())
+                                                   : std::vector<std::vector<double>>{});
     if (f.has_dataset(g + "/jamming"))
       e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples");
     d.ensembles.push_back(std::move(e));

@@ -47,13 +47,11 @@ std::string xml_escape(const std::string& s) {
 
 std::string format_table(const std::vector<Verdict>& v) {
   std::ostringstream out;
-  out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", "verdict",
-                     "check", "case", "statistic", "threshold", "detectable", "excluded>",
-                     "margin");
+  out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", "verdict", "check",
+                     "case", "statistic", "threshold", "detectable", "excluded>", "margin");
   for (const auto& x : v) {
     const std::string status = x.expected_failure ? x.status + "(x)" : x.status;
-    out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", status,
-                       x.check,
+    out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", status, x.check,
                        x.case_name.size() > 58 ? x.case_name.substr(0, 55) + "..." : x.case_name,
                        number(x.statistic), number(x.threshold), number(x.detectable),
                        number(x.excluded_above), number(x.margin));
@@ -100,10 +98,10 @@ std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite
   out << fmt::format("<testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" skipped=\"{}\">\n",
                      xml_escape(suite), v.size(), failures, skipped);
   for (const auto& x : v) {
-    const std::string summary = fmt::format(
-        "{} = {} (threshold {}), detectable {}, excluded above {}, margin {}", x.statistic_name,
-        number(x.statistic), number(x.threshold), number(x.detectable), number(x.excluded_above),
-        number(x.margin));
+    const std::string summary =
+        fmt::format("{} = {} (threshold {}), detectable {}, excluded above {}, margin {}",
+                    x.statistic_name, number(x.statistic), number(x.threshold),
+                    number(x.detectable), number(x.excluded_above), number(x.margin));
     out << fmt::format("  <testcase classname=\"jam.check.{}\" name=\"{}\">\n", xml_escape(x.check),
                        xml_escape(x.case_name));
     if (failure(x)) {

@@ -73,7 +73,7 @@ struct CampaignStats {
   std::int64_t fit_size = 0;  // 0: pooled
   std::int64_t runs_averaged = 0, runs_skipped = 0;
   std::string refit_from;  // when refitted from an earlier stats.h5: its path
-  double wall_time = 0.0;     // seconds spent reading and averaging (provenance for reports)
+  double wall_time = 0.0;  // seconds spent reading and averaging (provenance for reports)
 };
 
 CampaignStats compute_campaign_stats(const std::string& directory, const StatsOptions& options);

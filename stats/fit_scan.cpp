@@ -61,11 +61,13 @@ RateClearance read_clearance(const std::string& directory, std::int64_t n, doubl
     }
     if (!any) continue;
     c.cleared = rates;
-    c.note = fmt::format("rates cleared by the phi_init check ({}): {}", name,
-                         rates.empty() ? std::string("none") : fmt::format("1e{:g}", fmt::join(rates, ", 1e")));
+    c.note = fmt::format(
+        "rates cleared by the phi_init check ({}): {}", name,
+        rates.empty() ? std::string("none") : fmt::format("1e{:g}", fmt::join(rates, ", 1e")));
     return c;
   }
-  c.note = "no phi_init verdict for the fitted ensembles (run `jam check phi_init`): all rates used";
+  c.note =
+      "no phi_init verdict for the fitted ensembles (run `jam check phi_init`): all rates used";
   return c;
 }
 
@@ -111,7 +113,8 @@ FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
     if (scan.rows[k].half_window != narrowest) continue;
     bool all_cleared = true;
     for (const auto& e : data)
-      if (e.rate <= scan.rows[k].rate_max * (1 + 1e-9)) all_cleared = all_cleared && cleared(clearance, e.rate);
+      if (e.rate <= scan.rows[k].rate_max * (1 + 1e-9))
+        all_cleared = all_cleared && cleared(clearance, e.rate);
     if (all_cleared) rows.push_back(k);
   }
   if (rows.empty()) {

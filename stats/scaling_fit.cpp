@@ -124,8 +124,8 @@ std::pair<double, std::string> crossover(const std::vector<FitEnsemble>& ens, co
     if (slope[k - 1] >= 0.5 && slope[k] < 0.5) {
       const double t = (slope[k - 1] - 0.5) / (slope[k - 1] - slope[k]);
       const double phi_j = phi[k - 1] + t * (phi[k] - phi[k - 1]);
-      return {phi_j, fmt::format("from the data: d ln p / d ln rate crosses 1/2 at phi {:.4f}",
-                                 phi_j)};
+      return {phi_j,
+              fmt::format("from the data: d ln p / d ln rate crosses 1/2 at phi {:.4f}", phi_j)};
     }
   }
   throw FitError(
@@ -146,8 +146,8 @@ Solution multistart(const std::vector<Point>& points, std::vector<double> centra
                     const std::vector<std::size_t>& free, const ScalingFitOptions& o) {
   const bool phi_free = !o.fixed_phi_j, a_free = !o.fixed_inv_znu;
   std::vector<double> phis = {central[kPhiJ]}, as = {central[kA]};
-  if (phi_free) phis = {central[kPhiJ], central[kPhiJ] - o.half_window / 3,
-                        central[kPhiJ] + o.half_window / 3};
+  if (phi_free)
+    phis = {central[kPhiJ], central[kPhiJ] - o.half_window / 3, central[kPhiJ] + o.half_window / 3};
   if (a_free) as = {central[kA], 0.25, 1.0};
   Solution best;
   best.chi2 = std::numeric_limits<double>::infinity();
@@ -184,9 +184,10 @@ Fitted iterate_window(const std::vector<FitEnsemble>& ens, const Means& m,
     const std::vector<Point> pts =
         it == 1 ? candidates(ens, m, o, par[kPhiJ]) : point_set(ens, m, o, par);
     if (pts.size() <= free.size()) {
-      throw FitError(fmt::format("fit: {} points in the window phi {:.4f} +- {:g} for {} free "
-                                 "parameters",
-                                 pts.size(), par[kPhiJ], o.half_window, free.size()));
+      throw FitError(
+          fmt::format("fit: {} points in the window phi {:.4f} +- {:g} for {} free "
+                      "parameters",
+                      pts.size(), par[kPhiJ], o.half_window, free.size()));
     }
     const double centre = par[kPhiJ];
     Problem pr{pts, par, free};
@@ -254,10 +255,10 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
   {
     Problem pr{candidates(ens, full_means, o, par[kPhiJ]), par, free};
     if (pr.points.size() <= free.size()) {
-      throw FitError(fmt::format("fit: {} points in the window phi {:.4f} +- {:g}, rate <= {:g}, "
-                                 "for {} free parameters",
-                                 pr.points.size(), par[kPhiJ], o.half_window, o.rate_max,
-                                 free.size()));
+      throw FitError(
+          fmt::format("fit: {} points in the window phi {:.4f} +- {:g}, rate <= {:g}, "
+                      "for {} free parameters",
+                      pr.points.size(), par[kPhiJ], o.half_window, o.rate_max, free.size()));
     }
     linear_start(pr);
     par = pr.full;
@@ -289,10 +290,11 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
     for (std::size_t e = 0; e < ens.size(); ++e)
       if (fitted_rate(ens[e], o)) per_rate[e] = 0;
     for (const Point& p : fit.points) ++per_rate[p.ensemble];
-    r.min_points_per_rate = per_rate.empty() ? 0 : std::min_element(per_rate.begin(), per_rate.end(),
-                                                                     [](auto& a, auto& b) {
-                                                                       return a.second < b.second;
-                                                                     })->second;
+    r.min_points_per_rate =
+        per_rate.empty() ? 0
+                         : std::min_element(per_rate.begin(), per_rate.end(), [](auto& a, auto& b) {
+                             return a.second < b.second;
+                           })->second;
   }
 
   // Sample ids (a sample is left out of every rate at once) and chi^2 with the covariance.
@@ -318,7 +320,8 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
       deviations.push_back(std::move(row));
     }
     std::vector<double> residual;
-    for (const Point& p : fit.points) residual.push_back(p.ln_p - model(best.par, p.phi, p.ln_rate));
+    for (const Point& p : fit.points)
+      residual.push_back(p.ln_p - model(best.par, p.phi, p.ln_rate));
     // With fewer than 3 samples a covariance cannot be estimated at all; if the shrunk
     // estimate is still singular the chi^2 is reported as not available (NaN).
     r.chi2_cov_per_dof = std::numeric_limits<double>::quiet_NaN();
@@ -343,9 +346,8 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
       for (Point& p : pr.points) p.ln_p = std::log(m.mean[p.ensemble][p.index]);  // same weights
       replicas.push_back(derived(solve(pr).par));
     }
-    const JackknifeResult j = jackknife(id_list.size(), [&](std::size_t k) {
-      return k == id_list.size() ? plain : replicas[k];
-    });
+    const JackknifeResult j = jackknife(
+        id_list.size(), [&](std::size_t k) { return k == id_list.size() ? plain : replicas[k]; });
     est = j.estimate;
     err = j.error;
     r.error_method = JackknifeResult::kMethod;
@@ -376,9 +378,10 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
   const double ratio = r.chi2_cov_per_dof / r.chi2_diag_per_dof;
   if (std::isfinite(ratio) &&
       (ratio > kChi2DisagreementFactor || ratio < 1.0 / kChi2DisagreementFactor)) {
-    poor.push_back(fmt::format("chi^2/dof with the covariance ({:.3g}) and with diagonal errors "
-                               "({:.3g}) differ by more than a factor {:g}",
-                               r.chi2_cov_per_dof, r.chi2_diag_per_dof, kChi2DisagreementFactor));
+    poor.push_back(
+        fmt::format("chi^2/dof with the covariance ({:.3g}) and with diagonal errors "
+                    "({:.3g}) differ by more than a factor {:g}",
+                    r.chi2_cov_per_dof, r.chi2_diag_per_dof, kChi2DisagreementFactor));
   }
   if (r.condition_number > kIllConditioned) {
     poor.push_back(fmt::format("ill-conditioned Jacobian (condition number {:.2g} > {:g})",

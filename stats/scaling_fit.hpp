@@ -36,8 +36,8 @@ struct ScalingFitOptions {
   double x_max = 1.0;
   std::optional<double> fixed_phi_j, fixed_q, fixed_inv_znu;
   bool jackknife = true;
-  int max_iterations = 30;   // of the window's re-centring
-  double tolerance = 1e-4;   // the window has settled when phi_J moves less than this
+  int max_iterations = 30;  // of the window's re-centring
+  double tolerance = 1e-4;  // the window has settled when phi_J moves less than this
 };
 
 struct CollapsePoint {
@@ -62,13 +62,13 @@ struct ScalingFitResult {
   double phi_min = 0, phi_max = 0;      // the window the fit settled on
   int iterations = 0;                   // re-centrings of the window until it settled
   std::string start;                    // where the minimiser started, and why
-  double chi2_diag_per_dof = 0;  // diagonal errors (standard errors of the means)
-  double chi2_cov_per_dof = 0;   // covariance of the means from the samples, shrunk
-  double shrinkage = 0;          // its shrinkage intensity lambda
-  double condition_number = 0;   // of the weighted Jacobian at the solution
-  std::string quality = "ok";    // "ok" or "poor"
-  std::string quality_reason;    // why poor
-  std::string fixed;             // which of phi_J, q, 1/(z nu) were held fixed
+  double chi2_diag_per_dof = 0;         // diagonal errors (standard errors of the means)
+  double chi2_cov_per_dof = 0;          // covariance of the means from the samples, shrunk
+  double shrinkage = 0;                 // its shrinkage intensity lambda
+  double condition_number = 0;          // of the weighted Jacobian at the solution
+  std::string quality = "ok";           // "ok" or "poor"
+  std::string quality_reason;           // why poor
+  std::string fixed;                    // which of phi_J, q, 1/(z nu) were held fixed
   std::string error_method;
   std::vector<CollapsePoint> collapse;
 };

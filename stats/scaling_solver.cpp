@@ -121,8 +121,9 @@ Solution solve(const Problem& pr_in) {
   gsl_vector_free(x0);
   gsl_multifit_nlinear_free(w);
   if (status != GSL_SUCCESS || !std::isfinite(s.chi2)) {
-    throw FitError(fmt::format("fit did not converge: {} (at phi_J {:.5g}, q {:.4g}, 1/(z nu) {:.4g})",
-                               gsl_strerror(status), s.par[kPhiJ], s.par[kQ], s.par[kA]));
+    throw FitError(
+        fmt::format("fit did not converge: {} (at phi_J {:.5g}, q {:.4g}, 1/(z nu) {:.4g})",
+                    gsl_strerror(status), s.par[kPhiJ], s.par[kQ], s.par[kA]));
   }
   return s;
 }

@@ -73,13 +73,12 @@ void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r,
   attr("half_window", row.half_window);
   attr("rate_max", row.rate_max);
   f.write_attribute("points", static_cast<std::int64_t>(r.points), group);
-  f.write_attribute("min_points_per_rate", static_cast<std::int64_t>(r.min_points_per_rate),
-                    group);
+  f.write_attribute("min_points_per_rate", static_cast<std::int64_t>(r.min_points_per_rate), group);
   f.write_attribute("iterations", std::int64_t{r.iterations}, group);
   f.write_attribute("start", r.start, group);
   f.write_attribute("quality", r.quality, group);
-  f.write_attribute("quality_reason", r.quality_reason.empty() ? std::string("-") : r.quality_reason,
-                    group);
+  f.write_attribute("quality_reason",
+                    r.quality_reason.empty() ? std::string("-") : r.quality_reason, group);
   f.write_attribute("samples", static_cast<std::int64_t>(r.samples), group);
   f.write_attribute("order", std::int64_t{order}, group);
   f.write_attribute("fixed", r.fixed.empty() ? std::string("none") : r.fixed, group);
@@ -103,10 +102,25 @@ void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r,
 }
 
 void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
-  const char* names[] = {"rate_max", "half_window", "phi_min", "phi_max", "phi_j",
-                         "phi_j_error", "q", "q_error", "inv_znu", "inv_znu_error",
-                         "beta", "beta_error", "y", "y_error", "chi2_diag_per_dof",
-                         "chi2_cov_per_dof", "iterations", "quality_ok", "chosen"};
+  const char* names[] = {"rate_max",
+                         "half_window",
+                         "phi_min",
+                         "phi_max",
+                         "phi_j",
+                         "phi_j_error",
+                         "q",
+                         "q_error",
+                         "inv_znu",
+                         "inv_znu_error",
+                         "beta",
+                         "beta_error",
+                         "y",
+                         "y_error",
+                         "chi2_diag_per_dof",
+                         "chi2_cov_per_dof",
+                         "iterations",
+                         "quality_ok",
+                         "chosen"};
   constexpr std::size_t columns = std::size(names);
   std::vector<double> cols[columns];
   std::string failures;
@@ -182,17 +196,16 @@ void write_stats_file(const std::string& path, const CampaignStats& s, const Sta
         const std::string jg = g + "/jamming";
         f.create_group(jg);
         f.write_dataset(jg + "/packing_fraction_samples", e.jamming->samples);
-        f.write_dataset(
-            jg + "/sample_ids",
-            std::vector<double>(e.jamming->sample_ids.begin(), e.jamming->sample_ids.end()));
+        f.write_dataset(jg + "/sample_ids", std::vector<double>(e.jamming->sample_ids.begin(),
+                                                                e.jamming->sample_ids.end()));
         f.write_attribute("mean", e.jamming->mean.mean, jg);
         f.write_attribute("error", e.jamming->mean.error, jg);
         f.write_attribute("spread", e.jamming->spread, jg);
         f.write_attribute("found", static_cast<std::int64_t>(e.jamming->mean.samples), jg);
       }
     }
-    for (const auto& [group, scan] : {std::pair{std::string("fit"), &s.fit},
-                                       std::pair{std::string("fit_z"), &s.fit_z}}) {
+    for (const auto& [group, scan] :
+         {std::pair{std::string("fit"), &s.fit}, std::pair{std::string("fit_z"), &s.fit_z}}) {
       if (scan->rows.empty()) continue;
       f.create_group(group);
       f.write_attribute("phi_init", s.fit_phi_init, group);
@@ -247,8 +260,8 @@ std::string format_stats_summary(const CampaignStats& s) {
                          e.jamming->samples.size());
     }
   }
-  for (const auto& [title, scan] : {std::pair{"constant phi", &s.fit},
-                                    std::pair{"constant Z", &s.fit_z}}) {
+  for (const auto& [title, scan] :
+       {std::pair{"constant phi", &s.fit}, std::pair{"constant Z", &s.fit_z}}) {
     if (scan->rows.empty()) continue;
     out << fmt::format(
         "\nscaling fit at {} (phi_init {:g}, N {}): phi_J, beta = (1-q) z nu, y = q z nu; "
@@ -270,16 +283,17 @@ std::string format_stats_summary(const CampaignStats& s) {
           "{:>9.3f} {:>8.1e} {:>4} {:>5}{}\n",
           row.rate_max, fmt::format("{:.4f}-{:.4f}", r.phi_min, r.phi_max), r.phi_j, r.phi_j_err,
           r.beta, r.beta_err, r.y, r.y_err, r.chi2_diag_per_dof, r.chi2_cov_per_dof,
-          r.condition_number, r.iterations, r.quality, scan->chosen == k ? "  <- representative" : "");
+          r.condition_number, r.iterations, r.quality,
+          scan->chosen == k ? "  <- representative" : "");
     }
     if (const auto* r = scan->representative()) {
-      out << fmt::format("representative: phi_J {:.5f}({:.5f}) [plain {:.5f}], q {:.4f} [{:.4f}], "
-                         "1/(z nu) {:.4f} [{:.4f}], beta {:.3f} [{:.3f}], y {:.3f} [{:.3f}]; "
-                         "fixed: {}; quality {}{}\n",
-                         r->phi_j, r->phi_j_err, r->phi_j_plain, r->q, r->q_plain, r->inv_znu,
-                         r->inv_znu_plain, r->beta, r->beta_plain, r->y, r->y_plain,
-                         r->fixed.empty() ? "nothing" : r->fixed, r->quality,
-                         r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
+      out << fmt::format(
+          "representative: phi_J {:.5f}({:.5f}) [plain {:.5f}], q {:.4f} [{:.4f}], "
+          "1/(z nu) {:.4f} [{:.4f}], beta {:.3f} [{:.3f}], y {:.3f} [{:.3f}]; "
+          "fixed: {}; quality {}{}\n",
+          r->phi_j, r->phi_j_err, r->phi_j_plain, r->q, r->q_plain, r->inv_znu, r->inv_znu_plain,
+          r->beta, r->beta_plain, r->y, r->y_plain, r->fixed.empty() ? "nothing" : r->fixed,
+          r->quality, r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
       out << "  chosen: " << scan->reason << "\n";
     } else {
       out << "no representative fit: " << scan->failure << "\n";

@@ -58,11 +58,12 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
       e.constant_phi = read_average(f, g + "/constant_phi", "packing_fraction");
       if (f.has_dataset(g + "/constant_z")) {
         const auto names = f.list_group(g + "/constant_z");
-        const bool no_rattlers = std::find(names.begin(), names.end(),
-                                           std::string("contacts_per_particle_no_rattlers")) != names.end();
-        e.constant_z = read_average(f, g + "/constant_z",
-                                    no_rattlers ? "contacts_per_particle_no_rattlers"
-                                                : "contacts_per_particle");
+        const bool no_rattlers =
+            std::find(names.begin(), names.end(),
+                      std::string("contacts_per_particle_no_rattlers")) != names.end();
+        e.constant_z = read_average(
+            f, g + "/constant_z",
+            no_rattlers ? "contacts_per_particle_no_rattlers" : "contacts_per_particle");
       }
       s.ensembles.push_back(std::move(e));
     }
