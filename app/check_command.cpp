@@ -84,10 +84,12 @@ int run_check_command(const CheckArgs& a) {
   // Margins and expected failures: the campaign file's, then --margin.
   std::vector<std::string> expected;
   const std::filesystem::path campaign_file = std::filesystem::path(a.directory) / "campaign.toml";
+  std::string campaign_name = std::filesystem::absolute(a.directory).filename().string();
   if (std::filesystem::exists(campaign_file)) {
     const Campaign campaign = read_campaign(campaign_file.string());
     o.margins = campaign.margins;
     expected = campaign.expected_failures;
+    campaign_name = campaign.name;
   }
   if (a.margin) {
     if (!(std::isfinite(*a.margin) && *a.margin > 0)) {
@@ -147,7 +149,7 @@ int run_check_command(const CheckArgs& a) {
   const std::filesystem::path dir(a.directory);
   const std::string stem = a.name == "all" ? "checks" : "checks-" + a.name;
   for (const auto& [file, text] :
-       {std::pair{dir / (stem + ".json"), checks::to_json(verdicts)},
+       {std::pair{dir / (stem + ".json"), checks::to_json(verdicts, campaign_name)},
         std::pair{dir / (stem + ".xml"), checks::to_junit_xml(verdicts, "jam.check." + a.name)}}) {
     AtomicFile out(file.string());
     std::fputs(text.c_str(), out.stream());

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "campaign/campaign_dir.hpp"
+#include "checks/verdict.hpp"
 #include "campaign/campaign_lock.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/throughput.hpp"
@@ -296,7 +297,7 @@ int print_campaign_plan(const Campaign& c) {
   if (std::filesystem::exists(checks)) {
     try {
       std::ifstream in(checks);
-      const auto verdicts = nlohmann::json::parse(in);
+      const auto verdicts = checks::verdict_array(nlohmann::json::parse(in));
       for (const auto& v : verdicts) {
         if (!v.contains("values") || !v["values"].contains("largest_consistent_phi_init")) continue;
         const auto& x = v["values"];

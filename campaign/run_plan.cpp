@@ -55,6 +55,8 @@ SimConfig run_config(const Campaign& c, std::int64_t n, double phi_init, double 
   s.integrator = c.integrator;
   s.q = c.q;
   s.seed = derive_seed(c.seed, n, phi_init, sample);
+  s.campaign = c.name;
+  s.sample = sample;
   s.skin = c.skin;
   s.diameter_ratio = c.diameter_ratio;
   s.relax = c.relax;

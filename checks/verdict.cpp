@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <ctime>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -61,7 +62,14 @@ std::string format_table(const std::vector<Verdict>& v) {
   return out.str();
 }
 
-std::string to_json(const std::vector<Verdict>& v) {
+nlohmann::json verdict_array(const nlohmann::json& checks) {
+  if (checks.is_array()) return checks;
+  if (checks.is_object() && checks.contains("verdicts") && checks["verdicts"].is_array())
+    return checks["verdicts"];
+  throw std::runtime_error("checks.json: neither an array of verdicts nor an object with them");
+}
+
+std::string to_json(const std::vector<Verdict>& v, const std::string& campaign) {
   nlohmann::json j = nlohmann::json::array();
   auto num = [](double x) {
     return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
@@ -81,7 +89,15 @@ std::string to_json(const std::vector<Verdict>& v) {
                  {"expected_failure", x.expected_failure},
                  {"values", x.values}});
   }
-  return j.dump(2) + "\n";
+  const std::time_t now = std::time(nullptr);
+  char created[32];
+  std::strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  const nlohmann::json file = {{"schema_version", kChecksSchemaVersion},
+                               {"campaign", campaign},
+                               {"code_version", std::string(kVersion)},
+                               {"created", std::string(created)},
+                               {"verdicts", j}};
+  return file.dump(2) + "\n";
 }
 
 std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite) {

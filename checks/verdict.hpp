@@ -10,6 +10,7 @@
 // Written as a table, as JSON and as JUnit XML (inconclusive as skipped).
 #include <cmath>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,7 +48,13 @@ inline Verdict inconclusive(const std::string& check, const std::string& case_na
 }
 
 std::string format_table(const std::vector<Verdict>& verdicts);
-std::string to_json(const std::vector<Verdict>& verdicts);
+/// checks.json: {"schema_version": 2, "campaign", "code_version", "created" (UTC),
+/// "verdicts": [...]} (reference/schema.md).
+constexpr int kChecksSchemaVersion = 2;
+std::string to_json(const std::vector<Verdict>& verdicts, const std::string& campaign = "");
+
+/// The verdict array of a checks.json text, of schema 2 (an object) or 1 (a bare array).
+nlohmann::json verdict_array(const nlohmann::json& checks);
 std::string to_junit_xml(const std::vector<Verdict>& verdicts, const std::string& suite);
 
 /// Writes the curves of every verdict to an HDF5 file (schema in reference/schema.md).

@@ -236,6 +236,8 @@ def _read_verdict_list(path):
                 entries = json.load(f)
         except json.JSONDecodeError as e:
             raise ReportInputError(f"{path}: line {e.lineno}: not valid JSON ({e.msg})") from e
+        if isinstance(entries, dict):  # schema 2: the verdicts inside an object
+            entries = entries.get("verdicts")
         if not isinstance(entries, list):
             raise ValueError("not a JSON array of verdicts")
         verdicts = []

@@ -121,7 +121,11 @@ BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
       c.n = f.read_attribute_int("n");
       c.compression_rate = f.read_attribute_double("compression_rate");
       c.seed = static_cast<std::uint64_t>(f.read_attribute_int("seed"));
+      c.campaign = f.read_attribute_string("campaign");  // where it belongs, not its physics
+      c.sample = f.read_attribute_int("sample");
     }
+    BOOST_TEST(c.campaign == "small");
+    BOOST_TEST(c.sample == std::stoll(std::string(name).substr(std::string(name).size() - 3)));
     c.phi_stop = 0.86;
     c.phi_step = 0.002;
     c.dt = 0.02;

@@ -158,7 +158,11 @@ BOOST_AUTO_TEST_CASE(json_and_junit_are_valid_and_exit_status_follows_failures) 
   expected.expected_failure = true;
   BOOST_TEST(exit_status({pass, expected}) == 0);
   BOOST_TEST(exit_status({pass, expected, skip}) == 3);
-  const auto json = nlohmann::json::parse(to_json({pass, fail, skip}));
+  const auto file = nlohmann::json::parse(to_json({pass, fail, skip}, "demo"));
+  BOOST_TEST(file["schema_version"] == kChecksSchemaVersion);
+  BOOST_TEST(file["campaign"] == "demo");
+  BOOST_TEST(file["created"].get<std::string>().size() == 20u);  // 2026-11-23T01:02:03Z
+  const auto json = verdict_array(file);
   BOOST_TEST(json.size() == 3u);
   BOOST_TEST(json[1]["status"] == "fail");
   BOOST_TEST(json[2]["statistic"].is_null());  // NaN is written as null, not as invalid JSON

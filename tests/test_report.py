@@ -129,7 +129,7 @@ class Report(unittest.TestCase):
 
     def test_verdict_table_has_every_verdict(self):
         with open(os.path.join(self.work, "runs", "ci", "checks.json")) as f:
-            verdicts = json.load(f)
+            verdicts = json.load(f)["verdicts"]
         self.assertGreater(len(verdicts), 10)
         self.assertEqual(self.parser.verdict_rows, len(verdicts))
         # The table comes first, before any figure.

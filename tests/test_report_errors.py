@@ -79,6 +79,8 @@ def write_checks_h5(path, checks_json):
     curves on the ones that were tested."""
     with open(checks_json) as f:
         verdicts = json.load(f)
+    if isinstance(verdicts, dict):
+        verdicts = verdicts["verdicts"]
     grid = np.linspace(0.80, 0.86, 400)
     with h5py.File(path, "w") as f:
         f.attrs["version"] = "test"

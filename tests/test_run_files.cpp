@@ -11,6 +11,7 @@
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/run_file.hpp"
 #include "sim/run/compression_run.hpp"
 
 using namespace jam;
@@ -75,6 +76,11 @@ BOOST_AUTO_TEST_CASE(schema_and_output_grid) {
     const h5::File f = h5::File::open_read(c.out);
     BOOST_TEST(f.read_attribute_int("dim") == dim);
     BOOST_TEST(f.read_attribute_int("n") == 128);
+    BOOST_TEST(f.read_attribute_int("schema_version") == jam::kRunFileSchemaVersion);
+    BOOST_TEST(f.read_attribute_string("units", "pressure") == "k_e/d_s^D");
+    BOOST_TEST(f.read_attribute_string("units", "time") == "t0");
+    BOOST_TEST(f.read_attribute_string("fingerprint") == jam::fingerprint(c));
+    BOOST_TEST(!f.has_attribute("sample"));  // a single run belongs to no campaign
     BOOST_TEST(f.read_attribute_int("complete") == 1);
     BOOST_TEST(f.read_attribute_int("seed") == 3);
     BOOST_TEST(f.read_attribute_double("compression_rate") == 1e-2);

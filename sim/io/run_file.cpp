@@ -202,6 +202,9 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
     f.write_attribute("version", std::string(kVersion));
     f.write_attribute("schema_version", std::int64_t{kRunFileSchemaVersion});
     f.write_attribute("fingerprint", fingerprint(c));
+    f.write_attribute("units", std::string(kRunFileUnits));
+    if (!c.campaign.empty()) f.write_attribute("campaign", c.campaign);
+    if (c.sample >= 0) f.write_attribute("sample", c.sample);
     if (c.jamming_point) {
       f.write_attribute("jamming_packing_fraction", meta.jamming_packing_fraction);
       f.write_attribute("jamming_minimizations", meta.jamming_minimizations);
@@ -242,6 +245,14 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
         for (int a = 0; a < D; ++a)
           for (int b = 0; b < D; ++b) s.push_back(pt.stress[a][b]);
       f.write_dataset("stress", s, {m, static_cast<hsize_t>(D), static_cast<hsize_t>(D)});
+    }
+    // Each dataset says its unit (an attribute "units").
+    for (const auto& [name, unit] :
+         {std::pair{"packing_fraction", "1"}, std::pair{"pressure", "k_e/d_s^D"},
+          std::pair{"contacts_per_particle", "1"}, std::pair{"energy_per_particle", "k_e"},
+          std::pair{"time", "t0"}, std::pair{"contacts_per_particle_no_rattlers", "1"},
+          std::pair{"rattler_fraction", "1"}, std::pair{"stress", "k_e/d_s^D"}}) {
+      if (f.has_dataset(name)) f.write_attribute("units", std::string(unit), name);
     }
     f.write_attribute("complete", std::int64_t{1});
     seal(f);

@@ -28,6 +28,11 @@ struct RunMetadata {
 /// (content_checksum.hpp). Schema 1 files (no schema_version) checksummed only the datasets.
 constexpr int kRunFileSchemaVersion = 2;
 
+/// The root attribute "units" of a run file; each dataset carries its own "units" too.
+constexpr const char* kRunFileUnits =
+    "the paper's units: lengths d_s (small diameter), energies k_e (contact stiffness), times "
+    "t0 = (D/2) k_d V_s d_s^2 / k_e; pressure and stress k_e/d_s^D, compression_rate 1/t0, dt t0";
+
 struct RunFileCheck {
   std::string problem;    // "" when the file is sound
   bool verified = false;  // its checksum covers every attribute (schema 2)

@@ -51,6 +51,10 @@ struct SimConfig {
   std::string write_final_lammps_data;
   bool quiet = false;
   bool force = false;  // run beyond the limits of validate_cost (not part of the physics)
+  // Where the run belongs, written into the run file (not part of the physics): the campaign's
+  // name and the run's sample number there (-1: a single run).
+  std::string campaign;
+  std::int64_t sample = -1;
   double checkpoint_interval = 300.0;  // seconds of wall time; 0: none (not part of the physics)
   // Relaxed-start cache (campaigns): the state right after relaxation, shared by every rate of
   // a sample. Read when it exists, written when this run relaxes. Results are bitwise the same
