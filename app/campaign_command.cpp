@@ -15,9 +15,12 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   run->add_flag("--quiet", a.run.quiet, "No progress display and no summary");
   run->add_flag("--force", a.run.force,
                 "Run even runs beyond the per-run limits on steps, output points and memory");
-  CLI::App* status =
-      campaign->add_subcommand("status", "Print what is done, partial, missing, failed");
+  CLI::App* status = campaign->add_subcommand(
+      "status", "Print what is done, partial, missing, failed or corrupt in a campaign directory");
   status->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();
+  status->add_flag("--json", a.json, "The same as JSON (totals, and every run's status)");
+  status->footer("Exit status: 0 every run is done; 1 a run failed or is corrupt; 4 runs are "
+                 "missing or partial (none failed); 2 the directory is not a campaign's.");
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
@@ -26,7 +29,7 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
 int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks& ranks) {
   const CLI::App* campaign = app.get_subcommand("campaign");
   if (campaign->got_subcommand("run")) return run_campaign(read_campaign(a.file), a.run, ranks);
-  if (campaign->got_subcommand("status")) return print_campaign_status(a.directory);
+  if (campaign->got_subcommand("status")) return print_campaign_status(a.directory, a.json);
   return print_campaign_plan(read_campaign(a.file));
 }
 

@@ -9,6 +9,7 @@ struct CampaignArgs {
   std::string file;       // campaign TOML (run, plan)
   std::string directory;  // campaign directory (status)
   CampaignRunOptions run;
+  bool json = false;  // status --json
 };
 
 /// Registers `jam campaign run|status|plan`.

@@ -72,6 +72,16 @@ void set_aside(const PlannedRun& run) {
 
 }  // namespace
 
+int campaign_status_code(const std::map<RunStatus, std::size_t>& totals) {
+  auto count = [&totals](RunStatus s) {
+    const auto it = totals.find(s);
+    return it == totals.end() ? std::size_t{0} : it->second;
+  };
+  if (count(RunStatus::kFailed) + count(RunStatus::kCorrupt) > 0) return kStatusProblems;
+  if (count(RunStatus::kMissing) + count(RunStatus::kPartial) > 0) return kStatusUnfinished;
+  return 0;
+}
+
 int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ranks& ranks) {
   const std::vector<PlannedRun> plan = plan_runs(c);
   validate_costs(c, plan, options.force);
@@ -228,12 +238,16 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   return status;
 }
 
-int print_campaign_status(const std::string& directory) {
-  const Campaign c = stored_campaign(directory);
+int print_campaign_status(const std::string& directory, bool json) {
+  // The runs are looked for in DIR itself, wherever the campaign was run from and whatever its
+  // file's `output` says (a relative output is relative to where it was run).
+  Campaign c = stored_campaign(directory);
+  c.output = directory;
   const std::vector<PlannedRun> plan = plan_runs(c);
   std::map<RunStatus, std::size_t> totals;
   std::map<std::pair<std::int64_t, double>, std::map<double, std::map<RunStatus, int>>> table;
   std::vector<std::string> problems;
+  nlohmann::json runs = nlohmann::json::object();
   for (const auto& run : plan) {
     std::string detail;
     const RunStatus s = run_status(run, &detail);
@@ -242,6 +256,19 @@ int print_campaign_status(const std::string& directory) {
     if (s == RunStatus::kFailed || s == RunStatus::kCorrupt) {
       problems.push_back(fmt::format("  {} {}: {}", to_string(s), run.name, detail));
     }
+    runs[run.name] = {{"status", to_string(s)}, {"detail", detail}};
+  }
+  const int status = campaign_status_code(totals);
+  if (json) {
+    nlohmann::json out = {{"campaign", c.name}, {"directory", directory},
+                          {"runs", plan.size()}, {"exit_status", status}};
+    for (RunStatus s : {RunStatus::kDone, RunStatus::kPartial, RunStatus::kMissing,
+                        RunStatus::kFailed, RunStatus::kCorrupt}) {
+      out["totals"][to_string(s)] = totals[s];
+    }
+    out["run"] = std::move(runs);
+    fmt::print("{}\n", out.dump(2));
+    return status;
   }
   fmt::print("campaign {} in {}: {} runs\n", c.name, directory, plan.size());
   for (RunStatus s : {RunStatus::kDone, RunStatus::kPartial, RunStatus::kMissing,
@@ -264,7 +291,7 @@ int print_campaign_status(const std::string& directory) {
     fmt::print("\n");
   }
   if (!problems.empty()) fmt::print("\n{}\n", fmt::join(problems, "\n"));
-  return 0;
+  return status;
 }
 
 int print_campaign_plan(const Campaign& c) {

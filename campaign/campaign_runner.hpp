@@ -1,6 +1,9 @@
 #pragma once
 // Runs what a campaign still needs: on a local pool of threads (one run per thread, longest
 // runs first), and, when started under mpirun, shared among the MPI ranks.
+#include <map>
+
+#include "campaign/campaign_dir.hpp"
 #include "campaign/campaign_file.hpp"
 #include "campaign/ranks.hpp"
 
@@ -17,8 +20,15 @@ struct CampaignRunOptions {
 /// interrupted (the interrupted runs keep checkpoints and resume next time).
 int run_campaign(const Campaign& campaign, const CampaignRunOptions& options, const Ranks& ranks);
 
-/// Prints what is done, partial, failed, corrupt and missing. Returns 0.
-int print_campaign_status(const std::string& directory);
+/// Exit statuses of `jam campaign status`: 0 every run is done; kStatusProblems when a run
+/// failed or is corrupt; kStatusUnfinished when runs are missing or partial (and none failed).
+constexpr int kStatusProblems = 1;
+constexpr int kStatusUnfinished = 4;
+int campaign_status_code(const std::map<RunStatus, std::size_t>& totals);
+
+/// Prints what is done, partial, failed, corrupt and missing in DIR (resolved against DIR from
+/// any working directory), as a table or as JSON; returns campaign_status_code.
+int print_campaign_status(const std::string& directory, bool json = false);
 
 /// Prints the cost of a campaign before it runs, from the measured throughput of this build.
 int print_campaign_plan(const Campaign& campaign);

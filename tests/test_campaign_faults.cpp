@@ -309,3 +309,38 @@ BOOST_FIXTURE_TEST_CASE(check_fails_in_one_line, Fixture) {
     BOOST_TEST((e.path().filename() == "stats.h5"), "left behind: " << e.path());
   }
 }
+
+// `jam campaign status DIR` resolves the runs against DIR from any working directory (here /,
+// with a campaign whose output was given relative to another directory), and its exit status
+// says what it found: 0 all done, 4 missing, 1 corrupt; --json carries the same.
+BOOST_FIXTURE_TEST_CASE(status_from_anywhere_and_its_exit_status, Fixture) {
+  const fs::path dir = kDir / "st";
+  fs::create_directories(dir);
+  const fs::path file = dir / "c.toml";
+  std::ofstream(file) << kTiny << "output = \"rel\"\n";  // relative to where it is run
+  jam::ProcessOptions here;
+  here.working_directory = dir;
+  here.stdout_file = here.stderr_file = (kDir / "run.txt").string();
+  BOOST_REQUIRE(jam::run_program({JAM_EXECUTABLE, "campaign", "run", "--quiet", file.string()},
+                                 here) == 0);
+  auto status = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> argv = {JAM_EXECUTABLE, "campaign", "status", (dir / "rel").string()};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    jam::ProcessOptions root;
+    root.working_directory = "/";
+    root.stdout_file = root.stderr_file = (kDir / "status.txt").string();
+    return Outcome{jam::run_program(argv, root), slurp(kDir / "status.txt")};
+  };
+  Outcome o = status({});
+  BOOST_TEST(o.status == 0, o.output);
+  BOOST_TEST(o.output.find("done     3") != std::string::npos, o.output);
+  o = status({"--json"});
+  BOOST_TEST(o.status == 0, o.output);
+  BOOST_TEST(o.output.find("\"done\": 3") != std::string::npos, o.output);
+  fs::remove(dir / "rel" / "runs" / "n64_phi0.7000_r-2.00_s000.h5");
+  BOOST_TEST(status({}).status == 4);
+  std::ofstream(dir / "rel" / "runs" / "n64_phi0.7000_r-2.00_s001.h5") << "not a run file";
+  o = status({"--json"});
+  BOOST_TEST(o.status == 1, o.output);
+  BOOST_TEST(o.output.find("\"corrupt\": 1") != std::string::npos, o.output);
+}
