@@ -10,6 +10,7 @@ struct CampaignArgs {
   std::string directory;  // campaign directory (status)
   CampaignRunOptions run;
   bool json = false;  // status --json
+  std::string shard;  // run --shard K/N
 };
 
 /// Registers `jam campaign run|status|plan`.

@@ -24,36 +24,62 @@ std::string owner_of(int fd) {
 
 }  // namespace
 
-CampaignLock::CampaignLock(const std::string& directory) {
-  const std::string path = directory + "/.lock";
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd_ < 0) {
-    throw CampaignError(
-        fmt::format("{}: cannot open the campaign's lock: {}", path, std::strerror(errno)));
+namespace {
+
+/// Opens path and takes an flock of the given kind; throws CampaignError naming the holder.
+int lock_file(const std::string& path, const std::string& what, int kind) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd < 0) {
+    throw CampaignError(fmt::format("{}: cannot open the campaign's lock: {}", path,
+                                    std::strerror(errno)));
   }
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+  if (::flock(fd, kind | LOCK_NB) != 0) {
     const int error = errno;
-    const std::string owner = owner_of(fd_);
-    ::close(fd_);
-    fd_ = -1;
+    const std::string owner = owner_of(fd);
+    ::close(fd);
     if (error == EWOULDBLOCK) {
       throw CampaignError(fmt::format(
           "{}: in use by {} (another `jam campaign run`); wait for it to finish or stop it",
-          directory, owner));
+          what, owner));
     }
     throw CampaignError(fmt::format("{}: cannot lock: {}", path, std::strerror(error)));
   }
+  return fd;
+}
+
+/// Notes "pid P on host H" in the lock file (only a second runner's message depends on it).
+void note_owner(int fd) {
   char host[256] = "";
   ::gethostname(host, sizeof host - 1);
   const std::string owner = fmt::format("pid {} on host {}\n", ::getpid(), host);
-  if (::ftruncate(fd_, 0) != 0 ||
-      ::pwrite(fd_, owner.data(), owner.size(), 0) != static_cast<ssize_t>(owner.size())) {
-    // The lock holds without its note; only the message of a second runner is poorer.
+  if (::ftruncate(fd, 0) == 0) {
+    [[maybe_unused]] const auto written = ::pwrite(fd, owner.data(), owner.size(), 0);
   }
 }
 
+}  // namespace
+
+CampaignLock::CampaignLock(const std::string& directory, const std::string& shard) {
+  const std::string path = directory + "/.lock";
+  if (shard.empty()) {
+    fd_ = lock_file(path, directory, LOCK_EX);
+    note_owner(fd_);
+    return;
+  }
+  // Shares take the campaign's lock shared: an unsharded runner holding it refuses them.
+  fd_ = lock_file(path, directory, LOCK_SH);
+  try {
+    shard_fd_ = lock_file(path + ".shard-" + shard, directory + " (share " + shard + ")", LOCK_EX);
+  } catch (...) {
+    ::close(fd_);
+    throw;
+  }
+  note_owner(shard_fd_);
+}
+
 CampaignLock::~CampaignLock() {
-  if (fd_ >= 0) ::close(fd_);  // releases the lock
+  if (shard_fd_ >= 0) ::close(shard_fd_);  // releases the locks
+  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace jam

@@ -10,17 +10,20 @@
 
 namespace jam {
 
+// A share of a campaign (`--shard K/N`) takes `.lock` shared, so that the N shares of a job
+// array run side by side, and `.lock.shard-K-of-N` exclusive, so that each share has one
+// runner; an unsharded runner excludes them all.
 class CampaignLock {
  public:
-  /// Takes the lock of `directory` (which must exist); throws CampaignError naming the owner
-  /// when another process holds it.
-  explicit CampaignLock(const std::string& directory);
+  /// Takes the lock of `directory` (which must exist) for the whole campaign (shard empty) or
+  /// for one share ("K-of-N"); throws CampaignError naming the owner when it is held.
+  explicit CampaignLock(const std::string& directory, const std::string& shard = "");
   CampaignLock(const CampaignLock&) = delete;
   CampaignLock& operator=(const CampaignLock&) = delete;
   ~CampaignLock();
 
  private:
-  int fd_ = -1;
+  int fd_ = -1, shard_fd_ = -1;
 };
 
 }  // namespace jam

@@ -98,8 +98,11 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       throw CampaignError(
           fmt::format("{}: output: cannot create '{}': {}", c.source_path, c.output, ec.message()));
     }
-    owner.emplace(c.output);
-    remove_stale_temporaries(c.output);
+    const bool sharded = options.shards > 1;
+    owner.emplace(c.output,
+                  sharded ? fmt::format("{}-of-{}", options.shard, options.shards) : "");
+    // Other shares may be writing: only a runner that owns the whole directory cleans up.
+    if (!sharded) remove_stale_temporaries(c.output);
     prepare_campaign_directory(c);
   }
   barrier();
@@ -109,7 +112,10 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   std::vector<std::int64_t> pending;
   std::size_t already_done = 0;
   if (ranks.rank == 0) {
-    for (std::size_t k = 0; k < plan.size(); ++k) {
+    std::vector<std::size_t> scope(plan.size());
+    for (std::size_t k = 0; k < plan.size(); ++k) scope[k] = k;
+    if (options.shards > 1) scope = shard_of(plan, options.shard, options.shards);
+    for (const std::size_t k : scope) {
       const RunStatus s = run_status(plan[k]);
       if (s == RunStatus::kDone) {
         ++already_done;
@@ -131,6 +137,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     fmt::print("campaign {}: {} runs, {} done, {} to run", c.name, plan.size(), already_done,
                pending.size());
     if (ranks.size > 1) fmt::print(" on {} ranks", ranks.size);
+    if (options.shards > 1) fmt::print(" in share {} of {}", options.shard, options.shards);
     fmt::print(" ({} threads per process)\n", jobs);
     std::fflush(stdout);
   }

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <set>
+#include <tuple>
 
 namespace jam {
 namespace {
@@ -116,6 +118,32 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
     return a.estimated_particle_steps > b.estimated_particle_steps;
   });
   return runs;
+}
+
+}  // namespace jam
+
+namespace jam {
+
+std::vector<std::size_t> shard_of(const std::vector<PlannedRun>& plan, int k, int n) {
+  // Samples and their cost, in a fixed order (cost, then key).
+  std::map<std::tuple<std::int64_t, double, std::int64_t>, double> cost;
+  for (const auto& run : plan) cost[{run.n, run.phi_init, run.sample}] += run.estimated_particle_steps;
+  std::vector<std::pair<double, std::tuple<std::int64_t, double, std::int64_t>>> samples;
+  for (const auto& [key, c] : cost) samples.emplace_back(c, key);
+  std::stable_sort(samples.begin(), samples.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<double> load(static_cast<std::size_t>(n), 0.0);
+  std::set<std::tuple<std::int64_t, double, std::int64_t>> mine;
+  for (const auto& [c, key] : samples) {
+    const auto least = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
+    load[static_cast<std::size_t>(least)] += c;
+    if (least == k - 1) mine.insert(key);
+  }
+  std::vector<std::size_t> share;
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    if (mine.count({plan[i].n, plan[i].phi_init, plan[i].sample})) share.push_back(i);
+  }
+  return share;
 }
 
 }  // namespace jam

@@ -44,3 +44,14 @@ std::string runs_directory(const Campaign& campaign);
 std::string starts_directory(const Campaign& campaign);
 
 }  // namespace jam
+
+namespace jam {
+
+/// The K-th of N shares of a campaign (K = 1 .. N), for N independent jobs such as a Slurm job
+/// array: the runs of each sample (size, phi_init, sample: they share a relaxed start) go to
+/// one share, whole samples assigned longest-first to the least loaded share. Deterministic and
+/// computed from the whole plan, not from what is pending, so the shares are disjoint and
+/// together the whole campaign however far each job got. Indices into plan.
+std::vector<std::size_t> shard_of(const std::vector<PlannedRun>& plan, int k, int n);
+
+}  // namespace jam

@@ -1,17 +1,36 @@
-"""Reads what a campaign directory holds for its report: stats.h5, checks.json, checks.h5,
-manifest.toml and campaign.toml (schemas in reference/schema.md).
+"""Reads what a campaign directory holds for its report: stats.h5, checks.json, checks.h5
+(through jamio, the project's reader of its files: python/jamio), manifest.toml and
+campaign.toml (schemas in reference/schema.md).
 
-Nothing here computes physics: it only reads numbers that `jam stats` and `jam check` wrote.
+Nothing here computes physics: it only reads numbers that `jam stats` and `jam check` wrote,
+and checks that what the figures draw is there.
 """
 
 import contextlib
-import json
 import os
+import sys
 import tomllib
 from dataclasses import dataclass, field
 
-import h5py
 import numpy as np
+
+
+def _import_jamio():
+    """jamio from python/ beside reports/ (the reader of the same source tree), else an
+    installed one (reports/ copied elsewhere, JAM_REPORTS_DIR)."""
+    beside = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python")
+    if os.path.isfile(os.path.join(beside, "jamio", "__init__.py")) and beside not in sys.path:
+        sys.path.insert(0, beside)
+    try:
+        import jamio
+    except ImportError as e:
+        raise ImportError(f"jamio not found in {beside} nor installed (docs/python.md): "
+                          f"{e}") from e
+    return jamio
+
+
+jamio = _import_jamio()
+cause = jamio.errors.cause
 
 
 # Exit status of a campaign that is not ready for a report (a step has not been run yet) and
@@ -40,59 +59,37 @@ CURVES = {"finite_size": ("grid", "delta", "sigma"),
 JAMMING = ("mean", "error", "found")
 ENSEMBLE = ("n", "phi_init", "log10_rate", "compression_rate", "samples")
 
-# What a malformed input raises while it is read: h5py's OSError, RuntimeError and KeyError
-# (garbled internals, missing objects), ValueError and TypeError from values of the wrong kind.
-MALFORMED = (OSError, RuntimeError, KeyError, ValueError, TypeError, IndexError, AttributeError)
-
-
-def cause(e):
-    """One line saying why, from a low-level exception: errno's words, else its message."""
-    if isinstance(e, OSError) and e.errno is not None:
-        words = os.strerror(e.errno)
-        text = words[:1].lower() + words[1:]
-    elif isinstance(e, KeyError) and e.args and isinstance(e.args[0], str):
-        text = e.args[0] if " " in e.args[0] else f"'{e.args[0]}' missing"
-    else:
-        text = str(e) or type(e).__name__
-    return " ".join(text.split())
+MALFORMED = jamio.errors.MALFORMED
 
 
 @contextlib.contextmanager
 def reading(path, what):
-    """Turns a low-level failure while `path` is read into a ReportInputError naming it."""
+    """Turns a failure while `path` is read or checked into a ReportInputError naming it."""
     try:
         yield
     except ReportInputError:
         raise
+    except jamio.JamioError as e:
+        raise ReportInputError(str(e)) from e
     except MALFORMED as e:
         raise ReportInputError(f"{path}: not a readable {what} ({cause(e)})") from e
 
 
-def _probe(path):
-    """Opens `path` as a plain file first: permission denied, is a directory, in plain words."""
-    with open(path, "rb"):
-        pass
+def _loaded(load, path, step):
+    """load(path); a missing file says which step to run, any other failure names the file."""
+    try:
+        return load(path)
+    except jamio.JamioError as e:
+        if e.missing and e.path == path:
+            raise ReportInputError(f"{path}: missing; run `{step}` on the campaign first",
+                                   NOT_READY) from e
+        raise ReportInputError(str(e)) from e
 
 
 def _require(names, present, where, kind):
     for name in names:
         if name not in present:
             raise ValueError(f"{kind} {where}/{name} missing")
-
-
-def _text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
-
-
-def _attrs(obj):
-    out = {}
-    for key, value in obj.attrs.items():
-        if isinstance(value, bytes):
-            value = value.decode()
-        elif isinstance(value, np.generic):
-            value = value.item()
-        out[key] = value
-    return out
 
 
 @dataclass
@@ -145,69 +142,69 @@ class Campaign:
     run_wall_seconds: list
 
 
-def _read_group(group, required=()):
-    """The datasets of `group`; when it has any, `required` must be among them, equally long."""
-    out = {key: np.asarray(group[key][()]) for key in group
-           if isinstance(group[key], h5py.Dataset)}
+def _datasets(group, required, where):
+    """The arrays of a jamio Group (None: {}); when it has any, `required` must be among them,
+    equally long."""
+    out = dict(group or {})
     if out and required:
-        _require(required, out, group.name, "dataset")
+        _require(required, out, where, "dataset")
         lengths = {name: len(np.atleast_1d(out[name])) for name in required}
         if len(set(lengths.values())) > 1:
-            raise ValueError(f"{group.name}: datasets of different lengths {lengths}")
+            raise ValueError(f"{where}: datasets of different lengths {lengths}")
     return out
 
 
-def _read_ensemble(name, g):
-    a = _attrs(g)
-    _require(ENSEMBLE, a, g.name, "attribute")
-    jamming = None
-    if "jamming" in g:
-        jamming = _attrs(g["jamming"])
-        _require(JAMMING, jamming, g.name + "/jamming", "attribute")
-        jamming["packing_fraction_samples"] = np.asarray(
-            g["jamming/packing_fraction_samples"][()])
-    return Ensemble(name, int(a["n"]), float(a["phi_init"]), float(a["log10_rate"]),
+def _jamming(e, where):
+    if e.jamming is None:
+        return None
+    jamming = dict(e.jamming.attrs)
+    _require(JAMMING, jamming, where, "attribute")
+    _require(["packing_fraction_samples"], e.jamming, where, "dataset")
+    jamming["packing_fraction_samples"] = e.jamming["packing_fraction_samples"]
+    return jamming
+
+
+def _ensemble(e):
+    """A jamio Ensemble with what the figures draw checked, as the report's Ensemble."""
+    where, a = f"/ensembles/{e.name}", e.attrs
+    _require(ENSEMBLE, a, where, "attribute")
+    return Ensemble(e.name, int(a["n"]), float(a["phi_init"]), float(a["log10_rate"]),
                     float(a["compression_rate"]), int(a["samples"]),
-                    _read_group(g["constant_phi"], CONSTANT_PHI) if "constant_phi" in g else {},
-                    _read_group(g["constant_z"], CONSTANT_Z) if "constant_z" in g else {},
-                    jamming)
+                    _datasets(e.constant_phi, CONSTANT_PHI, where + "/constant_phi"),
+                    _datasets(e.constant_z, CONSTANT_Z, where + "/constant_z"),
+                    _jamming(e, where + "/jamming"))
 
 
-def _read_fit(f):
-    fit = {"attrs": _attrs(f["fit"])}
-    if "representative" in f["fit"]:
-        rep = f["fit/representative"]
-        fit["representative"] = _attrs(rep)
-        fit["coefficients"] = np.asarray(rep["coefficients"][()])
-        if "collapse" in rep:
-            fit["collapse"] = _read_group(rep["collapse"], COLLAPSE)
-    if "scan" in f["fit"]:
-        fit["scan"] = _read_group(f["fit/scan"], SCAN)
-        fit["scan_failures"] = _attrs(f["fit/scan"]).get("failures", "")
-    return fit
+def _fit(fit, where="/fit"):
+    """A jamio Fit as the dict the figures read: attrs, representative, coefficients,
+    collapse, scan, scan_failures (the keys present only where the file has them)."""
+    out = {"attrs": fit.attrs}
+    if fit.representative is not None:
+        out["representative"] = fit.representative
+        if fit.coefficients is None:
+            raise ValueError(f"dataset {where}/representative/coefficients missing")
+        out["coefficients"] = fit.coefficients
+        if fit.collapse is not None:
+            out["collapse"] = _datasets(fit.collapse, COLLAPSE, where + "/representative/collapse")
+    if fit.scan is not None:
+        out["scan"] = _datasets(fit.scan, SCAN, where + "/scan")
+        out["scan_failures"] = fit.scan.attrs.get("failures", "")
+    return out
 
 
-def _read_paper(f):
-    paper = _attrs(f["paper"]) if "paper" in f else {}
+def _paper(paper):
     _require([name + "_error" for name in ("phi_j", "beta", "y") if name in paper], paper,
              "/paper", "attribute")
-    return paper
+    return dict(paper)
 
 
 def _read_stats(path):
-    if not os.path.exists(path):
-        raise ReportInputError(f"{path}: missing; run `jam stats` on the campaign first", NOT_READY)
+    stats = _loaded(jamio.load_stats, path, "jam stats")
     with reading(path, "stats file"):
-        _probe(path)
-        with h5py.File(path, "r") as f:
-            attrs = _attrs(f)
-            for key in ("campaign", "dim", "version"):
-                if key not in attrs:
-                    raise ValueError(f"root attribute '{key}' missing")
-            int(attrs["dim"])
-            ensembles = [_read_ensemble(name, g) for name, g in f.get("ensembles", {}).items()]
-            fit = _read_fit(f) if "fit" in f else None
-            attrs["paper"] = _read_paper(f)
+        int(stats.attrs["dim"])
+        ensembles = [_ensemble(e) for e in stats.ensembles.values()]
+        fit = _fit(stats.fit) if stats.fit else None
+        attrs = dict(stats.attrs, paper=_paper(stats.paper))
     ensembles.sort(key=lambda e: (e.n, e.phi_init, -e.log10_rate))
     return attrs, ensembles, fit
 
@@ -226,45 +223,37 @@ def _verdict(x):
                    expected_failure=bool(x.get("expected_failure", False)))
 
 
-def _read_verdict_list(path):
-    if not os.path.exists(path):
-        raise ReportInputError(f"{path}: missing; run `jam check all` on the campaign first",
-                               NOT_READY)
-    with reading(path, "verdict file"):
-        try:
-            with open(path) as f:
-                entries = json.load(f)
-        except json.JSONDecodeError as e:
-            raise ReportInputError(f"{path}: line {e.lineno}: not valid JSON ({e.msg})") from e
-        if isinstance(entries, dict):  # schema 2: the verdicts inside an object
-            entries = entries.get("verdicts")
-        if not isinstance(entries, list):
-            raise ValueError("not a JSON array of verdicts")
-        verdicts = []
-        for k, x in enumerate(entries):
+def _verdicts(checks):
+    verdicts = []
+    with reading(checks.path, "verdict file"):
+        for k, x in enumerate(checks.verdicts):
             try:
                 verdicts.append(_verdict(x))
             except KeyError as e:
-                raise ReportInputError(f"{path}: verdict {k}: field {e} missing") from e
+                raise ReportInputError(f"{checks.path}: verdict {k}: field {e} missing") from e
     return verdicts
 
 
-def _read_curves(path, verdicts):
-    """checks.h5 (optional): its root attributes; the curves go into `verdicts`."""
-    if not os.path.exists(path):
-        return {}
+def _attach_curves(checks, verdicts):
+    """checks.h5's curves (when present) onto their verdicts; its root attributes."""
+    path = checks.curves_path
     with reading(path, "checks file"):
-        _probe(path)
-        with h5py.File(path, "r") as f:
-            checks_attrs = _attrs(f)
-            for name, g in f.get("verdicts", {}).items():
-                k = int(name.split("_", 1)[0])
-                if k >= len(verdicts) or verdicts[k].check != _text(g.attrs["check"]):
-                    raise ReportInputError(
-                        f"{path}: group {name} does not match checks.json; "
-                        "rerun `jam check` (the two files come from different runs)", NOT_READY)
-                verdicts[k].curves = _read_group(g, CURVES.get(verdicts[k].check, ()))
-    return checks_attrs
+        for name, g in checks.curves.items():
+            k = int(name.split("_", 1)[0])
+            if k >= len(verdicts) or verdicts[k].check != g.attrs["check"]:
+                raise ReportInputError(
+                    f"{path}: group {name} does not match checks.json; "
+                    "rerun `jam check` (the two files come from different runs)", NOT_READY)
+            verdicts[k].curves = _datasets(g, CURVES.get(verdicts[k].check, ()),
+                                           f"/verdicts/{name}")
+    return checks.curves_attrs
+
+
+def _read_checks(path):
+    """The verdicts of checks.json with the curves of checks.h5; checks.h5's attributes."""
+    checks = _loaded(jamio.load_checks, path, "jam check all")
+    verdicts = _verdicts(checks)
+    return verdicts, _attach_curves(checks, verdicts)
 
 
 def _read_manifest(directory):
@@ -296,9 +285,8 @@ def load_campaign(directory):
     if not os.path.isdir(directory):
         raise ReportInputError(f"{directory}: not a campaign directory", NOT_READY)
     stats_attrs, ensembles, fit = _read_stats(os.path.join(directory, "stats.h5"))
-    verdicts = _read_verdict_list(os.path.join(directory, "checks.json"))
-    checks_attrs = _read_curves(os.path.join(directory, "checks.h5"), verdicts)
+    verdicts, checks_attrs = _read_checks(os.path.join(directory, "checks.json"))
     manifest, run_wall = _read_manifest(directory)
-    return Campaign(directory, _text(stats_attrs["campaign"]), int(stats_attrs["dim"]),
+    return Campaign(directory, str(stats_attrs["campaign"]), int(stats_attrs["dim"]),
                     stats_attrs, ensembles, fit, verdicts, checks_attrs, manifest,
                     _read_campaign_text(directory), run_wall)

@@ -139,4 +139,52 @@ BOOST_AUTO_TEST_CASE(runs_of_other_parameters_are_not_taken_for_done) {
   BOOST_TEST(o.output.find("6 runs averaged, 0 skipped") != std::string::npos, o.output);
 }
 
+// Shares of a campaign (`--shard K/N`, one per job of a Slurm array): disjoint, together the
+// whole campaign bitwise, side by side in one directory; an unsharded runner excludes them.
+BOOST_AUTO_TEST_CASE(shards_make_the_whole_campaign) {
+  const fs::path single = kDir / "single";
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + write_campaign("s", kSmall, single).string())
+                    .status == 0);
+  const auto expected = run_files(single);
+
+  const fs::path dir = kDir / "shards";
+  const fs::path file = write_campaign("h", kSmall, dir);
+  std::size_t before = 0;
+  for (int k = 1; k <= 3; ++k) {
+    const Outcome o = run_jam("campaign run --quiet --shard " + std::to_string(k) + "/3 " +
+                              file.string());
+    BOOST_TEST(o.status == 0, o.output);
+    const std::size_t now = run_files(dir).size();
+    BOOST_TEST(now > before);  // every share did some of the work ...
+    before = now;
+  }
+  BOOST_TEST((run_files(dir) == expected));  // ... and together all of it
+
+  // Two shares at once in a fresh directory.
+  const fs::path both = kDir / "both";
+  const fs::path file2 = write_campaign("b", kSmall, both);
+  const pid_t a = jam::test::spawn_jam("campaign run --quiet --shard 1/2 " + file2.string());
+  const pid_t b = jam::test::spawn_jam("campaign run --quiet --shard 2/2 " + file2.string());
+  BOOST_TEST(jam::test::wait_for(a) == 0);
+  BOOST_TEST(jam::test::wait_for(b) == 0);
+  BOOST_TEST((run_files(both) == expected));
+
+  {  // A share is refused while the whole directory is owned, and the other way round.
+    const jam::CampaignLock whole(dir.string());
+    BOOST_TEST(run_jam("campaign run --quiet --shard 1/2 " + file.string()).status == 2);
+  }
+  {
+    const jam::CampaignLock share(dir.string(), "1-of-2");
+    BOOST_TEST(run_jam("campaign run --quiet " + file.string()).status == 2);
+    BOOST_TEST(run_jam("campaign run --quiet --shard 2/2 " + file.string()).status == 0);
+    BOOST_TEST(run_jam("campaign run --quiet --shard 1/2 " + file.string()).status == 2);
+  }
+  for (const char* bad : {"0/2", "3/2", "1/0", "x", "1/2/3"}) {
+    const Outcome o = run_jam(std::string("campaign run --quiet --shard ") + bad + " " +
+                              file.string());
+    BOOST_TEST(o.status == 2, bad);
+    BOOST_TEST(o.output.find("--shard") != std::string::npos, o.output);
+  }
+}
+
 BOOST_AUTO_TEST_SUITE_END()

@@ -1,0 +1,111 @@
+"""A campaign's verdicts (`checks.json`, written by `jam check`) and the curves behind them
+(`checks.h5`). checks.json is an object {schema_version, campaign, code_version, created,
+verdicts} since schema 2; schema 1 files are the bare array of verdicts. Both read."""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+
+import h5py
+
+from .errors import JamioError, reading, require_file
+from .hdf5 import attrs, group, read_hdf5
+
+
+@dataclass
+class Checks:
+    """`verdicts`: one dict per verdict, as in the JSON (`check`, `case`, `status`, `reason`,
+    `statistic`, ... ; None where the JSON has null). `metadata`: the other keys of a schema 2
+    file ({} for schema 1). `curves`: checks.h5's groups `verdicts/<index>_<check>` by name
+    (Groups: dicts of arrays with `.attrs`), `curves_attrs` its root attributes; both empty and
+    `curves_path` None without checks.h5."""
+
+    path: str
+    schema_version: int
+    metadata: dict
+    verdicts: list
+    curves_path: str | None = None
+    curves_attrs: dict = field(default_factory=dict)
+    curves: dict = field(default_factory=dict)
+
+    @property
+    def campaign(self):
+        return self.metadata.get("campaign")
+
+    @property
+    def code_version(self):
+        return self.metadata.get("code_version")
+
+    @property
+    def created(self):
+        return self.metadata.get("created")
+
+    def curves_of(self, index):
+        """The checks.h5 group of verdict `index` (its position in `verdicts`), or None."""
+        for name, g in self.curves.items():
+            if name.split("_", 1)[0].isdigit() and int(name.split("_", 1)[0]) == index:
+                return g
+        return None
+
+
+def _parse(path):
+    """The JSON of `path`; invalid JSON is a JamioError naming the line."""
+    with open(path, encoding="utf-8") as f:
+        try:
+            return json.load(f)
+        except json.JSONDecodeError as e:
+            raise JamioError(path, f"line {e.lineno}: not valid JSON ({e.msg})") from e
+
+
+def _split(path, content):
+    """(schema_version, metadata, verdicts) of either schema."""
+    if isinstance(content, list):
+        return 1, {}, content
+    if not isinstance(content, dict) or not isinstance(content.get("verdicts"), list):
+        raise JamioError(path, "not a verdict file (neither an array of verdicts nor an object "
+                               "with a 'verdicts' array)")
+    metadata = {k: v for k, v in content.items() if k != "verdicts"}
+    return int(metadata.get("schema_version", 2)), metadata, content["verdicts"]
+
+
+def read_verdicts(path):
+    """checks.json (either schema) as a Checks without curves."""
+    path = os.fspath(path)
+    require_file(path, "verdict file")
+    with reading(path, "verdict file"):
+        schema, metadata, verdicts = _split(path, _parse(path))
+    for k, v in enumerate(verdicts):
+        if not isinstance(v, dict):
+            raise JamioError(path, f"verdict {k}: not a JSON object")
+    return Checks(path, schema, metadata, verdicts)
+
+
+def _read_curves(f):
+    groups = f.get("verdicts")
+    curves = {} if groups is None else {
+        name: group(g) for name, g in groups.items() if isinstance(g, h5py.Group)}
+    return attrs(f), curves
+
+
+def checks_paths(dir_or_file):
+    """(checks.json, checks.h5) of a campaign directory, or of the JSON file named (the HDF5
+    file beside it with the same stem: checks-NAME.json -> checks-NAME.h5)."""
+    path = os.fspath(dir_or_file)
+    if os.path.isdir(path) and not path.endswith(".json"):
+        path = os.path.join(path, "checks.json")
+    stem = path[:-5] if path.endswith(".json") else path
+    return path, stem + ".h5"
+
+
+def load_checks(dir_or_file):
+    """The verdicts of a campaign directory (or of the checks JSON file named) with the curves
+    of checks.h5 when it is there. Raises JamioError naming the file that is missing (only
+    checks.json must exist) or cannot be read."""
+    json_path, h5_path = checks_paths(dir_or_file)
+    checks = read_verdicts(json_path)
+    if os.path.lexists(h5_path):
+        checks.curves_attrs, checks.curves = read_hdf5(h5_path, "checks file", _read_curves)
+        checks.curves_path = h5_path
+    return checks
