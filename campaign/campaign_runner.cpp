@@ -19,6 +19,7 @@
 #include "checks/verdict.hpp"
 #include "campaign/campaign_lock.hpp"
 #include "campaign/run_plan.hpp"
+#include "campaign/run_queue.hpp"
 #include "campaign/throughput.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
@@ -33,21 +34,6 @@ std::string duration(double seconds) {
   if (seconds < 7200) return fmt::format("{:.1f} min", seconds / 60);
   if (seconds < 172800) return fmt::format("{:.1f} h", seconds / 3600);
   return fmt::format("{:.1f} days", seconds / 86400);
-}
-
-/// Longest-processing-time assignment of the pending runs to ranks: deterministic, and
-/// within a few percent of the best balance for many runs.
-std::vector<std::size_t> share_of_rank(const std::vector<PlannedRun>& plan,
-                                       const std::vector<std::int64_t>& pending, const Ranks& r) {
-  std::vector<double> load(static_cast<std::size_t>(r.size), 0.0);
-  std::vector<std::size_t> mine;
-  for (auto index : pending) {
-    const auto k =
-        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-    load[k] += plan[static_cast<std::size_t>(index)].estimated_particle_steps;
-    if (static_cast<int>(k) == r.rank) mine.push_back(static_cast<std::size_t>(index));
-  }
-  return mine;
 }
 
 /// Refuses the whole campaign before any work when one of its runs is beyond the limits.
@@ -126,7 +112,6 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     }
   }
   pending = broadcast_from_root(std::move(pending));
-  const std::vector<std::size_t> mine = share_of_rank(plan, pending, ranks);
 
   const std::atomic<bool>& stop_requested = install_stop_handlers();
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
@@ -142,22 +127,31 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     std::fflush(stdout);
   }
 
-  double remaining_estimate = 0.0;
-  for (auto k : mine) remaining_estimate += plan[k].estimated_particle_steps;
-  std::atomic<std::size_t> next{0}, finished{0}, failed{0}, interrupted{0};
+  std::vector<double> costs;
+  for (const auto& run : plan) costs.push_back(run.estimated_particle_steps);
+  const int workers = std::min<int>(jobs, static_cast<int>(pending.size()));
+  RunQueue queue(pending, costs, ranks, workers, &stop_requested);
+  const double remaining_estimate = queue.local_estimate();
+  std::atomic<std::size_t> finished{0}, failed{0}, interrupted{0};
   std::atomic<int> active{0};
+  std::atomic<std::size_t> taken{0};  // runs this process took from the queue
   std::atomic<bool> cannot_write{false};
   std::atomic<std::uint64_t> particle_steps{0};
   std::mutex print_mutex;
-  auto worker = [&]() {
+  auto worker = [&](int id) {
     struct Active {
       std::atomic<int>& count;
       ~Active() { --count; }
     } active_guard{active};
-    while (!stop_requested.load() && !cannot_write.load()) {
-      const std::size_t slot = next.fetch_add(1);
-      if (slot >= mine.size()) return;
-      const PlannedRun& run = plan[mine[slot]];
+    while (true) {
+      if (stop_requested.load() || cannot_write.load()) {
+        queue.quit(id);  // rank 0 stops waiting for this worker
+        return;
+      }
+      const std::optional<std::size_t> index = queue.next(id);
+      if (!index) return;
+      ++taken;
+      const PlannedRun& run = plan[*index];
       RunControl control;
       control.checkpoint_interval_seconds = run.config.checkpoint_interval;
       control.stop = &stop_requested;
@@ -182,6 +176,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
                    tty ? "\n" : "", run.name, e.what());
         cannot_write = true;
         ++failed;
+        queue.quit(id);
         return;
       } catch (const std::exception& e) {
         record.status = "failed";
@@ -204,15 +199,14 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
         cannot_write = true;
       }
       ++finished;
-      if (cannot_write.load()) return;
     }
   };
 
   const auto start = std::chrono::steady_clock::now();
   std::vector<std::thread> threads;
-  for (int k = 0; k < std::min<int>(jobs, static_cast<int>(mine.size())); ++k) {
+  for (int k = 0; k < workers; ++k) {
     ++active;
-    threads.emplace_back(worker);
+    threads.emplace_back(worker, k);
   }
   while (tty && active.load() > 0) {
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
@@ -229,6 +223,11 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   for (auto& t : threads) t.join();
   if (tty) fmt::print(stderr, "\r{:80}\r", "");
 
+  if (ranks.size > 1 && !options.quiet) {
+    fmt::print("rank {}: took {} runs ({})\n", ranks.rank, taken.load(),
+               queue.dynamic() ? "handed out as workers became free" : "split in advance");
+    std::fflush(stdout);
+  }
   int status = interrupted.load() > 0 || stop_requested.load() ? 130 : (failed.load() > 0 ? 1 : 0);
   status = max_over_ranks(status);
   barrier();

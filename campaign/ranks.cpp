@@ -10,6 +10,7 @@ namespace jam {
 #ifdef JAM_HAVE_MPI
 namespace {
 bool mpi_active = false;
+bool mpi_multiple = false;
 
 bool launched_by_mpi() {
   for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
@@ -24,8 +25,11 @@ Ranks start_ranks([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   Ranks r;
 #ifdef JAM_HAVE_MPI
   if (launched_by_mpi()) {
+    // Worker threads ask rank 0 for runs themselves (run_queue.hpp): ask for full thread
+    // support, and fall back to a split made in advance when the library does not give it.
     int provided = 0;
-    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+    MPI_Init_thread(argc, argv, MPI_THREAD_MULTIPLE, &provided);
+    mpi_multiple = provided >= MPI_THREAD_MULTIPLE;
     MPI_Comm_rank(MPI_COMM_WORLD, &r.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &r.size);
     mpi_active = true;
@@ -62,6 +66,53 @@ int max_over_ranks(int value) {
   }
 #endif
   return value;
+}
+
+int sum_over_ranks(int value) {
+#ifdef JAM_HAVE_MPI
+  if (mpi_active) {
+    int result = value;
+    MPI_Allreduce(&value, &result, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    return result;
+  }
+#endif
+  return value;
+}
+
+bool threads_may_use_mpi() {
+#ifdef JAM_HAVE_MPI
+  return mpi_active && mpi_multiple;
+#else
+  return false;
+#endif
+}
+
+void send_value([[maybe_unused]] std::int64_t value, [[maybe_unused]] int destination,
+                [[maybe_unused]] int tag) {
+#ifdef JAM_HAVE_MPI
+  if (mpi_active) MPI_Send(&value, 1, MPI_INT64_T, destination, tag, MPI_COMM_WORLD);
+#endif
+}
+
+std::int64_t receive_value([[maybe_unused]] int source, [[maybe_unused]] int tag) {
+  std::int64_t value = -1;
+#ifdef JAM_HAVE_MPI
+  if (mpi_active) MPI_Recv(&value, 1, MPI_INT64_T, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+#endif
+  return value;
+}
+
+Message receive_any() {
+  Message m;
+#ifdef JAM_HAVE_MPI
+  if (mpi_active) {
+    MPI_Status status;
+    MPI_Recv(&m.value, 1, MPI_INT64_T, MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+    m.source = status.MPI_SOURCE;
+    m.tag = status.MPI_TAG;
+  }
+#endif
+  return m;
 }
 
 void barrier() {

@@ -20,6 +20,21 @@ void stop_ranks();
 std::vector<std::int64_t> broadcast_from_root(std::vector<std::int64_t> values);
 /// Largest value over the ranks.
 int max_over_ranks(int value);
+/// Sum over the ranks.
+int sum_over_ranks(int value);
 void barrier();
+
+/// Whether threads other than the main one may call MPI (MPI_THREAD_MULTIPLE was granted).
+bool threads_may_use_mpi();
+
+/// Point-to-point messages of one int64 (run_queue.hpp's protocol).
+void send_value(std::int64_t value, int destination, int tag);
+std::int64_t receive_value(int source, int tag);
+struct Message {
+  int source = 0, tag = 0;
+  std::int64_t value = 0;
+};
+/// The next message from any rank with any tag.
+Message receive_any();
 
 }  // namespace jam

@@ -4,16 +4,17 @@ and a plain-text summary. Called by `jam report DIR`; usable directly:
 
     python3 reports/jam_report.py runs/default --out reports/default
 
-The report only draws: every number comes from stats.h5, checks.json and checks.h5. It is
-built in a temporary directory next to the output and moved into place when complete, so a
+The report only draws: every number comes from stats.h5, checks.json and checks.h5, read
+through jamio (python/jamio). Each figure is written as PNG and SVG with the CSV of the numbers
+it plots beside it (one stem). It is built in a temporary directory next to the output and moved into place when complete, so a
 failed or interrupted report never leaves a half-written page behind (an older complete report
 stays until the new one replaces it), nor any directory it created on the way.
 
-A failure is one line on stderr, `jam report: error: <file>: <cause>`, and the exit status
-says which kind: 1, the campaign is not ready for a report (stats.h5 or checks.json missing: a
-step has not been run); 2, an input that cannot be read (unreadable, truncated, corrupt,
-malformed) or an output that cannot be written (no space left on device, read-only file system,
-permission denied, an output path that is not a directory).
+A failure is one line on stderr, `jam report: error: <file>: <cause>`, with exit status 2 (a
+tool error, as in every jam subcommand): a campaign that is not ready for a report (stats.h5 or
+checks.json missing: a step has not been run), an input that cannot be read (unreadable,
+truncated, corrupt, malformed) or an output that cannot be written (no space left on device,
+read-only file system, permission denied, an output path that is not a directory).
 """
 
 import argparse

@@ -20,6 +20,8 @@ figure img { max-width: 100%; border: 1px solid #ddd; }
 figcaption { font-size: 0.9em; color: #444; }
 pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 0.85em; }
 .summary { font-size: 1.1em; }
+nav.contents ol { columns: 2; font-size: 0.95em; }
+p.files { font-size: 0.85em; margin-top: 0.2em; }
 """
 
 
@@ -72,8 +74,9 @@ def headline(check, verdicts):
     if n["inconclusive"]:
         needed = [v.samples_needed for v in verdicts
                   if v.status == "inconclusive" and v.samples_needed is not None]
-        need = f", needs about {int(min(needed))}-{int(max(needed))} samples per set " \
-               "(estimate)" if needed else ""
+        span = (f"{int(min(needed))}" if needed and min(needed) == max(needed)
+                else f"{int(min(needed or [0]))}-{int(max(needed or [0]))}")
+        need = f", needs about {span} samples per set (estimate)" if needed else ""
         parts.append(f"{n['inconclusive']} inconclusive{need}")
     return f"{check.replace('_', ' ')}: " + "; ".join(parts)
 
@@ -157,20 +160,49 @@ def provenance_html(c, provenance):
     return f"<table>{items}</table>\n<h3>Campaign file</h3>\n<pre>{campaign}</pre>"
 
 
-def page(c, figures, provenance):
-    n = counts(c.verdicts)
-    sections = []
-    fit_section = f"<section><h2>Scaling fit (Eq. 1)</h2>{fit_table_html(c)}</section>"
+def _section(anchor, title, body):
+    return (anchor, title, f"<section id='{anchor}'><h2>{html.escape(title)}</h2>{body}</section>")
+
+
+def _figure_section(f):
+    """A figure with its caption and the links to its SVG and to the CSV of what it plots."""
+    files = (f"<p class='files'>Files: <a href='{html.escape(f.file)}'>PNG</a> &middot; "
+             f"<a href='{html.escape(f.svg)}'>SVG</a> &middot; <a href='{html.escape(f.csv)}'>"
+             "CSV of the plotted numbers</a></p>")
+    body = (f"<figure><img src='{html.escape(f.file)}' alt='{html.escape(f.title)}'>"
+            f"<figcaption>{html.escape(f.caption)}</figcaption></figure>{files}")
+    return _section("figure-" + f.stem, f.title, body)
+
+
+def sections(c, figures, provenance):
+    """(anchor, title, HTML) of every section in page order: the verdicts, the figures with
+    the fit's table before the fit's first figure (else after the others), the provenance."""
+    out = [_section("section-verdicts", "Verdicts", verdict_table_html(c.verdicts))]
+    fit = _section("section-fit", "Scaling fit (Eq. 1)", fit_table_html(c))
     for f in figures:
-        if f.file in ("fit_scan.png", "collapse.png") and fit_section:
-            sections.append(fit_section)
-            fit_section = ""
-        sections.append(
-            f"<section><h2>{html.escape(f.title)}</h2><figure><img src='{html.escape(f.file)}' "
-            f"alt='{html.escape(f.title)}'><figcaption>{html.escape(f.caption)}</figcaption>"
-            "</figure></section>")
+        if f.file in ("fit_scan.png", "collapse.png") and fit:
+            out.append(fit)
+            fit = None
+        out.append(_figure_section(f))
+    if fit:
+        out.append(fit)
+    out.append(_section("section-provenance", "Provenance", provenance_html(c, provenance)))
+    return out
+
+
+def contents_html(parts):
+    items = "".join(f"<li><a href='#{anchor}'>{html.escape(title)}</a></li>"
+                    for anchor, title, _ in parts)
+    return f"<nav class='contents'><h2>Contents</h2><ol>{items}</ol></nav>"
+
+
+def page(c, figures, provenance):
+    """The page: the headline (verdict counts, one line per check), the contents, the sections."""
+    n = counts(c.verdicts)
+    parts = sections(c, figures, provenance)
     verdict_word = "FAIL" if n["fail"] else ("INCONCLUSIVE" if n["inconclusive"] else "PASS")
     lines = "".join(f"<li>{html.escape(h)}</li>" for h in headlines(c.verdicts))
+    body = "\n".join(part for _, _, part in parts)
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><link rel="icon" href="data:,">
 <title>jam report: {html.escape(c.name)}</title><style>{STYLE}</style></head>
@@ -178,11 +210,8 @@ def page(c, figures, provenance):
 <h1>Campaign <code>{html.escape(c.name)}</code>, {c.dim}D</h1>
 <p class="summary"><b>{verdict_word}</b>: {html.escape(counts_text(n))}.</p>
 <ul class="headlines">{lines}</ul>
-<h2>Verdicts</h2>
-{verdict_table_html(c.verdicts)}
-{''.join(sections)}
-{fit_section}
-<section><h2>Provenance</h2>{provenance_html(c, provenance)}</section>
+{contents_html(parts)}
+{body}
 </body></html>
 """
 

@@ -146,7 +146,7 @@ def publish(temporary, out):
 def write_text(path, text):
     """Writes `text` to `path`; an error on write or close names the file."""
     try:
-        with open(path, "w") as f:
+        with open(path, "w", encoding="utf-8") as f:
             f.write(text)
     except OSError as e:
         if e.filename is None:

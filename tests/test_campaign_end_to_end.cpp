@@ -218,11 +218,25 @@ BOOST_AUTO_TEST_CASE(mpi_campaign_equals_local) {
                                          "campaign",
                                          "run",
                                          "--jobs",
-                                         "1",
+                                         "2",
                                          distributed.string()};
   BOOST_TEST_REQUIRE(jam::test::run_logged(log, argv).status == 0, slurp(log));
-  BOOST_TEST(slurp(log).find("on 2 ranks") != std::string::npos, slurp(log));
+  const std::string text = slurp(log);
+  BOOST_TEST(text.find("on 2 ranks") != std::string::npos, text);
   BOOST_TEST((run_files("mpi") == run_files("local")));
+  // 16 runs of uneven cost (N 128 and 256, two rates) for 2 ranks x 2 workers: rank 0 hands
+  // them out as workers ask; every run is taken exactly once, and both ranks take some.
+  int total = 0;
+  for (int rank : {0, 1}) {
+    const std::string key = "rank " + std::to_string(rank) + ": took ";
+    const auto at = text.find(key);
+    BOOST_TEST_REQUIRE(at != std::string::npos, text);
+    const int taken = std::stoi(text.substr(at + key.size()));
+    BOOST_TEST(taken > 0, text);
+    total += taken;
+  }
+  BOOST_TEST(total == 16, text);
+  BOOST_TEST(text.find("handed out as workers became free") != std::string::npos, text);
 }
 
 BOOST_AUTO_TEST_CASE(shipped_campaigns_parse_and_cost) {

@@ -1,0 +1,198 @@
+"""The scaling fit's figures (stats.h5 fit/): the scan over windows and rates (the paper's
+Fig. 2) and the collapse (Fig. 3). The paper's values are shown for comparison only: its
+scaling function is not published as a formula, and nothing here is fitted with them."""
+
+import matplotlib.pyplot as plt
+import matplotlib.transforms
+import numpy as np
+
+from report_plot import Figure, Plotted, rate_colors, rate_label, rate_text, save
+
+MARKERS = ["o", "s", "^", "D", "v"]
+PARAMETERS = [("phi_j", r"$\phi_J$", "phi_J"), ("beta", r"$\beta$", "beta"), ("y", "$y$", "y")]
+
+
+def _windows(scan):
+    """Each row's window index (windows by half-width, widest first; -1 where unknown) and the
+    half-widths. Windows are centred on each row's own fitted phi_J."""
+    half = scan.get("half_window")
+    if half is None:  # files written before the windows were re-centred
+        half = (scan["phi_max"] - scan["phi_min"]) / 2
+    half = np.round(half, 6)
+    widths = sorted(set(half[np.isfinite(half)]), reverse=True)
+    index = np.array([widths.index(h) if np.isfinite(h) else -1 for h in half])
+    return index, widths
+
+
+def _x_axis(log_rate, index, widths):
+    """(x of each row, tick positions, tick labels, x label): against log10 rate_max, the
+    windows side by side around each rate, when the scan has several rates; one category per
+    window when it has a single one (no made-up range of rates)."""
+    rates = sorted(set(np.round(log_rate[np.isfinite(log_rate)], 6)))
+    if len(rates) > 1:
+        spread = 0.1 * min(np.diff(rates))
+        x = log_rate + spread * (index - (len(widths) - 1) / 2)
+        return (x, rates, [f"{r:g}" for r in rates],
+                r"$\log_{10}\dot\epsilon_{max}$ (fastest rate in the fit)")
+    label = (f"window half-width (single rate_max $10^{{{rates[0]:g}}}$)" if rates
+             else "window half-width")
+    return (index.astype(float), list(range(len(widths))), [f"±{w:g}" for w in widths], label)
+
+
+def _scan_panel(ax, scan, name, text, geometry, plotted):
+    index, widths, x, log_rate = geometry
+    chosen = scan.get("chosen", np.zeros(len(scan["rate_max"])))
+    bottom = matplotlib.transforms.blended_transform_factory(ax.transData, ax.transAxes)
+    failed_label = "fit failed"
+    for k, w in enumerate(widths):
+        ok = (index == k) & np.isfinite(scan[name])
+        failed = (index == k) & ~np.isfinite(scan[name])
+        series = f"phi_J ± {w:g}"
+        ax.errorbar(x[ok], scan[name][ok], yerr=scan[name + "_error"][ok], capsize=3,
+                    marker=MARKERS[k % len(MARKERS)], ls="-", lw=0.8, label=f"$\\phi_J \\pm {w:g}$")
+        plotted.add(text, series, log_rate[index == k], scan[name][index == k],
+                    scan[name + "_error"][index == k])
+        if failed.any():
+            ax.plot(x[failed], np.full(failed.sum(), 0.04), "x", color="tab:red", ms=8,
+                    transform=bottom, label=failed_label)
+            failed_label = None
+        pick = ok & (chosen == 1)
+        if pick.any():
+            ax.plot(x[pick], scan[name][pick], marker="*", ms=16, color="black", ls="none",
+                    label="representative")
+
+
+def _paper_band(ax, paper, name):
+    if name in paper:
+        ax.axhspan(paper[name] - paper[name + "_error"], paper[name] + paper[name + "_error"],
+                   color="grey", alpha=0.25, label="paper")
+        ax.axhline(paper[name], color="grey", lw=0.8)
+
+
+def _failure_reasons(text):
+    """The distinct reasons in fit/scan's `failures` (one line per failed row)."""
+    reasons = []
+    for line in str(text or "").splitlines():
+        reason = line.split(": ", 1)[-1].strip()
+        if reason and reason not in reasons:
+            reasons.append(reason)
+    return reasons
+
+
+def scan_figure(c, out_dir):
+    """The paper's Fig. 2: fit parameters against rate_max for the three phi windows."""
+    scan = (c.fit or {}).get("scan")
+    if not scan or not len(scan.get("rate_max", [])):
+        return None
+    paper = c.stats_attrs.get("paper", {})
+    index, widths = _windows(scan)
+    log_rate = np.log10(scan["rate_max"])
+    x, ticks, tick_labels, xlabel = _x_axis(log_rate, index, widths)
+    fig, axes = plt.subplots(1, 3, layout="constrained", figsize=(13, 3.8))
+    plotted = Plotted()
+    for ax, (name, label, text) in zip(axes, PARAMETERS):
+        plotted.panel(text, "log10 rate_max", text)
+        _scan_panel(ax, scan, name, text, (index, widths, x, log_rate), plotted)
+        _paper_band(ax, paper, name)
+        ax.set_xticks(ticks, tick_labels)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=7)
+    file = save(fig, out_dir, "fit_scan.png", plotted)
+    return Figure(file, "Scaling fit against the fastest rate included", _scan_caption(c, ticks))
+
+
+def _scan_caption(c, rates):
+    rep = (c.fit or {}).get("representative") or {}
+    caption = ("Fit parameters of Eq. 1 with jackknife errors for three windows in phi, each "
+               "centred on its own fitted phi_J, against the largest rate included (the "
+               f"paper's Fig. 2); held fixed: {rep.get('fixed', 'none')}. Star: the "
+               f"representative fit ({rep.get('chosen_because', 'none')}). Grey: the paper's "
+               "values, for comparison only (nothing is fitted with them).")
+    if len(rates) < 2 and len(c.fit["scan"]["rate_max"]):
+        caption += " The scan has a single rate_max, so the windows stand side by side."
+    reasons = _failure_reasons(c.fit.get("scan_failures"))
+    if reasons:
+        caption += " Red crosses: fits that failed (" + "; ".join(reasons) + ")."
+    return caption
+
+
+def _paper_values(c):
+    """The paper's published values for this dimension (stats.h5 paper/), one string each."""
+    paper = c.stats_attrs.get("paper", {})
+    return [f"{text} = {paper[name]:g} ± {paper.get(name + '_error', float('nan')):g}"
+            for name, _, text in PARAMETERS if name in paper]
+
+
+def _paper_citation(c):
+    values = _paper_values(c)
+    return f"Peshkov & Teitel ({c.dim}D): " + ", ".join(values) if values else ""
+
+
+def _collapse_key(key, ax, c):
+    """The legend in a column of its own, titled with the paper's values (cited only)."""
+    key.axis("off")
+    values = _paper_values(c)
+    title = (f"Peshkov & Teitel ({c.dim}D), cited,\nnothing drawn from them:\n" +
+             "\n".join(values)) if values else None
+    key.legend(*ax.get_legend_handles_labels(), fontsize=7, loc="center left", title=title,
+               title_fontsize=7, alignment="left", borderaxespad=0)
+
+
+def _collapse_points(ax, collapse, plotted):
+    log_rates = np.round(np.log10(collapse["compression_rate"]), 2)
+    colors = rate_colors(log_rates)
+    # Far below the window the pressure is that of the start (~0); not drawn, it says nothing.
+    floor = 1e-3 * np.min(collapse["scaled_pressure"][collapse["in_fit"] == 1], initial=np.inf)
+    for r in sorted(set(log_rates), reverse=True):
+        for in_fit in (1, 0):
+            sel = (log_rates == r) & (collapse["in_fit"] == in_fit)
+            sel &= collapse["scaled_pressure"] > (floor if np.isfinite(floor) else 0)
+            if not sel.any():
+                continue
+            suffix = "" if in_fit else " (not fitted)"
+            ax.errorbar(collapse["x"][sel], collapse["scaled_pressure"][sel],
+                        yerr=collapse["scaled_pressure_error"][sel], marker="o", ms=3, ls="none",
+                        color=colors[r], mfc=colors[r] if in_fit else "none",
+                        alpha=1 if in_fit else 0.5, label=f"{rate_label(r)}{suffix}")
+            plotted.add("collapse", rate_text(r) + suffix, collapse["x"][sel],
+                        collapse["scaled_pressure"][sel], collapse["scaled_pressure_error"][sel])
+
+
+def collapse_figure(c, out_dir):
+    """The paper's Fig. 3: the scaling collapse, fitted and unfitted points distinguished; the
+    paper's values cited in the legend (its scaling function is not available as a formula:
+    nothing is drawn from them)."""
+    collapse = (c.fit or {}).get("collapse")
+    if not collapse or not len(collapse.get("x", [])):
+        return None
+    rep = c.fit["representative"]
+    fig, (ax, key) = plt.subplots(1, 2, layout="constrained", figsize=(9.5, 4.8),
+                                  width_ratios=[1, 0.32])
+    plotted = Plotted()
+    plotted.panel("collapse", "x = (phi - phi_J)/rate^(1/(z nu))", "p / rate^q")
+    _collapse_points(ax, collapse, plotted)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_yscale("log")
+    ax.set_xlabel(r"$x = (\phi - \phi_J)/\dot\epsilon^{1/z\nu}$")
+    ax.set_ylabel(r"$p / \dot\epsilon^{q}$")
+    ax.grid(alpha=0.3, which="both")
+    _collapse_key(key, ax, c)
+    file = save(fig, out_dir, "collapse.png", plotted)
+    return Figure(file, "Scaling collapse", _collapse_caption(rep, _paper_citation(c)))
+
+
+def _collapse_caption(rep, citation):
+    nan = float("nan")
+    caption = (f"phi_J = {rep.get('phi_j', nan):.5f}, q = {rep.get('q', nan):.4f}, "
+               f"1/(z nu) = {rep.get('inv_znu', nan):.4f} (held fixed: "
+               f"{rep.get('fixed', 'none')}); solid symbols were in the fit window "
+               f"phi in [{rep.get('phi_min', 0):.4f}, {rep.get('phi_max', 0):.4f}], rates up to "
+               f"{rep.get('rate_max', 0):.3g}; open symbols were not fitted (points more than "
+               "1000 times below the fitted ones are left out); the paper's Fig. 3.")
+    if citation:
+        caption += (f" The paper's values, {citation}, are cited for comparison: its scaling "
+                    "function is not published as a formula, so nothing on the figure is "
+                    "computed from them.")
+    return caption

@@ -1,0 +1,139 @@
+"""What every figure of the report shares: the Figure record, the table of plotted numbers
+written as CSV beside each figure, saving (PNG, SVG and CSV with one stem), colours and labels.
+"""
+
+import csv
+import math
+import os
+from dataclasses import dataclass
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.colors  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+DPI = 110
+# SVG element ids from a fixed salt and no date: the same report twice gives the same files.
+matplotlib.rcParams["svg.hashsalt"] = "jam-report"
+
+
+@dataclass
+class Figure:
+    """One figure of the page: `file` the PNG, with `svg` and `csv` (its plotted numbers)
+    beside it under the same stem."""
+
+    file: str
+    title: str
+    caption: str
+
+    @property
+    def stem(self):
+        return os.path.splitext(self.file)[0]
+
+    @property
+    def svg(self):
+        return self.stem + ".svg"
+
+    @property
+    def csv(self):
+        return self.stem + ".csv"
+
+
+class Plotted:
+    """The numbers a figure draws, one row per point: panel, series, x and y (with their
+    names), y_error (empty where there is none). Written as the figure's CSV."""
+
+    COLUMNS = ("panel", "series", "x_name", "x", "y_name", "y", "y_error")
+
+    def __init__(self):
+        self.rows = []
+        self.names = {}
+
+    def panel(self, panel, x_name, y_name):
+        """Names the axes of `panel` for the rows added to it."""
+        self.names[panel] = (x_name, y_name)
+
+    def add(self, panel, series, x, y, y_error=None):
+        x_name, y_name = self.names.get(panel, ("x", "y"))
+        x, y = np.atleast_1d(np.asarray(x, dtype=float)), np.atleast_1d(np.asarray(y, dtype=float))
+        err = (np.full(len(y), np.nan) if y_error is None
+               else np.broadcast_to(np.asarray(y_error, dtype=float), y.shape))
+        for xi, yi, ei in zip(x, y, err):
+            self.rows.append((panel, series, x_name, xi, y_name, yi, ei))
+
+    def write(self, path):
+        with open(path, "w", newline="", encoding="utf-8") as f:
+            w = csv.writer(f)
+            w.writerow(self.COLUMNS)
+            for row in self.rows:
+                w.writerow([_cell(v) for v in row])
+
+
+def _cell(v):
+    if isinstance(v, float):
+        return "" if math.isnan(v) else repr(v)
+    return v
+
+
+def _named(path, write):
+    """write(path); an error that names no file (a full disk fails on close) names it."""
+    try:
+        write(path)
+    except OSError as e:
+        if e.filename is None:
+            e.filename = path
+        raise
+
+
+def save(fig, out_dir, file, plotted):
+    """Writes the figure as `file` (PNG) and as SVG, and its plotted numbers as CSV, beside
+    each other in out_dir; returns `file`."""
+    stem = os.path.join(out_dir, os.path.splitext(file)[0])
+    try:
+        _named(stem + ".png", lambda p: fig.savefig(p, dpi=DPI))
+        _named(stem + ".svg", lambda p: fig.savefig(p, format="svg", metadata={"Date": None}))
+    finally:
+        plt.close(fig)
+    _named(stem + ".csv", plotted.write)
+    return file
+
+
+def rate_colors(log10_rates):
+    rates = sorted(set(log10_rates), reverse=True)
+    cmap = plt.get_cmap("viridis")
+    return {r: cmap(0.85 * k / max(1, len(rates) - 1)) for k, r in enumerate(rates)}
+
+
+def shade(color, k, count):
+    """The k-th of `count` shades of `color`, from the colour itself towards white."""
+    rgb = np.array(matplotlib.colors.to_rgb(color))
+    return tuple(rgb + (1 - rgb) * 0.6 * k / max(1, count - 1))
+
+
+def rate_label(log10_rate):
+    return f"rate $10^{{{log10_rate:g}}}$"
+
+
+def rate_text(log10_rate):
+    """rate_label without TeX, for the CSV files."""
+    return f"rate 10^{log10_rate:g}"
+
+
+def decorate(ax, xlabel, ylabel, log_y=False):
+    """Axis labels, legend and grid, the same on every single-panel figure."""
+    if log_y:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, which="both" if log_y else "major")
+
+
+def representative_phi_init(c):
+    """The phi_init the fit used (stats.h5 fit/phi_init), else the lowest one."""
+    if c.fit and "phi_init" in c.fit["attrs"]:
+        return float(c.fit["attrs"]["phi_init"])
+    return min(e.phi_init for e in c.ensembles)
