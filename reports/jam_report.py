@@ -6,9 +6,10 @@ and a plain-text summary. Called by `jam report DIR`; usable directly:
 
 The report only draws: every number comes from stats.h5, checks.json and checks.h5, read
 through jamio (python/jamio). Each figure is written as PNG and SVG with the CSV of the numbers
-it plots beside it (one stem). It is built in a temporary directory next to the output and moved into place when complete, so a
-failed or interrupted report never leaves a half-written page behind (an older complete report
-stays until the new one replaces it), nor any directory it created on the way.
+it plots beside it (one stem). It is built in a temporary directory next to the output and
+moved into place when complete, so a failed or interrupted report never leaves a half-written
+page behind (an older complete report stays until the new one replaces it), nor any directory
+it created on the way.
 
 A failure is one line on stderr, `jam report: error: <file>: <cause>`, with exit status 2 (a
 tool error, as in every jam subcommand): a campaign that is not ready for a report (stats.h5 or

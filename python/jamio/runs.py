@@ -18,8 +18,6 @@ SERIES = ("packing_fraction", "pressure", "contacts_per_particle", "energy_per_p
 OPTIONAL_SERIES = ("contacts_per_particle_no_rattlers", "rattler_fraction")
 # Root attributes every run file has that the table of load_runs repeats on each row.
 PARAMETERS = ("n", "phi_init", "compression_rate", "seed")
-# What a campaign's runs/ holds besides finished run files (reference/schema.md).
-SKIPPED = (".rejected", ".partial", ".checkpoint")
 
 
 @dataclass
@@ -83,15 +81,16 @@ def load_run(path):
 
 
 def run_files(campaign_dir):
-    """The finished run files of a campaign directory, `runs/*.h5` in name order (files set
-    aside or unfinished, `*.rejected`, `*.partial`, `*.checkpoint`, are not among them)."""
+    """The finished run files of a campaign directory, `runs/*.h5` in name order: not the files
+    set aside or unfinished beside them (`*.h5.rejected`, `*.h5.<pid>.partial`,
+    `*.h5.checkpoint`, reference/schema.md)."""
     runs_dir = os.path.join(os.fspath(campaign_dir), "runs")
     with reading(runs_dir, "campaign's runs directory"):
         try:
             names = sorted(os.listdir(runs_dir))
         except FileNotFoundError:
             raise JamioError(runs_dir, "missing (not a campaign directory)", missing=True) from None
-    names = [n for n in names if n.endswith(".h5") and not n.endswith(SKIPPED)]
+    names = [n for n in names if n.endswith(".h5")]
     return [os.path.join(runs_dir, n) for n in names if os.path.isfile(os.path.join(runs_dir, n))]
 
 
