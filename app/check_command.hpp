@@ -4,6 +4,7 @@
 #include "checks/checks.hpp"
 #include "checks/lammps_check.hpp"
 #include "checks/regression_check.hpp"
+#include "sim/io/install_paths.hpp"
 
 namespace jam {
 
@@ -12,7 +13,7 @@ struct CheckArgs {
   checks::CheckOptions options;
   double phi_min = -1.0;
   std::optional<double> margin;
-  std::string reference_dir = JAM_REFERENCE_DIR;
+  std::string reference_dir = data_path("reference").string();
   bool no_lmp = false, regenerate = false;
   std::string against;  // regression: baseline directory
   checks::RegressionOptions regression;

@@ -8,9 +8,11 @@
 #include "app/campaign_command.hpp"
 #include "app/check_command.hpp"
 #include "app/import_command.hpp"
+#include "app/pipeline_command.hpp"
 #include "app/report_command.hpp"
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
+#include "sim/io/install_paths.hpp"
 #include "sim/version.hpp"
 
 int main(int argc, char** argv) {
@@ -34,9 +36,11 @@ int main(int argc, char** argv) {
   jam::add_import_command(app, import_request);
   jam::ReportArgs report_args;
   jam::add_report_command(app, report_args);
+  jam::PipelineArgs pipeline_args;
+  jam::add_pipeline_command(app, pipeline_args);
   jam::BenchArgs bench_args;
-  bench_args.throughput.reference_dir = JAM_REFERENCE_DIR_FOR_BENCH;
-  bench_args.accuracy.reference_dir = JAM_REFERENCE_DIR_FOR_BENCH;
+  bench_args.throughput.reference_dir = jam::data_path("reference/lammps").string();
+  bench_args.accuracy.reference_dir = jam::data_path("reference/lammps").string();
   jam::add_bench_command(app, bench_args);
   try {
     app.parse(argc, argv);
@@ -59,6 +63,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("import")) return jam::run_import_command(import_request);
     if (app.got_subcommand("report")) return jam::run_report_command(report_args);
     if (app.got_subcommand("bench")) return jam::run_bench_command(app, bench_args, argc, argv);
+    if (app.got_subcommand("pipeline")) return jam::run_pipeline_command(pipeline_args, ranks);
   } catch (const std::exception& e) {
     // The tool could not do what was asked (bad input, a missing or unreadable file, a full
     // disk): exit status 2 in every subcommand, apart from the results a command reports

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sim/io/install_paths.hpp"
 #include "sim/io/process.hpp"
 
 namespace jam {
@@ -23,11 +24,11 @@ void add_report_command(CLI::App& app, ReportArgs& a) {
 
 namespace {
 
-// The plotting code lives in reports/ of the source tree (JAM_REPORTS_DIR, set at build time);
-// JAM_REPORTS_DIR in the environment points elsewhere, e.g. for an installed copy.
+// The plotting code: <prefix>/share/jam/reports when installed, else reports/ of the source
+// tree (install_paths.hpp); JAM_REPORTS_DIR in the environment points elsewhere.
 std::string report_script() {
   const char* from_env = std::getenv("JAM_REPORTS_DIR");
-  const fs::path dir = from_env ? fs::path(from_env) : fs::path(JAM_REPORTS_DIR);
+  const fs::path dir = from_env ? fs::path(from_env) : data_path("reports");
   const fs::path script = dir / "jam_report.py";
   if (!fs::exists(script))
     throw std::runtime_error(

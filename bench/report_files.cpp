@@ -8,11 +8,9 @@
 #include <thread>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/install_paths.hpp"
 #include "sim/io/process.hpp"
 
-#ifndef JAM_BENCH_SCRIPT
-#define JAM_BENCH_SCRIPT "bench/plot_benchmarks.py"
-#endif
 
 namespace jam::bench {
 
@@ -42,14 +40,15 @@ void write_text_file(const std::string& path, const std::string& text) {
 }
 
 bool plot(const std::string& kind, const std::string& csv, const std::string& png) {
+  const std::string script = data_path("bench/plot_benchmarks.py").string();
   int status = 127;
   try {
-    status = run_program({"/usr/bin/python3", JAM_BENCH_SCRIPT, kind, csv, png});
+    status = run_program({"/usr/bin/python3", script, kind, csv, png});
   } catch (const std::exception&) {
   }
   if (status != 0) {
     fmt::print(stderr, "jam bench: no plot {} ({} failed; needs python3-matplotlib)\n", png,
-               JAM_BENCH_SCRIPT);
+               script);
     return false;
   }
   return true;

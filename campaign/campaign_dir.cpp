@@ -23,7 +23,17 @@ std::string record_path(const PlannedRun& run) {
   return fs::path(run.config.out).replace_extension(".record").string();
 }
 
+/// Writes path atomically, and not at all when it already holds text: its time then says when
+/// its content last changed (jam pipeline redoes later stages by such times).
 void write_text(const std::string& path, const std::string& text) {
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (in) {
+      std::ostringstream existing;
+      existing << in.rdbuf();
+      if (existing.str() == text) return;
+    }
+  }
   AtomicFile out(path);
   std::fputs(text.c_str(), out.stream());
   out.commit();

@@ -1,21 +1,39 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages jam needs (only those missing; apt-get update first), then
 # configures and builds jam in Release into build/. Safe to run again: it only rebuilds.
+#
+#   scripts/setup.sh           what the main job needs: the compiler, the libraries, and Python
+#                              with matplotlib and h5py for the report
+#   scripts/setup.sh --tests   also what the test suite needs: Boost.Test, LAMMPS (lmp, for the
+#                              cross-checks run live), OpenMPI, clang with its sanitizer and
+#                              fuzzer runtimes, Chromium (the report test), Python venv and pip
+#                              (the jamio test), hdf5-tools
+# Why each package is there: docs/development.md#dependencies.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
   cmake g++ make git pkg-config
-  libcli11-dev libfmt-dev libhdf5-dev hdf5-tools libboost-test-dev
-  libeigen3-dev libgsl-dev libtomlplusplus-dev
-  lammps python3-h5py libopenmpi-dev openmpi-bin nlohmann-json3-dev
-  clang-14 libclang-rt-14-dev llvm-14
-  python3-matplotlib python3-numpy chromium
+  libcli11-dev libfmt-dev libhdf5-dev libeigen3-dev libgsl-dev libtomlplusplus-dev
+  nlohmann-json3-dev python3-h5py python3-matplotlib python3-numpy
 )
+tests=false
+case "${1:-}" in
+  "") ;;
+  --tests) tests=true ;;
+  *) echo "setup: unknown option '$1' (usage: scripts/setup.sh [--tests])" >&2; exit 2 ;;
+esac
+if $tests; then
+  packages+=(
+    libboost-test-dev hdf5-tools lammps libopenmpi-dev openmpi-bin
+    clang-14 libclang-rt-14-dev llvm-14 chromium
+    python3-venv python3-pip python3-setuptools
+  )
+fi
+
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
+for p in "${packages[@]}"; do installed "$p" || missing+=("$p"); done
 if ((${#missing[@]})); then
   sudo=""
   [ "$(id -u)" -eq 0 ] || sudo="sudo"
@@ -24,5 +42,9 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+# The test suites are built whenever Boost.Test is there (so a main-job set-up after a test
+# set-up keeps them).
+with_tests=OFF
+installed libboost-test-dev && with_tests=ON
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DJAM_TESTS="$with_tests" >/dev/null
 cmake --build build -j "$(nproc)"
