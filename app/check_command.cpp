@@ -53,8 +53,10 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
   c->add_option("--permutations", a.options.permutations,
                 "Permutations of whole runs for null distributions");
   c->add_option("--phi-min", a.phi_min,
-                "phi_init check: compare from this packing (default: where the compression, not "
-                "the start, sets the pressure)");
+                "phi_init check: compare from this packing (optional; default: the scaling "
+                "fit's window in stats.h5, else where the compression, not the start, sets the "
+                "pressure)")
+      ->always_capture_default(false);
   c->add_option("--margin", a.margin,
                 "Margin M of the named check (all: of every check): the largest effect that "
                 "still passes, a relative pressure difference (jamming_point: a packing "
@@ -108,7 +110,7 @@ int run_check_command(const CheckArgs& a) {
     throw std::runtime_error(fmt::format("--alpha {:g}: must be in (0, 1)", o.alpha));
   if (o.permutations < 100)
     throw std::runtime_error(fmt::format("--permutations {}: at least 100", o.permutations));
-  if (a.phi_min > 0) o.phi_min = a.phi_min;
+  if (a.phi_min) o.phi_min = *a.phi_min;
   if (!a.set_a.empty() || !a.set_b.empty()) {
     if (a.set_a.empty() || a.set_b.empty())
       throw std::runtime_error("--set-a and --set-b go together");

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include "sim/model/paper_values.hpp"
@@ -21,11 +22,12 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
   s->add_flag("--pool-sizes", a.options.pool_sizes,
               "Average all sizes together (after the finite-size check passed)");
   s->add_option("--fit-phi-init", a.fit_phi_init,
-                "phi_init of the fitted ensembles (default: lowest)");
+                "phi_init of the fitted ensembles (optional; default: the lowest)")
+      ->always_capture_default(false);
   s->add_option("--order", a.options.order, "Polynomial order of ln f(x)");
-  s->add_option("--fix-phi-j", a.fix_phi_j, "Hold phi_J at this value");
-  s->add_option("--fix-q", a.fix_q, "Hold q at this value");
-  s->add_option("--fix-inv-znu", a.fix_inv_znu, "Hold 1/(z nu) at this value");
+  s->add_option("--fix-phi-j", a.fix_phi_j, "Hold phi_J at this value (optional)");
+  s->add_option("--fix-q", a.fix_q, "Hold q at this value (optional)");
+  s->add_option("--fix-inv-znu", a.fix_inv_znu, "Hold 1/(z nu) at this value (optional)");
   s->add_flag("--fix-paper-exponents", a.fix_paper_exponents,
               "Hold q and 1/(z nu) at the paper's values for the dimension");
   s->add_flag("--fix-paper-q", a.fix_paper_q,
@@ -39,10 +41,16 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
 
 int run_stats_command(const StatsArgs& a) {
   stats::StatsOptions o = a.options;
-  if (a.fit_phi_init > 0) o.fit_phi_init = a.fit_phi_init;
-  if (a.fix_phi_j > 0) o.fixed_phi_j = a.fix_phi_j;
-  if (a.fix_q > 0) o.fixed_q = a.fix_q;
-  if (a.fix_inv_znu > 0) o.fixed_inv_znu = a.fix_inv_znu;
+  if (a.fit_phi_init) o.fit_phi_init = *a.fit_phi_init;
+  auto held = [](const char* option, const std::optional<double>& v, double hi) {
+    if (v && !(std::isfinite(*v) && *v > 0 && *v < hi)) {
+      throw CLI::ValidationError(option, fmt::format("{:g}: must be in (0, {:g})", *v, hi));
+    }
+    return v;
+  };
+  o.fixed_phi_j = held("--fix-phi-j", a.fix_phi_j, 1.5);
+  o.fixed_q = held("--fix-q", a.fix_q, 1.0);
+  o.fixed_inv_znu = held("--fix-inv-znu", a.fix_inv_znu, 1e3);
   if (o.order < 0 || o.order > 9) {
     throw std::runtime_error(fmt::format("--order {}: must be in 0..9", o.order));
   }

@@ -1,5 +1,6 @@
 #pragma once
 #include <CLI/CLI.hpp>
+#include <optional>
 
 #include "stats/campaign_stats.hpp"
 
@@ -8,7 +9,7 @@ namespace jam {
 struct StatsArgs {
   std::string directory;
   stats::StatsOptions options;
-  double fit_phi_init = -1.0, fix_phi_j = -1.0, fix_q = -1.0, fix_inv_znu = -1.0;
+  std::optional<double> fit_phi_init, fix_phi_j, fix_q, fix_inv_znu;  // absent: not given
   bool fix_paper_exponents = false;
   bool fix_paper_q = false;
   bool refit = false;
