@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/io/lammps_data.hpp"
 #include "sim/io/process.hpp"
 
 namespace jam::bench {
@@ -22,51 +23,16 @@ std::vector<std::string> lammps_command(const LammpsRequest& r) {
   if (r.ranks > 1) {
     argv = {"mpirun", "--allow-run-as-root", "--oversubscribe", "-np", std::to_string(r.ranks)};
   }
-  // Species of the paper: gamma_s = k_d V_s = 2/D, V_b/V_s = 1.4^D, d_sb = 1.2, d_bb = 1.4.
   auto g = [](double v) { return fmt::format("{:.17g}", v); };
-  const std::vector<std::string> lmp = {"lmp",
-                                        "-log",
-                                        r.log,
-                                        "-screen",
-                                        "none",
-                                        "-in",
-                                        "bench_compress.in",
-                                        "-var",
-                                        "data",
-                                        r.data,
-                                        "-var",
-                                        "table",
-                                        "harmonic_contact.table",
-                                        "-var",
-                                        "dim",
-                                        std::to_string(r.dim),
-                                        "-var",
-                                        "rate",
-                                        g(r.rate),
-                                        "-var",
-                                        "dt",
-                                        g(r.dt),
-                                        "-var",
-                                        "steps",
-                                        std::to_string(r.steps),
-                                        "-var",
-                                        "every",
-                                        std::to_string(r.every),
-                                        "-var",
-                                        "skin",
-                                        "0.3",
-                                        "-var",
-                                        "gamma_s",
-                                        g(2.0 / r.dim),
-                                        "-var",
-                                        "drag_ratio",
-                                        g(std::pow(1.4, r.dim)),
-                                        "-var",
-                                        "d_sb",
-                                        "1.2",
-                                        "-var",
-                                        "d_bb",
-                                        "1.4"};
+  auto variables = lammps_species_variables(r.dim);
+  variables.insert(variables.begin(), {{"data", r.data},
+                                       {"table", "harmonic_contact.table"},
+                                       {"dim", std::to_string(r.dim)},
+                                       {"rate", g(r.rate)},
+                                       {"dt", g(r.dt)},
+                                       {"steps", std::to_string(r.steps)},
+                                       {"every", std::to_string(r.every)}});
+  const auto lmp = lammps_command_line(r.log, "bench_compress.in", variables);
   argv.insert(argv.end(), lmp.begin(), lmp.end());
   return argv;
 }

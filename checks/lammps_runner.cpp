@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sim/io/lammps_data.hpp"
 #include "sim/io/process.hpp"
 #include "sim/run/compression_run.hpp"
 
@@ -31,54 +32,17 @@ void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double 
   for (const char* f : {"compress_inertial.in", "harmonic_contact.table"}) {
     fs::copy_file(reference / f, dir / f, fs::copy_options::overwrite_existing);
   }
-  // Species of the paper: gamma_s = k_d V_s = 2/D, V_b/V_s = 1.4^D, d_sb = 1.2, d_bb = 1.4.
   auto g = [](double v) { return fmt::format("{:.17g}", v); };
-  const std::vector<std::string> argv = {"lmp",
-                                         "-log",
-                                         log,
-                                         "-screen",
-                                         "none",
-                                         "-in",
-                                         "compress_inertial.in",
-                                         "-var",
-                                         "data",
-                                         data,
-                                         "-var",
-                                         "table",
-                                         "harmonic_contact.table",
-                                         "-var",
-                                         "out",
-                                         end,
-                                         "-var",
-                                         "dim",
-                                         std::to_string(dim),
-                                         "-var",
-                                         "rate",
-                                         g(rate),
-                                         "-var",
-                                         "dt",
-                                         g(dt),
-                                         "-var",
-                                         "steps",
-                                         std::to_string(steps),
-                                         "-var",
-                                         "every",
-                                         std::to_string(every),
-                                         "-var",
-                                         "skin",
-                                         "0.3",
-                                         "-var",
-                                         "gamma_s",
-                                         g(2.0 / dim),
-                                         "-var",
-                                         "drag_ratio",
-                                         g(std::pow(1.4, dim)),
-                                         "-var",
-                                         "d_sb",
-                                         "1.2",
-                                         "-var",
-                                         "d_bb",
-                                         "1.4"};
+  auto variables = lammps_species_variables(dim);
+  variables.insert(variables.begin(), {{"data", data},
+                                       {"table", "harmonic_contact.table"},
+                                       {"out", end},
+                                       {"dim", std::to_string(dim)},
+                                       {"rate", g(rate)},
+                                       {"dt", g(dt)},
+                                       {"steps", std::to_string(steps)},
+                                       {"every", std::to_string(every)}});
+  const auto argv = lammps_command_line(log, "compress_inertial.in", variables);
   ProcessOptions where;
   where.working_directory = dir;
   where.stdout_file = "/dev/null";

@@ -220,4 +220,21 @@ template LammpsData<3> read_lammps_data<3>(const std::string&);
 template LammpsData<2> read_lammps_data<2>(std::istream&, const std::string&);
 template LammpsData<3> read_lammps_data<3>(std::istream&, const std::string&);
 
+std::vector<std::string> lammps_command_line(
+    const std::string& log, const std::string& input,
+    const std::vector<std::pair<std::string, std::string>>& variables) {
+  std::vector<std::string> argv = {"lmp", "-log", log, "-screen", "none", "-in", input};
+  for (const auto& [name, value] : variables) argv.insert(argv.end(), {"-var", name, value});
+  return argv;
+}
+
+std::vector<std::pair<std::string, std::string>> lammps_species_variables(int dim) {
+  auto g = [](double v) { return fmt::format("{:.17g}", v); };
+  return {{"skin", "0.3"},
+          {"gamma_s", g(2.0 / dim)},
+          {"drag_ratio", g(std::pow(1.4, dim))},
+          {"d_sb", "1.2"},
+          {"d_bb", "1.4"}};
+}
+
 }  // namespace jam

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <istream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "sim/model/particles.hpp"
 
@@ -30,5 +32,15 @@ LammpsData<D> read_lammps_data(const std::string& path);
 /// The same from a stream; `path` names it in the errors.
 template <int D>
 LammpsData<D> read_lammps_data(std::istream& in, const std::string& path);
+
+/// The command line of `lmp` on an input script: `lmp -log LOG -screen none -in INPUT` and
+/// `-var NAME VALUE` for each variable, as an argument vector (sim/io/process.hpp).
+std::vector<std::string> lammps_command_line(
+    const std::string& log, const std::string& input,
+    const std::vector<std::pair<std::string, std::string>>& variables);
+
+/// The variables every reference/lammps input takes for the paper's species and neighbor list:
+/// gamma_s = k_d V_s = 2/D, drag_ratio = V_b/V_s = 1.4^D, d_sb = 1.2, d_bb = 1.4, skin 0.3.
+std::vector<std::pair<std::string, std::string>> lammps_species_variables(int dim);
 
 }  // namespace jam
