@@ -72,7 +72,7 @@ struct CampaignStats {
   double fit_phi_init = 0.0;
   std::int64_t fit_size = 0;  // 0: pooled
   std::int64_t runs_averaged = 0, runs_skipped = 0;
-  std::string refit_from;  // when refitted from an earlier stats.h5: its path
+  std::string refit_from;  // when refitted from an earlier stats.h5: says so
   double wall_time = 0.0;  // seconds spent reading and averaging (provenance for reports)
 };
 

@@ -43,7 +43,8 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
     throw std::runtime_error(fmt::format("{}: no stats.h5 to refit", directory));
   }
   CampaignStats s;
-  s.refit_from = path;
+  // Where the averages came from, without this machine's path.
+  s.refit_from = "the averages of an earlier stats.h5 (jam stats --refit)";
   {
     const h5::File f = h5::File::open_read(path);
     s.data.name = f.read_attribute_string("campaign");
