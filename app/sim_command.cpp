@@ -48,7 +48,7 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
   sim->add_flag("--jamming-point", c.jamming_point,
                 "Also find the run's jamming point phi_Ji (FIRE minimizations; docs/statistics-and-checks.md)");
   sim->add_option("--jamming-search-from", c.jamming_search_from,
-                  "Lowest packing searched for phi_Ji (0: the paper's phi_J - 0.04)");
+                  "Lowest packing searched for phi_Ji (0: from the start)");
   sim->add_flag("--rattlers", c.rattlers,
                 "Also write Z with rattlers removed (fewer than D+1 contacts, iteratively)");
   sim->add_option("--out", c.out, "Run file to write (HDF5)")->required();

@@ -19,7 +19,6 @@
 #include "sim/io/lammps_data.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
-#include "sim/model/paper_values.hpp"
 #include "sim/observables/observables.hpp"
 #include "sim/run/progress.hpp"
 #include "sim/run/run_state.hpp"
@@ -164,9 +163,9 @@ RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& s
                       fmt::format("jam {} configuration, dim {} n {} phi {:.17g} seed {}", what, D,
                                   n, sys.box.packing_fraction(t), c.seed));
   };
-  // Configurations kept for the jamming point: from phi_J(paper) - 0.04 up.
-  const double save_from =
-      c.jamming_search_from > 0 ? c.jamming_search_from : paper_values(D).phi_j - 0.04;
+  // Configurations kept for the jamming point: every output point from --jamming-search-from,
+  // by default from the start (the search then leans on nothing but the run itself).
+  const double save_from = c.jamming_search_from;
   auto record = [&](double t) {
     if (c.jamming_point && sys.box.packing_fraction(t) >= save_from) {
       SavedConfiguration saved{sys.box.packing_fraction(t), {}};

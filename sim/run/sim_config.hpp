@@ -44,7 +44,7 @@ struct SimConfig {
   bool rattlers = false;
   bool jamming_point =
       false;  // find phi_Ji (FIRE minimizations, see observables/jamming_point.hpp)
-  double jamming_search_from = 0.0;  // lowest packing searched; 0: the paper's phi_J - 0.04
+  double jamming_search_from = 0.0;  // lowest packing searched; 0: from the start
   std::string out;
   std::string read_lammps_data;
   std::string write_lammps_data;
