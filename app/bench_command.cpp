@@ -73,8 +73,8 @@ int run_bench_command(const CLI::App& app, BenchArgs& a, int argc, char** argv) 
   for (int k = 1; k < argc; ++k) command += std::string(" ") + argv[k];
   const CLI::App* b = app.get_subcommand("bench");
   // Refused before hours of benchmarking, not after.
-  check_output_directory("out-dir", b->got_subcommand("throughput") ? a.throughput.out_dir
-                                                                    : a.accuracy.out_dir);
+  check_output_directory(
+      "out-dir", b->got_subcommand("throughput") ? a.throughput.out_dir : a.accuracy.out_dir);
   if (b->got_subcommand("throughput")) {
     a.throughput.dims = parse_dims(a.dims);
     a.throughput.command = command;

@@ -25,8 +25,9 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
       "status", "Print what is done, partial, missing, failed or corrupt in a campaign directory");
   status->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();
   status->add_flag("--json", a.json, "The same as JSON (totals, and every run's status)");
-  status->footer("Exit status: 0 every run is done; 1 a run failed or is corrupt; 4 runs are "
-                 "missing or partial (none failed); 2 the directory is not a campaign's.");
+  status->footer(
+      "Exit status: 0 every run is done; 1 a run failed or is corrupt; 4 runs are "
+      "missing or partial (none failed); 2 the directory is not a campaign's.");
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
@@ -39,8 +40,7 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
     if (!a.shard.empty()) {
       int k = 0, n = 0;
       char rest = 0;
-      if (std::sscanf(a.shard.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 1 ||
-          k > n) {
+      if (std::sscanf(a.shard.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 1 || k > n) {
         throw CLI::ValidationError("--shard",
                                    a.shard + ": must read K/N with 1 <= K <= N, e.g. 3/8");
       }

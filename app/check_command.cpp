@@ -95,13 +95,13 @@ int run_check_command(const CheckArgs& a) {
   }
   if (a.margin) {
     if (!(std::isfinite(*a.margin) && *a.margin > 0)) {
-      throw CLI::ValidationError("--margin", fmt::format("{}: must be a finite number > 0",
-                                                         *a.margin));
+      throw CLI::ValidationError("--margin",
+                                 fmt::format("{}: must be a finite number > 0", *a.margin));
     }
     for (const char* check :
          {"finite_size", "sample_pairs", "phi_init", "regression", "jamming_point", "lammps"}) {
-      if (a.name == "all" || a.name == check || (a.name == "phi_init" &&
-                                                 std::string(check) == "jamming_point")) {
+      if (a.name == "all" || a.name == check ||
+          (a.name == "phi_init" && std::string(check) == "jamming_point")) {
         o.margins[check] = *a.margin;
       }
     }
@@ -143,8 +143,9 @@ int run_check_command(const CheckArgs& a) {
   fmt::print("{}", checks::format_table(verdicts));
   for (const auto& v : verdicts) {
     if (!v.expected_failure) continue;
-    fmt::print("{} {}: {}\n", v.status == "fail" ? "expected failure:" : "EXPECTED TO FAIL, PASSED:",
-               v.check, v.case_name);
+    fmt::print("{} {}: {}\n",
+               v.status == "fail" ? "expected failure:" : "EXPECTED TO FAIL, PASSED:", v.check,
+               v.case_name);
   }
   // `all` writes checks.*, the files reports read; a single check writes checks-NAME.*, so
   // that it never replaces the full set.

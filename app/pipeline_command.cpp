@@ -47,8 +47,9 @@ void add_pipeline_command(CLI::App& app, PipelineArgs& a) {
   p->add_option("file", a.file, "Campaign file (TOML)")->required();
   p->add_option("--report", a.report, "Report directory (default reports/<campaign name>)");
   p->add_option("--jobs", a.jobs, "Runs at once (default: all cores)");
-  p->footer("Exit status: 0 done (the verdicts are in the report's summary), 1 runs failed, "
-            "2 a tool error, 130 interrupted.");
+  p->footer(
+      "Exit status: 0 done (the verdicts are in the report's summary), 1 runs failed, "
+      "2 a tool error, 130 interrupted.");
 }
 
 int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
@@ -59,7 +60,8 @@ int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
   if (status != 0 || ranks.rank != 0) return status;
 
   const fs::path dir(campaign.output);
-  const fs::path report = a.report.empty() ? fs::path("reports") / campaign.name : fs::path(a.report);
+  const fs::path report =
+      a.report.empty() ? fs::path("reports") / campaign.name : fs::path(a.report);
   if (stale(dir / "stats.h5", newest_input(dir))) {
     StatsArgs stats;
     stats.directory = dir.string();

@@ -46,7 +46,8 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
   sim->add_option("--relax-time-max", c.relax_time_max, "Longest relaxation (units of t0)");
   sim->add_flag("--stress", c.stress, "Also write the full stress tensor at each output point");
   sim->add_flag("--jamming-point", c.jamming_point,
-                "Also find the run's jamming point phi_Ji (FIRE minimizations; docs/statistics-and-checks.md)");
+                "Also find the run's jamming point phi_Ji (FIRE minimizations; "
+                "docs/statistics-and-checks.md)");
   sim->add_option("--jamming-search-from", c.jamming_search_from,
                   "Lowest packing searched for phi_Ji (0: from the start)");
   sim->add_flag("--rattlers", c.rattlers,

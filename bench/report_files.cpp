@@ -11,7 +11,6 @@
 #include "sim/io/install_paths.hpp"
 #include "sim/io/process.hpp"
 
-
 namespace jam::bench {
 
 std::string machine_description() {

@@ -3,8 +3,8 @@
 // (reference/campaigns/*.toml documents every key). Parsing is strict: unknown keys, wrong
 // types, missing fields and impossible values are errors naming the file, the line and the key.
 #include <cstdint>
-#include <stdexcept>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -44,7 +44,7 @@ struct Campaign {
   double relax_time_max = SimConfig{}.relax_time_max;
   bool rattlers = false;
   bool stress = false;
-  bool jamming_point = false;          // find each run's phi_Ji (FIRE), for the phi_init check
+  bool jamming_point = false;  // find each run's phi_Ji (FIRE), for the phi_init check
   double checkpoint_interval = SimConfig{}.checkpoint_interval;  // seconds
   // How `jam check` judges this campaign (not part of its identity: changing them never
   // touches a run). [margins]: a check's name -> its margin M (checks/checks.hpp).

@@ -30,8 +30,8 @@ namespace {
 int lock_file(const std::string& path, const std::string& what, int kind) {
   const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd < 0) {
-    throw CampaignError(fmt::format("{}: cannot open the campaign's lock: {}", path,
-                                    std::strerror(errno)));
+    throw CampaignError(
+        fmt::format("{}: cannot open the campaign's lock: {}", path, std::strerror(errno)));
   }
   if (::flock(fd, kind | LOCK_NB) != 0) {
     const int error = errno;
@@ -39,8 +39,8 @@ int lock_file(const std::string& path, const std::string& what, int kind) {
     ::close(fd);
     if (error == EWOULDBLOCK) {
       throw CampaignError(fmt::format(
-          "{}: in use by {} (another `jam campaign run`); wait for it to finish or stop it",
-          what, owner));
+          "{}: in use by {} (another `jam campaign run`); wait for it to finish or stop it", what,
+          owner));
     }
     throw CampaignError(fmt::format("{}: cannot lock: {}", path, std::strerror(error)));
   }

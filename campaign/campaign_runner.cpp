@@ -16,11 +16,11 @@
 #include <thread>
 
 #include "campaign/campaign_dir.hpp"
-#include "checks/verdict.hpp"
 #include "campaign/campaign_lock.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/run_queue.hpp"
 #include "campaign/throughput.hpp"
+#include "checks/verdict.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/compression_run.hpp"
@@ -85,8 +85,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
           fmt::format("{}: output: cannot create '{}': {}", c.source_path, c.output, ec.message()));
     }
     const bool sharded = options.shards > 1;
-    owner.emplace(c.output,
-                  sharded ? fmt::format("{}-of-{}", options.shard, options.shards) : "");
+    owner.emplace(c.output, sharded ? fmt::format("{}-of-{}", options.shard, options.shards) : "");
     // Other shares may be writing: only a runner that owns the whole directory cleans up.
     if (!sharded) remove_stale_temporaries(c.output);
     prepare_campaign_directory(c);
@@ -266,8 +265,10 @@ int print_campaign_status(const std::string& directory, bool json) {
   }
   const int status = campaign_status_code(totals);
   if (json) {
-    nlohmann::json out = {{"campaign", c.name}, {"directory", directory},
-                          {"runs", plan.size()}, {"exit_status", status}};
+    nlohmann::json out = {{"campaign", c.name},
+                          {"directory", directory},
+                          {"runs", plan.size()},
+                          {"exit_status", status}};
     for (RunStatus s : {RunStatus::kDone, RunStatus::kPartial, RunStatus::kMissing,
                         RunStatus::kFailed, RunStatus::kCorrupt}) {
       out["totals"][to_string(s)] = totals[s];

@@ -13,7 +13,7 @@ struct CampaignRunOptions {
   int jobs = 0;               // worker threads per process; 0: all cores
   bool retry_failed = false;  // also redo runs whose last attempt failed
   bool quiet = false;
-  bool force = false;  // run beyond the per-run limits of validate_cost (sim_config.hpp)
+  bool force = false;         // run beyond the per-run limits of validate_cost (sim_config.hpp)
   int shard = 1, shards = 1;  // run only the shard-th of `shards` shares (run_plan.hpp)
 };
 

@@ -127,7 +127,8 @@ namespace jam {
 std::vector<std::size_t> shard_of(const std::vector<PlannedRun>& plan, int k, int n) {
   // Samples and their cost, in a fixed order (cost, then key).
   std::map<std::tuple<std::int64_t, double, std::int64_t>, double> cost;
-  for (const auto& run : plan) cost[{run.n, run.phi_init, run.sample}] += run.estimated_particle_steps;
+  for (const auto& run : plan)
+    cost[{run.n, run.phi_init, run.sample}] += run.estimated_particle_steps;
   std::vector<std::pair<double, std::tuple<std::int64_t, double, std::int64_t>>> samples;
   for (const auto& [key, c] : cost) samples.emplace_back(c, key);
   std::stable_sort(samples.begin(), samples.end(),

@@ -25,7 +25,8 @@ RunQueue::RunQueue(std::vector<std::int64_t> pending, const std::vector<double>&
   // balance when the estimates are right.
   std::vector<double> load(static_cast<std::size_t>(ranks.size), 0.0);
   for (auto k : pending) {
-    const auto least = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    const auto least =
+        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
     load[least] += costs[static_cast<std::size_t>(k)];
     if (static_cast<int>(least) == ranks.rank) queue_.push_back(k);
   }

@@ -47,7 +47,8 @@ RateClearance read_clearance(const std::string& directory, std::int64_t n, doubl
     std::ifstream in(file);
     const auto parsed = nlohmann::json::parse(in, nullptr, false);
     // Schema 2: an object holding "verdicts"; schema 1: the bare array.
-    const auto verdicts = parsed.is_object() && parsed.contains("verdicts") ? parsed["verdicts"] : parsed;
+    const auto verdicts =
+        parsed.is_object() && parsed.contains("verdicts") ? parsed["verdicts"] : parsed;
     if (!verdicts.is_array()) continue;
     std::vector<double> rates;
     bool any = false;

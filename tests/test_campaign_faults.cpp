@@ -268,8 +268,8 @@ BOOST_AUTO_TEST_SUITE_END()
 // space left on device", not "Input/output error"), leaving no verdict file behind.
 BOOST_FIXTURE_TEST_CASE(check_fails_in_one_line, Fixture) {
   const fs::path dir = kDir / "chk";
-  BOOST_REQUIRE(run_jam("campaign run --quiet " + write_campaign("k", kTiny, dir).string())
-                    .status == 0);
+  BOOST_REQUIRE(
+      run_jam("campaign run --quiet " + write_campaign("k", kTiny, dir).string()).status == 0);
   BOOST_REQUIRE(run_jam("stats --no-fit " + dir.string()).status == 0);
   const std::string stats = slurp(dir / "stats.h5");
   auto one_line = [](const Outcome& o) {
@@ -321,8 +321,8 @@ BOOST_FIXTURE_TEST_CASE(status_from_anywhere_and_its_exit_status, Fixture) {
   jam::ProcessOptions here;
   here.working_directory = dir;
   here.stdout_file = here.stderr_file = (kDir / "run.txt").string();
-  BOOST_REQUIRE(jam::run_program({JAM_EXECUTABLE, "campaign", "run", "--quiet", file.string()},
-                                 here) == 0);
+  BOOST_REQUIRE(
+      jam::run_program({JAM_EXECUTABLE, "campaign", "run", "--quiet", file.string()}, here) == 0);
   auto status = [&](const std::vector<std::string>& extra) {
     std::vector<std::string> argv = {JAM_EXECUTABLE, "campaign", "status", (dir / "rel").string()};
     argv.insert(argv.end(), extra.begin(), extra.end());

@@ -143,16 +143,16 @@ BOOST_AUTO_TEST_CASE(runs_of_other_parameters_are_not_taken_for_done) {
 // whole campaign bitwise, side by side in one directory; an unsharded runner excludes them.
 BOOST_AUTO_TEST_CASE(shards_make_the_whole_campaign) {
   const fs::path single = kDir / "single";
-  BOOST_REQUIRE(run_jam("campaign run --quiet " + write_campaign("s", kSmall, single).string())
-                    .status == 0);
+  BOOST_REQUIRE(
+      run_jam("campaign run --quiet " + write_campaign("s", kSmall, single).string()).status == 0);
   const auto expected = run_files(single);
 
   const fs::path dir = kDir / "shards";
   const fs::path file = write_campaign("h", kSmall, dir);
   std::size_t before = 0;
   for (int k = 1; k <= 3; ++k) {
-    const Outcome o = run_jam("campaign run --quiet --shard " + std::to_string(k) + "/3 " +
-                              file.string());
+    const Outcome o =
+        run_jam("campaign run --quiet --shard " + std::to_string(k) + "/3 " + file.string());
     BOOST_TEST(o.status == 0, o.output);
     const std::size_t now = run_files(dir).size();
     BOOST_TEST(now > before);  // every share did some of the work ...
@@ -180,8 +180,8 @@ BOOST_AUTO_TEST_CASE(shards_make_the_whole_campaign) {
     BOOST_TEST(run_jam("campaign run --quiet --shard 1/2 " + file.string()).status == 2);
   }
   for (const char* bad : {"0/2", "3/2", "1/0", "x", "1/2/3"}) {
-    const Outcome o = run_jam(std::string("campaign run --quiet --shard ") + bad + " " +
-                              file.string());
+    const Outcome o =
+        run_jam(std::string("campaign run --quiet --shard ") + bad + " " + file.string());
     BOOST_TEST(o.status == 2, bad);
     BOOST_TEST(o.output.find("--shard") != std::string::npos, o.output);
   }

@@ -61,8 +61,7 @@ BOOST_AUTO_TEST_CASE(checks_on_stats_data_pass_and_fail_as_planted) {
     clean.ensembles.push_back(ensemble(2048, 0.6, rate, runs(10, 0.0, rng)));
     clean.ensembles.push_back(ensemble(1024, 0.8, rate, runs(10, 0.0, rng)));
     planted.ensembles.push_back(ensemble(1024, 0.6, rate, runs(10, 0.0, rng)));
-    planted.ensembles.push_back(
-        ensemble(2048, 0.6, rate, runs(10, rate == -3.0 ? 0.6 : 0.0, rng)));
+    planted.ensembles.push_back(ensemble(2048, 0.6, rate, runs(10, rate == -3.0 ? 0.6 : 0.0, rng)));
     planted.ensembles.push_back(
         ensemble(1024, 0.8, rate, runs(10, rate == -3.0 ? -0.6 : 0.0, rng)));
   }
@@ -77,9 +76,9 @@ BOOST_AUTO_TEST_CASE(checks_on_stats_data_pass_and_fail_as_planted) {
   int passed = 0;
   for (const auto& v : run_check("all", clean, o)) {
     // The synthetic sets have no constant-Z tables: nothing to compare there, inconclusive.
-    BOOST_TEST(v.status ==
-                   (v.case_name.find("constant Z") != std::string::npos ? "inconclusive" : "pass"),
-               v.check << " " << v.case_name << ": " << v.reason);
+    BOOST_TEST(
+        v.status == (v.case_name.find("constant Z") != std::string::npos ? "inconclusive" : "pass"),
+        v.check << " " << v.case_name << ": " << v.reason);
     passed += v.status == "pass";
   }
   BOOST_TEST(passed == 2 + 2 + 2);  // finite size (phi), sample pairs, phi_init at two rates
@@ -87,7 +86,8 @@ BOOST_AUTO_TEST_CASE(checks_on_stats_data_pass_and_fail_as_planted) {
   for (const auto& v : run_check("all", planted, o)) {
     const bool should_fail = v.case_name.find("rate 1e-3") != std::string::npos &&
                              v.case_name.find("constant Z") == std::string::npos;
-    if (should_fail) BOOST_TEST(v.status == "fail", v.check << " " << v.case_name << ": " << v.reason);
+    if (should_fail)
+      BOOST_TEST(v.status == "fail", v.check << " " << v.case_name << ": " << v.reason);
     failed += v.status == "fail";
   }
   BOOST_TEST(failed == 3);  // finite size, sample pairs and phi_init at rate 1e-3

@@ -55,11 +55,11 @@ int run_hidden(const std::vector<std::string>& argv, const fs::path& log) {
 BOOST_AUTO_TEST_CASE(installed_jam_runs_without_the_source_tree) {
   fs::create_directories(kDir);
   const fs::path prefix = kDir / "prefix";
-  BOOST_TEST_REQUIRE(jam::test::run_logged(kDir / "install.txt",
-                                           {"cmake", "--install", JAM_BUILD_DIR, "--prefix",
-                                            prefix.string()})
-                             .status == 0,
-                     slurp(kDir / "install.txt"));
+  BOOST_TEST_REQUIRE(
+      jam::test::run_logged(kDir / "install.txt",
+                            {"cmake", "--install", JAM_BUILD_DIR, "--prefix", prefix.string()})
+              .status == 0,
+      slurp(kDir / "install.txt"));
   const std::string jam = (prefix / "bin" / "jam").string();
   BOOST_TEST_REQUIRE(fs::exists(prefix / "share/jam/reference/lammps/compress_inertial.in"));
   BOOST_TEST_REQUIRE(fs::exists(prefix / "share/jam/reports/jam_report.py"));
@@ -89,9 +89,9 @@ BOOST_AUTO_TEST_CASE(installed_jam_runs_without_the_source_tree) {
   BOOST_TEST((check == 0 || check == 1 || check == 3), slurp(log));  // verdicts, not an error
   BOOST_TEST(slurp(kDir / "runs" / "checks.json").find("stored LAMMPS result") !=
              std::string::npos);  // read from the installed reference data
-  BOOST_TEST(run_hidden({jam, "report", dir, "--out", (kDir / "report").string(), "--quiet"},
-                        log) == 0,
-             slurp(log));
+  BOOST_TEST(
+      run_hidden({jam, "report", dir, "--out", (kDir / "report").string(), "--quiet"}, log) == 0,
+      slurp(log));
   BOOST_TEST(fs::exists(kDir / "report" / "index.html"));
   fs::remove_all(kDir);
 }

@@ -49,19 +49,18 @@ void check_against_stored(int dim) {
   BOOST_TEST_REQUIRE(fs::exists(baseline / "stats.h5"), baseline);
   const fs::path dir = kDir / (name + "-regression");
 
-  const Outcome run = run_jam("campaign run " + campaign_in_temp(name + "-regression").string() +
-                              " --quiet");
+  const Outcome run =
+      run_jam("campaign run " + campaign_in_temp(name + "-regression").string() + " --quiet");
   BOOST_TEST_REQUIRE(run.status == 0, run.output);
   const Outcome stats = run_jam("stats " + dir.string() + " --no-fit");
   BOOST_TEST_REQUIRE(stats.status == 0, stats.output);
-  const Outcome check =
-      run_jam("check regression " + dir.string() + " --against " + baseline.string() +
-              " --alpha 0.01");
+  const Outcome check = run_jam("check regression " + dir.string() + " --against " +
+                                baseline.string() + " --alpha 0.01");
   // 0, or 3 when the few new samples cannot exclude effects beyond the margin: never 1.
   BOOST_TEST((check.status == 0 || check.status == 3), check.output);
 
-  const auto verdicts = nlohmann::json::parse(
-      jam::test::slurp(dir / "checks-regression.json"))["verdicts"];
+  const auto verdicts =
+      nlohmann::json::parse(jam::test::slurp(dir / "checks-regression.json"))["verdicts"];
   int reruns = 0, new_samples = 0;
   for (const auto& v : verdicts) {
     const std::string what = v["case"].get<std::string>();
@@ -88,8 +87,12 @@ struct Fixture {
 
 BOOST_FIXTURE_TEST_SUITE(reduced, Fixture)
 
-BOOST_AUTO_TEST_CASE(reduced_2d_rerun_matches_stored_result) { check_against_stored(2); }
+BOOST_AUTO_TEST_CASE(reduced_2d_rerun_matches_stored_result) {
+  check_against_stored(2);
+}
 
-BOOST_AUTO_TEST_CASE(reduced_3d_rerun_matches_stored_result) { check_against_stored(3); }
+BOOST_AUTO_TEST_CASE(reduced_3d_rerun_matches_stored_result) {
+  check_against_stored(3);
+}
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -219,7 +219,8 @@ BOOST_AUTO_TEST_CASE(too_few_points_per_rate_is_flagged) {
   for (auto& row : sparse.pressure) row.clear();
   for (std::size_t k = 0; k < slow.phi.size(); k += 25) {
     sparse.phi.push_back(slow.phi[k]);
-    for (std::size_t s = 0; s < slow.pressure.size(); ++s) sparse.pressure[s].push_back(slow.pressure[s][k]);
+    for (std::size_t s = 0; s < slow.pressure.size(); ++s)
+      sparse.pressure[s].push_back(slow.pressure[s][k]);
   }
   slow = sparse;
   const ScalingFitResult r = fit_scaling(data, cubic_options());

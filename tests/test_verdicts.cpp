@@ -73,7 +73,8 @@ BOOST_AUTO_TEST_CASE(samples_needed_decides) {
   BOOST_REQUIRE(needed < 200);
   int decided = 0;
   for (int r = 0; r < 20; ++r) {
-    decided += judged(runs(needed, 0.0, rng), runs(needed, 0.0, rng), 0.15, r).status != "inconclusive";
+    decided +=
+        judged(runs(needed, 0.0, rng), runs(needed, 0.0, rng), 0.15, r).status != "inconclusive";
   }
   BOOST_TEST_MESSAGE("decided with " << needed << " samples per set: " << decided << " of 20");
   BOOST_TEST(decided >= 10);
@@ -114,8 +115,8 @@ BOOST_AUTO_TEST_CASE(false_pass_rate_at_most_alpha) {
     fails += v.status == "fail";
   }
   const double rate = static_cast<double>(passes) / repeats;
-  BOOST_TEST_MESSAGE("false-pass rate (Delta = 1.05 M planted, 1% scatter): "
-                     << rate << "; fail " << fails / 300.0);
+  BOOST_TEST_MESSAGE("false-pass rate (Delta = 1.05 M planted, 1% scatter): " << rate << "; fail "
+                                                                              << fails / 300.0);
   BOOST_TEST(rate <= kAlpha + binomial_slack(kAlpha, repeats));
   BOOST_TEST(fails > repeats / 2);  // the test has power here: it is not passing by luck
 }

@@ -23,7 +23,8 @@
 
 namespace jam {
 
-/// dt lambda_max above which a run is refused (the linear limit is 2; see docs/stability-and-faults.md).
+/// dt lambda_max above which a run is refused (the linear limit is 2; see
+/// docs/stability-and-faults.md).
 inline constexpr double kStabilityLimit = 1.9;
 /// Steps between checks: an unstable run is stopped within this many steps of the contact
 /// network becoming too stiff.
