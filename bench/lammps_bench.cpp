@@ -9,7 +9,9 @@
 #include <stdexcept>
 
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/lammps_table.hpp"
 #include "sim/io/process.hpp"
+#include "sim/model/species.hpp"
 
 namespace jam::bench {
 namespace fs = std::filesystem;
@@ -27,6 +29,7 @@ std::vector<std::string> lammps_command(const LammpsRequest& r) {
   auto variables = lammps_species_variables(r.dim);
   variables.insert(variables.begin(), {{"data", r.data},
                                        {"table", "harmonic_contact.table"},
+                                       {"table_style", HarmonicContact::kLammpsTableStyle},
                                        {"dim", std::to_string(r.dim)},
                                        {"rate", g(r.rate)},
                                        {"dt", g(r.dt)},
@@ -41,11 +44,14 @@ LammpsResult run_lammps(const LammpsRequest& r) {
   // Runs at the same time share the directory: each copies the inputs under a name of its own
   // (its log's) and renames the copy into place, an atomic replacement, so that no run ever
   // reads an input another is in the middle of writing (they are the same files).
-  for (const char* f : {"bench_compress.in", "harmonic_contact.table"}) {
-    const fs::path copy = r.directory / (std::string(f) + "." + r.log + ".partial");
-    fs::copy_file(r.reference / f, copy, fs::copy_options::overwrite_existing);
-    fs::rename(copy, r.directory / f);
-  }
+  const fs::path input_copy = r.directory / ("bench_compress.in." + r.log + ".partial");
+  fs::copy_file(r.reference / "bench_compress.in", input_copy,
+                fs::copy_options::overwrite_existing);
+  fs::rename(input_copy, r.directory / "bench_compress.in");
+  const LammpsTableFile table = lammps_table_for("harmonic", kPaperDiameterRatio);
+  const fs::path table_copy = r.directory / (table.file + "." + r.log + ".partial");
+  std::ofstream(table_copy) << table.text;
+  fs::rename(table_copy, r.directory / table.file);
   ProcessOptions where;
   where.working_directory = r.directory;
   where.stdout_file = where.stderr_file = "/dev/null";

@@ -14,6 +14,7 @@
 #include "sim/dynamics/system.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/model/contact_laws.hpp"
 #include "sim/observables/observables.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/version.hpp"
@@ -72,13 +73,27 @@ LammpsResult parse_log(const fs::path& log, const fs::path& end_data) {
   return r;
 }
 
-template <int D>
+/// The stored result and work directory of a law: "inertial-2d" for the paper's harmonic law
+/// (the name it has always had), "inertial-hertzian-2d" for another.
+template <class Contact>
+std::string case_directory(const char* prefix, int dim) {
+  const std::string law = std::string(Contact::kName) == HarmonicContact::kName
+                              ? std::string()
+                              : std::string(Contact::kName) + "-";
+  return fmt::format("{}-{}{}d", prefix, law, dim);
+}
+
+template <int D, class Contact>
 std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   const fs::path ref(o.reference_directory);
-  const fs::path stored = ref / fmt::format("inertial-{}d", D);
-  const fs::path dir = fs::path(o.work_directory) / fmt::format("lammps-{}d", D);
+  const fs::path stored = ref / case_directory<Contact>("inertial", D);
+  const fs::path dir = fs::path(o.work_directory) / case_directory<Contact>("lammps", D);
   fs::create_directories(dir);
-  const std::string label = fmt::format("{}D inertial Q={:g} dt={:g} x{}", D, kQ, kDt, kSteps);
+  const std::string label = fmt::format("{}D {}inertial Q={:g} dt={:g} x{}", D,
+                                        std::string(Contact::kName) == HarmonicContact::kName
+                                            ? std::string()
+                                            : std::string(Contact::kName) + " ",
+                                        kQ, kDt, kSteps);
   const bool live = o.use_lmp && lmp_available();
   std::vector<Verdict> out;
   if (!live && !fs::exists(stored / "lammps.log")) {
@@ -95,7 +110,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   }
   if (live) {
     run_lammps(dir, ref, D, kRate, kDt, kSteps, kSteps / 8, "start.data", "lammps.log",
-               "lammps_end.data");
+               "lammps_end.data", Contact::kName);
   }
   const fs::path from = live ? dir : stored;
   const LammpsResult lmp = parse_log(from / "lammps.log", from / "lammps_end.data");
@@ -107,8 +122,8 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
     std::ofstream(stored / "provenance.toml")
         << fmt::format("# Stored LAMMPS result for `jam check lammps` ({}D)\n", D) << "lammps = \""
         << lammps_version(dir / "lammps.log") << "\"\n"
-        << "input = \"reference/lammps/compress_inertial.in with "
-           "reference/lammps/harmonic_contact.table\"\n"
+        << "input = \"reference/lammps/compress_inertial.in with the " << Contact::kName
+        << " table of sim/io/lammps_table.hpp\"\n"
         << fmt::format("rate = {:g}\ndt = {:g}\nq = {:g}\nsteps = {}\n", kRate, kDt, kQ, kSteps)
         << "regenerate = \"jam check lammps DIR --regenerate-reference (needs lmp)\"\n"
         << "jam_version = \"" << kVersion << "\"\n"
@@ -128,6 +143,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   b.dynamics = "inertial";
   b.q = kQ;
   b.dt = kDt;
+  b.contact = Contact::kName;
   b.compression_rate = kRate;
   b.phi_stop = phi0 * std::exp(D * kRate * kSteps * kDt);
   b.quiet = true;
@@ -151,7 +167,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   }
   // LAMMPS's thermo at the last step: forces (and energy) at the box before the deformation,
   // volume after it.
-  System<D> sys(mine.particles, species, CompressingBox<D>{}, 0.3);
+  System<D, Contact> sys(mine.particles, species, CompressingBox<D>{}, 0.3);
   sys.box.particle_volume = total_particle_volume(mine.particles, species);
   sys.box.initial_length = CompressingBox<D>::length_for_packing(sys.box.particle_volume, phi0) *
                            std::exp(-kRate * (kSteps - 1) * kDt);
@@ -197,9 +213,14 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
 }  // namespace
 
 std::vector<Verdict> lammps_check(const LammpsCheckOptions& o) {
-  std::vector<Verdict> out = compare_dimension<2>(o);
-  const auto three = compare_dimension<3>(o);
-  out.insert(out.end(), three.begin(), three.end());
+  std::vector<Verdict> out;
+  // Every contact law, in 2D and 3D.
+  auto compare_law = [&]<class Contact>() {
+    for (const auto& v : {compare_dimension<2, Contact>(o), compare_dimension<3, Contact>(o)})
+      out.insert(out.end(), v.begin(), v.end());
+  };
+  std::apply([&](auto... law) { (compare_law.template operator()<decltype(law)>(), ...); },
+             ContactLaws{});
   const auto overdamped = lammps_overdamped_check(o);
   out.insert(out.end(), overdamped.begin(), overdamped.end());
   return out;

@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/lammps_table.hpp"
 #include "sim/io/process.hpp"
+#include "sim/model/species.hpp"
 #include "sim/run/compression_run.hpp"
 
 namespace jam::checks {
@@ -28,14 +30,16 @@ std::string lammps_version(const fs::path& log) {
 
 void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double rate, double dt,
                 long steps, long every, const std::string& data, const std::string& log,
-                const std::string& end) {
-  for (const char* f : {"compress_inertial.in", "harmonic_contact.table"}) {
-    fs::copy_file(reference / f, dir / f, fs::copy_options::overwrite_existing);
-  }
+                const std::string& end, const std::string& contact) {
+  fs::copy_file(reference / "compress_inertial.in", dir / "compress_inertial.in",
+                fs::copy_options::overwrite_existing);
+  // The law's own table (sim/io/lammps_table.hpp): LAMMPS runs the law jam runs.
+  const LammpsTableFile table = write_lammps_table(dir, contact, kPaperDiameterRatio);
   auto g = [](double v) { return fmt::format("{:.17g}", v); };
   auto variables = lammps_species_variables(dim);
   variables.insert(variables.begin(), {{"data", data},
-                                       {"table", "harmonic_contact.table"},
+                                       {"table", table.file},
+                                       {"table_style", table.style},
                                        {"out", end},
                                        {"dim", std::to_string(dim)},
                                        {"rate", g(rate)},

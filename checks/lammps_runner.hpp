@@ -15,7 +15,8 @@ std::string lammps_version(const std::filesystem::path& log);
 /// rather than this machine's paths), writing dir/<log> and dir/<end>; throws if lmp fails.
 void run_lammps(const std::filesystem::path& dir, const std::filesystem::path& reference, int dim,
                 double rate, double dt, long steps, long every, const std::string& data,
-                const std::string& log, const std::string& end);
+                const std::string& log, const std::string& end,
+                const std::string& contact = "harmonic");
 
 /// A start for a comparison: N = 256 random particles at phi, relaxed at zero rate (with the
 /// given dynamics) to the energy target, written as a LAMMPS data file with the masses of Q.

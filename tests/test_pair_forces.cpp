@@ -1,5 +1,6 @@
 // The blocked pair loops (two pairs per SSE2 instruction, four per AVX2 instruction) give the
-// reference one-pair-at-a-time loop's forces bit for bit, and set exactly the entries they own
+// reference one-pair-at-a-time loop's forces bit for bit, for every contact law, and set exactly
+// the entries they own
 // ([first, n)): on jammed and dilute packings in 2D and 3D, with every tail length, rows split
 // across blocks, and rows longer than a block (a huge skin).
 #define BOOST_TEST_MODULE pair_forces
@@ -10,6 +11,7 @@
 
 #include "helpers.hpp"
 #include "sim/dynamics/pair_forces.hpp"
+#include "sim/model/contact_laws.hpp"
 
 using namespace jam;
 
@@ -20,9 +22,9 @@ constexpr double kUnwritten = 12345.0;
 
 enum class Form { scalar, sse2, avx2, dispatched };
 
-template <int D>
-std::array<std::vector<double>, D> forces(const System<D>& sys, Form form, std::size_t first,
-                                          std::size_t last) {
+template <int D, class Contact>
+std::array<std::vector<double>, D> forces(const System<D, Contact>& sys, Form form,
+                                          std::size_t first, std::size_t last) {
   std::array<std::vector<double>, D> f;
   std::array<double*, D> ptr;
   for (int d = 0; d < D; ++d) {
@@ -56,9 +58,9 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-template <int D>
+template <int D, class Contact>
 void check(std::size_t n, double phi, std::uint64_t seed, double skin) {
-  System<D> sys = test::random_system<D>(n, phi, seed, 0.0, skin);
+  auto sys = test::random_system<D, Contact>(n, phi, seed, 0.0, skin);
   sys.update_neighbors(sys.box.length(0.0));
   BOOST_TEST_MESSAGE(D << "D phi " << phi << " skin " << skin << ": " << sys.neighbors.pair_count()
                        << " pairs");
@@ -95,19 +97,19 @@ void check(std::size_t n, double phi, std::uint64_t seed, double skin) {
 
 }  // namespace
 
-BOOST_AUTO_TEST_CASE(paired_loop_gives_the_reference_bits_2d) {
-  check<2>(2002, 0.86, 1, 0.3);  // jammed
-  check<2>(1500, 0.6, 2, 0.3);   // dilute: few contacts among listed pairs
-  check<2>(2000, 0.8, 3, 15.0);  // rows of up to ~570 pairs, longer than a block
+BOOST_AUTO_TEST_CASE_TEMPLATE(paired_loop_gives_the_reference_bits_2d, Contact, ContactLaws) {
+  check<2, Contact>(2002, 0.86, 1, 0.3);  // jammed
+  check<2, Contact>(1500, 0.6, 2, 0.3);   // dilute: few contacts among listed pairs
+  check<2, Contact>(2000, 0.8, 3, 15.0);  // rows of up to ~570 pairs, longer than a block
 }
 
-BOOST_AUTO_TEST_CASE(paired_loop_gives_the_reference_bits_3d) {
-  check<3>(1500, 0.66, 4, 0.3);
-  check<3>(1200, 0.5, 5, 0.3);
-  check<3>(4000, 0.6, 6, 4.0);
+BOOST_AUTO_TEST_CASE_TEMPLATE(paired_loop_gives_the_reference_bits_3d, Contact, ContactLaws) {
+  check<3, Contact>(1500, 0.66, 4, 0.3);
+  check<3, Contact>(1200, 0.5, 5, 0.3);
+  check<3, Contact>(4000, 0.6, 6, 4.0);
 }
 
-BOOST_AUTO_TEST_CASE(every_tail_length_is_covered) {
+BOOST_AUTO_TEST_CASE_TEMPLATE(every_tail_length_is_covered, Contact, ContactLaws) {
   // Small systems (one block): search seeds for pair counts of every remainder modulo 4, so
   // that the last pairs go through the one-pair tail of the SSE2 (odd count) and AVX2 (1 to 3
   // pairs) first passes.
@@ -119,7 +121,7 @@ BOOST_AUTO_TEST_CASE(every_tail_length_is_covered) {
     if (seen[remainder]) continue;
     seen[remainder] = true;
     BOOST_TEST_MESSAGE("pair count " << sys.neighbors.pair_count());
-    check<2>(64, 0.85, seed, 0.3);
+    check<2, Contact>(64, 0.85, seed, 0.3);
   }
   for (std::size_t r = 0; r < 4; ++r)
     BOOST_TEST(seen[r], "no seed gave a pair count = " << r << " mod 4");

@@ -16,6 +16,7 @@
 #include "process.hpp"
 #include "sim/dynamics/stability.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/model/hertzian_contact.hpp"
 
 namespace fs = std::filesystem;
 
@@ -87,6 +88,21 @@ BOOST_AUTO_TEST_CASE(two_particle_rate) {
     auto sys = jam::test::make_system<2>({{{0.0, 0.0}}, {{0.0, 0.0}}}, {0, 1}, 10.0);
     sys.compute_elastic_forces(10.0);
     BOOST_TEST(std::isfinite(jam::stiffest_mode(sys, 10.0, sys.species.drag)));
+  }
+}
+
+// The same pair with the Hertzian law: k = U'' = (3/2) delta^(1/2) / d^2 depends on the
+// overlap delta = 1 - r/d, so lambda = 2 k / gamma_s = D (3/2) delta^(1/2) (d = 1).
+BOOST_AUTO_TEST_CASE(two_particle_rate_hertzian) {
+  for (double r : {0.9, 0.99, 0.5}) {
+    auto sys =
+        jam::test::make_system<2, jam::HertzianContact>({{{0.0, 0.0}}, {{r, 0.0}}}, {0, 0}, 10.0);
+    sys.compute_elastic_forces(10.0);
+    const double lambda = 2.0 * 1.5 * std::sqrt(1.0 - r);
+    BOOST_TEST(jam::stiffest_mode(sys, 10.0, sys.species.drag) == lambda,
+               boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(jam::stiffest_mode_bound(sys, 10.0, sys.species.drag) == lambda,
+               boost::test_tools::tolerance(1e-12));
   }
 }
 

@@ -1,19 +1,20 @@
 // The virial pressure (trace of the paper's stress tensor over D) equals -dE/dV, and the
 // elastic forces equal -grad E, both from central finite differences of the total energy,
-// on random overlapping configurations in 2D and 3D.
+// on random overlapping configurations in 2D and 3D, for every contact law.
 #define BOOST_TEST_MODULE virial_pressure
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 
 #include "helpers.hpp"
+#include "sim/model/contact_laws.hpp"
 #include "sim/observables/observables.hpp"
 
 using namespace jam;
 
 namespace {
 
-template <int D>
-double total_energy(System<D>& sys, double L) {
+template <int D, class Contact>
+double total_energy(System<D, Contact>& sys, double L) {
   // Energy at box length L with the same scaled positions: an affine change of the box.
   CompressingBox<D> saved = sys.box;
   sys.box.initial_length = L;
@@ -22,9 +23,9 @@ double total_energy(System<D>& sys, double L) {
   return e;
 }
 
-template <int D>
+template <int D, class Contact>
 void check_pressure(double phi, std::uint64_t seed) {
-  System<D> sys = test::random_system<D>(200, phi, seed);
+  auto sys = test::random_system<D, Contact>(200, phi, seed);
   const double L = sys.box.length(0.0);
   const auto obs = measure(sys, 0.0, false);
   BOOST_TEST_REQUIRE(obs.contacts_per_particle > 2.0);  // genuinely overlapping
@@ -40,9 +41,9 @@ void check_pressure(double phi, std::uint64_t seed) {
       BOOST_TEST(obs.stress[a][b] == obs.stress[b][a], boost::test_tools::tolerance(1e-12));
 }
 
-template <int D>
+template <int D, class Contact>
 void check_forces(double phi, std::uint64_t seed) {
-  System<D> sys = test::random_system<D>(100, phi, seed);
+  auto sys = test::random_system<D, Contact>(100, phi, seed);
   const double L = sys.box.length(0.0);
   sys.compute_elastic_forces(L);
   const auto force = sys.force;
@@ -67,17 +68,17 @@ void check_forces(double phi, std::uint64_t seed) {
 
 }  // namespace
 
-BOOST_AUTO_TEST_CASE(pressure_is_minus_dE_dV_2d) {
-  check_pressure<2>(0.90, 11);
-  check_pressure<2>(0.86, 12);
+BOOST_AUTO_TEST_CASE_TEMPLATE(pressure_is_minus_dE_dV_2d, Contact, ContactLaws) {
+  check_pressure<2, Contact>(0.90, 11);
+  check_pressure<2, Contact>(0.86, 12);
 }
 
-BOOST_AUTO_TEST_CASE(pressure_is_minus_dE_dV_3d) {
-  check_pressure<3>(0.70, 21);
-  check_pressure<3>(0.66, 22);
+BOOST_AUTO_TEST_CASE_TEMPLATE(pressure_is_minus_dE_dV_3d, Contact, ContactLaws) {
+  check_pressure<3, Contact>(0.70, 21);
+  check_pressure<3, Contact>(0.66, 22);
 }
 
-BOOST_AUTO_TEST_CASE(force_is_minus_grad_E) {
-  check_forces<2>(0.88, 31);
-  check_forces<3>(0.68, 32);
+BOOST_AUTO_TEST_CASE_TEMPLATE(force_is_minus_grad_E, Contact, ContactLaws) {
+  check_forces<2, Contact>(0.88, 31);
+  check_forces<3, Contact>(0.68, 32);
 }

@@ -25,8 +25,8 @@ struct FireOptions {
   double dt_start = 0.05, dt_max = 0.5;
 };
 
-template <int D>
-FireResult minimize_fire(System<D>& sys, double box_length, const FireOptions& o = {}) {
+template <int D, class Contact>
+FireResult minimize_fire(System<D, Contact>& sys, double box_length, const FireOptions& o = {}) {
   const std::size_t n = sys.size();
   std::array<std::vector<double>, D> v;
   for (auto& c : v) c.assign(n, 0.0);

@@ -58,7 +58,9 @@ class InertialVerlet {
     }
   }
 
-  void step(System<D>& sys, double t, double dt) {
+  template <class Contact>
+
+  void step(System<D, Contact>& sys, double t, double dt) {
     const std::size_t n = sys.size();
     const auto* type = sys.particles.type.data();
     const auto mass = sys.species.masses(quality_factor_);
@@ -87,7 +89,8 @@ class InertialVerlet {
   }
 
  private:
-  void total_forces(System<D>& sys, double box_length) {
+  template <class Contact>
+  void total_forces(System<D, Contact>& sys, double box_length) {
     sys.compute_elastic_forces(box_length);
     const std::size_t n = sys.size();
     const auto* type = sys.particles.type.data();

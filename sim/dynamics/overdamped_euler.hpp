@@ -25,7 +25,8 @@ class OverdampedEuler {
   void load_state(const StepperState& /*state*/) {}
 
   /// Advances the system from time t to t + dt.
-  void step(System<D>& sys, double t, double dt) {
+  template <class Contact>
+  void step(System<D, Contact>& sys, double t, double dt) {
     const double box_length = sys.box.length(t);
     sys.compute_elastic_forces(box_length);
     const std::array<double, 2> c = {dt * sys.species.mobility[0] / box_length,

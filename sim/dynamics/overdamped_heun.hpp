@@ -29,7 +29,9 @@ class OverdampedHeun {
   StepperState save_state() const { return {}; }
   void load_state(const StepperState& /*state*/) {}
 
-  void step(System<D>& sys, double t, double dt) {
+  template <class Contact>
+
+  void step(System<D, Contact>& sys, double t, double dt) {
     const std::size_t n = sys.size();
     const auto* type = sys.particles.type.data();
     const double length0 = sys.box.length(t);

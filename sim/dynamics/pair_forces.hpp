@@ -1,6 +1,7 @@
 #pragma once
-// The pair loop of the elastic forces over rows of the half neighbor list, in forms that give
-// the same bits:
+// The pair loop of the elastic forces over rows of the half neighbor list, written once for
+// every contact law (a template parameter: sim/model/contact_law.hpp), in forms that give the
+// same bits:
 //  - write_pair_forces_scalar: one pair at a time (the reference form);
 //  - write_pair_forces_sse2 / _avx2: the pair forces of a block of pairs first, two
 //    (SSE2) or four (AVX2) pairs per instruction (sqrt and division, the costly part, run side
@@ -15,7 +16,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "sim/model/harmonic_contact.hpp"
+#include "sim/model/contact_law.hpp"
 #include "sim/model/particles.hpp"
 #include "sim/simd.hpp"
 
@@ -26,40 +27,40 @@ namespace jam {
 template <int D>
 using ForceArrays = std::type_identity_t<std::array<double*, D>>;
 
-/// What the pair loop reads: the list (CSR rows and the row of every pair), species, positions.
-template <int D>
+/// What the pair loop reads: the list (CSR rows and the row of every pair), species, positions,
+/// the contact law.
+template <int D, class Contact>
 struct PairLoopInput {
   const std::uint32_t* offsets;      // row i is pairs [offsets[i], offsets[i+1])
   const std::uint32_t* neighbors;    // j of every pair
   const std::uint32_t* row_of_pair;  // i of every pair
   const std::uint8_t* type;
   std::array<const double*, D> s;  // scaled positions
-  std::array<double, 3> inv_d;     // 1/d_ij by type_i + type_j
+  Contact contact;                 // f/r of a pair, alone or packed
   double box_length;
 };
 
-/// The force f_ij = (f/r) (r_i - r_j) on i from j (HarmonicContact's f/r at the minimum-image
+/// The force f_ij = (f/r) (r_i - r_j) on i from j (the law's f/r at the minimum-image
 /// separation): the scalar operations every form reproduces.
-template <int D>
-std::array<double, D> pair_force(const PairLoopInput<D>& in, std::uint32_t i, std::uint32_t j) {
+template <int D, class Contact>
+std::array<double, D> pair_force(const PairLoopInput<D, Contact>& in, std::uint32_t i,
+                                 std::uint32_t j) {
   std::array<double, D> dr;
   double r2 = 0.0;
   for (int d = 0; d < D; ++d) {
     dr[d] = in.box_length * minimum_image(in.s[d][i] - in.s[d][j]);
     r2 += dr[d] * dr[d];
   }
-  HarmonicContact contact;
-  contact.inv_d = in.inv_d;
-  const double c = contact.force_over_r(r2, in.type[i] + in.type[j]);
+  const double c = in.contact.force_over_r(r2, in.type[i] + in.type[j]);
   for (int d = 0; d < D; ++d) dr[d] *= c;
   return dr;
 }
 
 /// Adds the forces of the pairs in rows [first, last) into f (both partners), one pair at a
 /// time.
-template <int D>
-void accumulate_pair_forces_scalar(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
-                                   const ForceArrays<D>& f) {
+template <int D, class Contact>
+void accumulate_pair_forces_scalar(const PairLoopInput<D, Contact>& in, std::size_t first,
+                                   std::size_t last, const ForceArrays<D>& f) {
   for (std::size_t i = first; i < last; ++i) {
     std::array<double, D> fi{};
     for (std::uint32_t k = in.offsets[i]; k < in.offsets[i + 1]; ++k) {
@@ -88,9 +89,9 @@ struct PairBlock {
 };
 
 /// First pass for the one pair k of a block starting at k0 (the scalar operations).
-template <int D>
-void separation_and_force_over_r(const PairLoopInput<D>& in, std::uint32_t k, std::uint32_t k0,
-                                 PairBlock<D>& b) {
+template <int D, class Contact>
+void separation_and_force_over_r(const PairLoopInput<D, Contact>& in, std::uint32_t k,
+                                 std::uint32_t k0, PairBlock<D>& b) {
   const std::array<double, D> f_ij = pair_force(in, in.row_of_pair[k], in.neighbors[k]);
   for (int d = 0; d < D; ++d) b.f_ij[d][k - k0] = f_ij[d];
 }
@@ -98,9 +99,9 @@ void separation_and_force_over_r(const PairLoopInput<D>& in, std::uint32_t k, st
 /// The reference for every form: sets f[d][first, n) to the forces of the pairs in rows
 /// [first, last) of a system of n particles (zero, then the scalar form). The pairs (i, j) of
 /// those rows have first <= i < j < n, so f below first is neither read nor written.
-template <int D>
-void write_pair_forces_scalar(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
-                              std::size_t n, const ForceArrays<D>& f) {
+template <int D, class Contact>
+void write_pair_forces_scalar(const PairLoopInput<D, Contact>& in, std::size_t first,
+                              std::size_t last, std::size_t n, const ForceArrays<D>& f) {
   for (int d = 0; d < D; ++d) std::fill(f[d] + first, f[d] + n, 0.0);
   accumulate_pair_forces_scalar(in, first, last, f);
 }
@@ -108,10 +109,11 @@ void write_pair_forces_scalar(const PairLoopInput<D>& in, std::size_t first, std
 /// The pair loop in blocks, with write_pair_forces_scalar's result bit for bit: FirstPass fills
 /// a block's pair forces (vectorized: the sqrt and division are the costly part), then they are
 /// added pair by pair in the order of the scalar form.
-template <int D,
-          void (*FirstPass)(const PairLoopInput<D>&, std::uint32_t, std::uint32_t, PairBlock<D>&)>
-void write_pair_forces_in_blocks(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
-                                 std::size_t n, const ForceArrays<D>& f) {
+template <int D, class Contact,
+          void (*FirstPass)(const PairLoopInput<D, Contact>&, std::uint32_t, std::uint32_t,
+                            PairBlock<D>&)>
+void write_pair_forces_in_blocks(const PairLoopInput<D, Contact>& in, std::size_t first,
+                                 std::size_t last, std::size_t n, const ForceArrays<D>& f) {
   // Zeroing each entry just before the block that first touches it instead (so that it comes
   // from the cache) measured 0.93x in 2D at N = 262144: one pass it stays.
   for (int d = 0; d < D; ++d) std::fill(f[d] + first, f[d] + n, 0.0);
@@ -145,12 +147,10 @@ void write_pair_forces_in_blocks(const PairLoopInput<D>& in, std::size_t first, 
 
 #if defined(__SSE2__)
 /// First pass, two pairs per SSE2 instruction.
-template <int D>
-void separations_and_force_over_r_sse2(const PairLoopInput<D>& in, std::uint32_t k0,
+template <int D, class Contact>
+void separations_and_force_over_r_sse2(const PairLoopInput<D, Contact>& in, std::uint32_t k0,
                                        std::uint32_t k1, PairBlock<D>& b) {
   const __m128d length = _mm_set1_pd(in.box_length);
-  const __m128d tiny = _mm_set1_pd(1e-200);  // force_over_r's floor of r^2
-  const __m128d one = _mm_set1_pd(1.0);
   std::uint32_t k = k0;
   for (; k + 1 < k1; k += 2) {
     const std::uint32_t* i = in.row_of_pair + k;
@@ -163,35 +163,29 @@ void separations_and_force_over_r_sse2(const PairLoopInput<D>& in, std::uint32_t
       v[d] = _mm_mul_pd(length, minimum_image(ds));
       r2 = _mm_add_pd(r2, _mm_mul_pd(v[d], v[d]));
     }
-    const __m128d inv_d = _mm_set_pd(in.inv_d[in.type[i[1]] + in.type[j[1]]],
-                                     in.inv_d[in.type[i[0]] + in.type[j[0]]]);
-    const __m128d inv_r = _mm_div_pd(one, _mm_sqrt_pd(_mm_add_pd(r2, tiny)));
-    const __m128d bracket = _mm_mul_pd(inv_d, _mm_sub_pd(inv_r, inv_d));
-    const __m128d c = _mm_max_pd(bracket, _mm_setzero_pd());
+    const __m128d c = in.contact.force_over_r(
+        r2, std::array<int, 2>{in.type[i[0]] + in.type[j[0]], in.type[i[1]] + in.type[j[1]]});
     for (int d = 0; d < D; ++d) _mm_store_pd(&b.f_ij[d][k - k0], _mm_mul_pd(c, v[d]));
   }
   if (k < k1) separation_and_force_over_r(in, k, k0, b);  // an odd last pair
 }
 
 /// write_pair_forces_scalar's result, bit for bit, with f/r of two pairs per SSE2 instruction.
-template <int D>
-void write_pair_forces_sse2(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
-                            std::size_t n, const ForceArrays<D>& f) {
-  write_pair_forces_in_blocks<D, separations_and_force_over_r_sse2<D>>(in, first, last, n, f);
+template <int D, class Contact>
+void write_pair_forces_sse2(const PairLoopInput<D, Contact>& in, std::size_t first,
+                            std::size_t last, std::size_t n, const ForceArrays<D>& f) {
+  write_pair_forces_in_blocks<D, Contact, separations_and_force_over_r_sse2<D, Contact>>(
+      in, first, last, n, f);
 }
 #endif
 
 #if defined(JAM_AVX2_FORMS)
 /// First pass, four pairs per AVX2 instruction (compiled for AVX2 whatever the build's target,
 /// called only where the processor has it). No FMA: the same roundings as the scalar form.
-template <int D>
-__attribute__((target("avx2"))) void separations_and_force_over_r_avx2(const PairLoopInput<D>& in,
-                                                                       std::uint32_t k0,
-                                                                       std::uint32_t k1,
-                                                                       PairBlock<D>& b) {
+template <int D, class Contact>
+__attribute__((target("avx2"))) void separations_and_force_over_r_avx2(
+    const PairLoopInput<D, Contact>& in, std::uint32_t k0, std::uint32_t k1, PairBlock<D>& b) {
   const __m256d length = _mm256_set1_pd(in.box_length);
-  const __m256d tiny = _mm256_set1_pd(1e-200);
-  const __m256d one = _mm256_set1_pd(1.0);
   std::uint32_t k = k0;
   for (; k + 3 < k1; k += 4) {
     const std::uint32_t* i = in.row_of_pair + k;
@@ -205,12 +199,9 @@ __attribute__((target("avx2"))) void separations_and_force_over_r_avx2(const Pai
       v[d] = _mm256_mul_pd(length, minimum_image(ds));
       r2 = _mm256_add_pd(r2, _mm256_mul_pd(v[d], v[d]));
     }
-    const __m256d inv_d = _mm256_set_pd(
-        in.inv_d[in.type[i[3]] + in.type[j[3]]], in.inv_d[in.type[i[2]] + in.type[j[2]]],
-        in.inv_d[in.type[i[1]] + in.type[j[1]]], in.inv_d[in.type[i[0]] + in.type[j[0]]]);
-    const __m256d inv_r = _mm256_div_pd(one, _mm256_sqrt_pd(_mm256_add_pd(r2, tiny)));
-    const __m256d bracket = _mm256_mul_pd(inv_d, _mm256_sub_pd(inv_r, inv_d));
-    const __m256d c = _mm256_max_pd(bracket, _mm256_setzero_pd());
+    const __m256d c = in.contact.force_over_r(
+        r2, std::array<int, 4>{in.type[i[0]] + in.type[j[0]], in.type[i[1]] + in.type[j[1]],
+                               in.type[i[2]] + in.type[j[2]], in.type[i[3]] + in.type[j[3]]});
     for (int d = 0; d < D; ++d) _mm256_store_pd(&b.f_ij[d][k - k0], _mm256_mul_pd(c, v[d]));
   }
   for (; k < k1; ++k) separation_and_force_over_r(in, k, k0, b);  // up to three last pairs
@@ -218,17 +209,18 @@ __attribute__((target("avx2"))) void separations_and_force_over_r_avx2(const Pai
 
 /// write_pair_forces_scalar's result, bit for bit, with f/r of four pairs per AVX2
 /// instruction. Only on a processor with AVX2 (cpu_has_avx2()).
-template <int D>
-void write_pair_forces_avx2(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
-                            std::size_t n, const ForceArrays<D>& f) {
-  write_pair_forces_in_blocks<D, separations_and_force_over_r_avx2<D>>(in, first, last, n, f);
+template <int D, class Contact>
+void write_pair_forces_avx2(const PairLoopInput<D, Contact>& in, std::size_t first,
+                            std::size_t last, std::size_t n, const ForceArrays<D>& f) {
+  write_pair_forces_in_blocks<D, Contact, separations_and_force_over_r_avx2<D, Contact>>(
+      in, first, last, n, f);
 }
 #endif
 
 /// Sets f[d][first, n) to the forces of the pairs in rows [first, last), in the fastest form
 /// this processor runs (all forms give the same bits).
-template <int D>
-void write_pair_forces(const PairLoopInput<D>& in, std::size_t first, std::size_t last,
+template <int D, class Contact>
+void write_pair_forces(const PairLoopInput<D, Contact>& in, std::size_t first, std::size_t last,
                        std::size_t n, const ForceArrays<D>& f) {
 #if defined(JAM_AVX2_FORMS)
   if (cpu_has_avx2()) {

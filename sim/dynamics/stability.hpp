@@ -9,9 +9,11 @@
 // frequency omega only if dt omega <= 2. So the stable step is set by the largest eigenvalue
 // lambda_max of W^-1/2 H W^-1/2, W = G (overdamped, a rate) or W = M (inertial, omega^2).
 //
-// The Hessian of a harmonic contact is H_ij = U''(r) n n^T + (U'(r)/r)(1 - n n^T) with
-// U'' = 1/d_ij^2 and U'/r = -(f/r) <= 0 (contacts only push), so the tangential part is
-// negative semidefinite and lambda_max(H) <= lambda_max(H_n) with H_n the radial part alone.
+// The Hessian of a contact is H_ij = U''(r) n n^T + (U'(r)/r)(1 - n n^T) with U'/r = -(f/r)
+// <= 0 (contacts only push), so the tangential part is negative semidefinite and
+// lambda_max(H) <= lambda_max(H_n) with H_n the radial part alone. U'' comes from the contact
+// law (radial_stiffness: 1/d_ij^2 for the harmonic law, (3/2) delta^(1/2)/d_ij^2 for the
+// Hertzian one), and "in contact" is the law's one test, the force loop's.
 // Both estimates below use H_n: they are upper bounds on the stiffness that stays finite even
 // for two particles at the same point. Nothing here changes a particle: these are diagnostics.
 #include <algorithm>
@@ -29,10 +31,11 @@ namespace jam {
 /// rates) or the mass m (inertial, eigenvalues are omega^2).
 using ModeInertia = std::array<double, 2>;
 
-/// Calls contact(i, j, dr, r2, d_ij) for every listed pair in contact (r < d_ij) at box
-/// length L, dr the minimum-image separation. Diagnostics only: not the force loop.
-template <int D, class Contact>
-void for_each_contact(const System<D>& sys, double box_length, Contact&& contact) {
+/// Calls visit(i, j, dr, r2, k_ij) for every listed pair in contact at box length L, dr the
+/// minimum-image separation and k_ij = U''(r) the law's radial stiffness. Diagnostics only:
+/// not the force loop.
+template <int D, class Contact, class Visit>
+void for_each_contact(const System<D, Contact>& sys, double box_length, Visit&& visit) {
   const auto& offsets = sys.neighbors.offsets();
   const auto& nbr = sys.neighbors.neighbors();
   const auto& type = sys.particles.type;
@@ -41,24 +44,25 @@ void for_each_contact(const System<D>& sys, double box_length, Contact&& contact
       const std::uint32_t j = nbr[k];
       std::array<double, D> dr;
       const double r2 = pair_separation(sys.particles, i, j, box_length, dr);
-      const double d = sys.species.contact_distance[type[i] + type[j]];
-      if (r2 < d * d) contact(i, static_cast<std::size_t>(j), dr, r2, d);
+      const int pair = type[i] + type[j];
+      if (sys.contact.in_contact(r2, pair)) {
+        visit(i, static_cast<std::size_t>(j), dr, r2, sys.contact.radial_stiffness(r2, pair));
+      }
     }
   }
 }
 
 /// Gershgorin bound on lambda_max(W^-1/2 H_n W^-1/2): max over particles of
-/// sum_j k_ij (1/w_i + 1/sqrt(w_i w_j)), k_ij = 1/d_ij^2 over the contacts of i. One pass over
-/// the neighbor list, which must be valid for box length L (the last force evaluation).
-template <int D>
-double stiffest_mode_bound(const System<D>& sys, double box_length, const ModeInertia& w) {
+/// sum_j k_ij (1/w_i + 1/sqrt(w_i w_j)), k_ij = U''(r_ij) over the contacts of i. One pass
+/// over the neighbor list, which must be valid for box length L (the last force evaluation).
+template <int D, class Contact>
+double stiffest_mode_bound(const System<D, Contact>& sys, double box_length, const ModeInertia& w) {
   const std::size_t n = sys.size();
   const auto& type = sys.particles.type;
   std::vector<double> row(n, 0.0);
   for_each_contact(
       sys, box_length,
-      [&](std::size_t i, std::size_t j, const std::array<double, D>&, double, double d) {
-        const double kij = 1.0 / (d * d);
+      [&](std::size_t i, std::size_t j, const std::array<double, D>&, double, double kij) {
         const double cross = kij / std::sqrt(w[type[i]] * w[type[j]]);
         row[i] += kij / w[type[i]] + cross;
         row[j] += kij / w[type[j]] + cross;
@@ -69,8 +73,8 @@ double stiffest_mode_bound(const System<D>& sys, double box_length, const ModeIn
 /// lambda_max(W^-1/2 H_n W^-1/2) by power iteration (Rayleigh quotient after `iterations`
 /// products; H_n is positive semidefinite, so the iteration converges to the top of the
 /// spectrum from below). Deterministic start vector. Same list requirement as above.
-template <int D>
-double stiffest_mode(const System<D>& sys, double box_length, const ModeInertia& w,
+template <int D, class Contact>
+double stiffest_mode(const System<D, Contact>& sys, double box_length, const ModeInertia& w,
                      int iterations = 60) {
   const std::size_t n = sys.size();
   const auto& type = sys.particles.type;
@@ -97,13 +101,13 @@ double stiffest_mode(const System<D>& sys, double box_length, const ModeInertia&
     for (int d = 0; d < D; ++d) std::fill(y[d].begin(), y[d].end(), 0.0);
     for_each_contact(
         sys, box_length,
-        [&](std::size_t i, std::size_t j, const std::array<double, D>& dr, double r2, double d) {
+        [&](std::size_t i, std::size_t j, const std::array<double, D>& dr, double r2, double k) {
           if (r2 == 0.0) return;  // r = 0: no direction, no radial stiffness
           const double si = 1.0 / std::sqrt(w[type[i]]);
           const double sj = 1.0 / std::sqrt(w[type[j]]);
           double proj = 0.0;
           for (int a = 0; a < D; ++a) proj += dr[a] * (si * x[a][i] - sj * x[a][j]);
-          const double c = proj / (r2 * d * d);  // k (n . u) / r
+          const double c = k * proj / r2;  // k (n . u) / r
           for (int a = 0; a < D; ++a) {
             y[a][i] += si * c * dr[a];
             y[a][j] -= sj * c * dr[a];

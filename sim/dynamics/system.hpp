@@ -1,6 +1,8 @@
 #pragma once
-// Everything the dynamics acts on: particles, species constants, the compressing box, the
-// neighbor list and the elastic forces. The one force loop of the project lives here.
+// Everything the dynamics acts on: particles, species constants, the contact law, the
+// compressing box, the neighbor list and the elastic forces. The one force loop of the project
+// lives here. The contact law is a template parameter (sim/model/contact_law.hpp); the paper's
+// harmonic law is the default.
 #include <array>
 #include <cstddef>
 #include <stdexcept>
@@ -9,6 +11,7 @@
 
 #include "sim/dynamics/pair_forces.hpp"
 #include "sim/model/compressing_box.hpp"
+#include "sim/model/harmonic_contact.hpp"
 #include "sim/model/particles.hpp"
 #include "sim/model/species.hpp"
 #include "sim/neighbor/neighbor_list.hpp"
@@ -16,10 +19,12 @@
 
 namespace jam {
 
-template <int D>
+template <int D, class Contact = HarmonicContact>
 struct System {
+  using ContactLaw = Contact;
   ParticleData<D> particles;
   Species<D> species;
+  Contact contact;  // the pair law, its constants taken from the species
   CompressingBox<D> box;
   NeighborList<D> neighbors;
   std::array<std::vector<double>, D> force;  // elastic force f_i^el, physical units
@@ -30,7 +35,7 @@ struct System {
 
  public:
   System(ParticleData<D> p, const Species<D>& sp, const CompressingBox<D>& b, double skin)
-      : particles(std::move(p)), species(sp), box(b), neighbors(skin) {
+      : particles(std::move(p)), species(sp), contact(sp), box(b), neighbors(skin) {
     for (auto& f : force) f.assign(particles.size(), 0.0);
   }
 
@@ -126,14 +131,14 @@ struct System {
   }
 
   /// The pair loop's view of the system at box length L (pair_forces.hpp).
-  PairLoopInput<D> pair_loop_input(double box_length) const {
-    PairLoopInput<D> in{neighbors.offsets().data(),
-                        neighbors.neighbors().data(),
-                        neighbors.row_of_pair().data(),
-                        particles.type.data(),
-                        {},
-                        species.inv_contact_distance,
-                        box_length};
+  PairLoopInput<D, Contact> pair_loop_input(double box_length) const {
+    PairLoopInput<D, Contact> in{neighbors.offsets().data(),
+                                 neighbors.neighbors().data(),
+                                 neighbors.row_of_pair().data(),
+                                 particles.type.data(),
+                                 {},
+                                 contact,
+                                 box_length};
     for (int d = 0; d < D; ++d) in.s[d] = particles.s[d].data();
     return in;
   }

@@ -35,8 +35,8 @@ struct JammingPoint {
   bool bracketed = false;  // false: not jammed by the last saved point, or jammed at the first
 };
 
-template <int D>
-bool jammed_after_minimization(System<D>& sys, const std::vector<double>& s, double phi) {
+template <int D, class Contact>
+bool jammed_after_minimization(System<D, Contact>& sys, const std::vector<double>& s, double phi) {
   const std::size_t n = sys.size();
   for (int d = 0; d < D; ++d)
     std::copy(s.begin() + static_cast<long>(d * n), s.begin() + static_cast<long>((d + 1) * n),
@@ -54,8 +54,9 @@ bool jammed_after_minimization(System<D>& sys, const std::vector<double>& s, dou
 
 /// Bisection over the saved configurations (in increasing packing), then refinement.
 /// sys is used as scratch: its particles are overwritten.
-template <int D>
-JammingPoint find_jamming_point(System<D>& sys, const std::vector<SavedConfiguration>& saved) {
+template <int D, class Contact>
+JammingPoint find_jamming_point(System<D, Contact>& sys,
+                                const std::vector<SavedConfiguration>& saved) {
   JammingPoint r;
   if (saved.size() < 2) return r;
   auto jammed = [&](const std::vector<double>& s, double phi) {

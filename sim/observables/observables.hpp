@@ -4,6 +4,7 @@
 //   pressure       p = tr(sigma) / D
 //   contacts per particle Z = 2 N_contacts / N, over all particles (rattlers not removed)
 //   elastic energy per particle
+// with the system's contact law (sim/model/contact_law.hpp) and its one contact test.
 //   optionally Z with rattlers removed (sim/observables/rattlers.hpp).
 #include <array>
 #include <cmath>
@@ -30,11 +31,11 @@ struct Observables {
 };
 
 /// Measures the configuration at time t. The neighbor list is brought up to date first.
-template <int D>
-Observables<D> measure(System<D>& sys, double t, bool remove_rattlers) {
+template <int D, class Contact>
+Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) {
   const double box_length = sys.box.length(t);
   sys.update_neighbors(box_length);
-  const HarmonicContact contact(sys.species);
+  const Contact& contact = sys.contact;
   const auto& p = sys.particles;
   const auto& offsets = sys.neighbors.offsets();
   const auto& nbr = sys.neighbors.neighbors();

@@ -19,7 +19,10 @@
 #include "sim/io/lammps_data.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
+#include "sim/model/contact_laws.hpp"
 #include "sim/observables/observables.hpp"
+#include "sim/run/checkpointer.hpp"
+#include "sim/run/output_recorder.hpp"
 #include "sim/run/progress.hpp"
 #include "sim/run/run_state.hpp"
 #include "sim/run/stability_guard.hpp"
@@ -82,240 +85,257 @@ std::vector<double> output_times(const CompressingBox<D>& box, double phi_init, 
   return t;
 }
 
-/// A checkpoint or start cache that cannot be read back, fails its checksum or holds another
-/// number of particles is removed with a warning naming it, and the run starts afresh (the
-/// results are those of an uninterrupted run either way); it is never resumed from.
-/// A relaxed start is a cache keyed by its file name: one of other parameters (a campaign rerun
-/// at another dt) is stale and replaced the same way (`replace_foreign`); a run's own checkpoint
-/// of other parameters is refused instead, since the same --out was probably meant for them.
-template <int D>
-std::optional<Checkpoint<D>> read_checkpoint_or_warn(const std::string& path,
-                                                     const std::string& fingerprint, std::size_t n,
-                                                     bool replace_foreign = false) {
-  std::string problem;
-  try {
-    auto saved = read_checkpoint<D>(path, fingerprint);
-    if (!saved || saved->particles.size() == n) return saved;
-    problem = fmt::format("{} particles, not {}", saved->particles.size(), n);
-  } catch (const CorruptCheckpoint& e) {
-    problem = e.what();
-  } catch (const ForeignCheckpoint& e) {
-    if (!replace_foreign) throw;
-    problem = "written with other parameters";
-  }
-  fmt::print(stderr, "jam: warning: {} cannot be trusted ({}); removed, starting afresh\n", path,
-             problem);
-  std::remove(path.c_str());
-  return std::nullopt;
-}
-
-template <int D, class Stepper>
-RunSummary integrate(const SimConfig& c, const RunControl& control, System<D>& sys,
-                     Stepper& stepper, RunMetadata meta) {
+/// One compression run in named phases: resume (from the run's checkpoint), relax (at zero
+/// rate, or from the sample's cached relaxed start), compress (to phi_stop, recording output
+/// points), finish (jamming point, run file). The box is at rest during relaxation and starts
+/// compressing, once, when the compression phase begins; nothing is changed and then restored.
+template <int D, class Contact, class Stepper>
+class CompressionRun {
+ public:
   using Clock = std::chrono::steady_clock;
-  const std::size_t n = sys.size();
-  const double rate = sys.box.compression_rate;
-  const std::string checkpoint_file = checkpoint_path(c.out);
-  const std::string run_fingerprint = fingerprint(c);
 
-  RunState<D> st;
-  bool resumed = false;
-  if (auto saved = read_checkpoint_or_warn<D>(checkpoint_file, run_fingerprint, n)) {
-    sys.particles = std::move(saved->particles);
-    sys.neighbors.invalidate();
-    stepper.load_state(saved->stepper);
-    st = std::move(saved->state);
-    resumed = true;
+  CompressionRun(const SimConfig& c, const RunControl& control, System<D, Contact>& sys,
+                 Stepper& stepper, const CompressingBox<D>& compressing_box, RunMetadata meta)
+      : c_(c),
+        control_(control),
+        sys_(sys),
+        stepper_(stepper),
+        compressing_box_(compressing_box),
+        meta_(std::move(meta)),
+        checkpointer_(c.out, fingerprint(c), control),
+        recorder_(c),
+        stability_(c, sys.species),
+        progress_(!c.quiet, c.phi_stop),
+        wall_start_(Clock::now()),
+        builds_before_(sys.neighbors.builds()) {}
+
+  RunSummary run() {
+    summary_.resumed = resume();
+    summary_.n = sys_.size();
+    summary_.phi_init = meta_.phi_init;
+    summary_.initial_box_length = meta_.initial_box_length;
+    if (st_.phase == RunState<D>::kRelaxing) {
+      if (!relax()) return interrupted();
+      begin_compression();
+    } else {
+      sys_.box = compressing_box_;  // resumed in the compression phase
+    }
+    if (!compress()) return interrupted();
+    return finish();
   }
 
-  // Checkpoints are taken between steps, every 256 steps at most, when the wall-time interval
-  // has passed or a stop was requested. Returns true when the run must stop.
-  auto last_checkpoint = Clock::now();
-  const auto interval = std::chrono::duration<double>(control.checkpoint_interval_seconds);
-  auto checkpoint_if_due = [&]() {
-    const bool stop = control.stop && control.stop->load();
-    const bool due =
-        control.checkpoint_interval_seconds > 0 && Clock::now() - last_checkpoint >= interval;
-    if (stop || due) {
-      write_checkpoint(checkpoint_file, run_fingerprint, st, sys.particles, stepper.save_state());
-      last_checkpoint = Clock::now();
+ private:
+  /// Continues from the run's own checkpoint when there is a trustworthy one.
+  bool resume() {
+    auto saved = checkpointer_.read(sys_.size());
+    if (!saved) return false;
+    sys_.particles = std::move(saved->particles);
+    sys_.neighbors.invalidate();
+    stepper_.load_state(saved->stepper);
+    st_ = std::move(saved->state);
+    return true;
+  }
+
+  /// Relaxation at zero rate (paper's supplement, "Compression Protocol"), or the relaxed start
+  /// another rate of the same sample left in the start cache. False: stopped on request.
+  bool relax() {
+    if (!c_.relax) return true;
+    if (!c_.start_cache.empty()) {
+      if (auto cached = read_checkpoint_or_warn<D>(c_.start_cache, relaxation_fingerprint(c_),
+                                                   sys_.size(), true)) {
+        sys_.particles = std::move(cached->particles);
+        sys_.neighbors.invalidate();
+        stepper_.load_state(cached->stepper);
+        st_.relax_steps = cached->state.relax_steps;
+        st_.relax_converged = cached->state.relax_converged;
+        return true;
+      }
     }
-    return stop;
-  };
-  auto count_steps = [&](std::size_t steps) {
-    if (control.particle_steps) control.particle_steps->fetch_add(steps * n);
-  };
-  StabilityGuard<D> stability(c, sys.species);
-  RunSummary summary;
-  summary.n = n;
-  summary.resumed = resumed;
-  summary.phi_init = meta.phi_init;
-  summary.initial_box_length = meta.initial_box_length;
+    const double target_energy = c_.resolved_relax_energy();
+    while (true) {
+      const auto k = st_.relax_steps;
+      const double t = static_cast<double>(k) * c_.dt;
+      if (k % 100 == 0) {
+        const auto obs = measure(sys_, 0.0, false);
+        if (!std::isfinite(obs.energy_per_particle)) {
+          throw std::runtime_error(fmt::format(
+              "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt", c_.dt));
+        }
+        progress_.update_relaxation(obs.energy_per_particle, target_energy, t);
+        if (obs.energy_per_particle <= target_energy) {
+          st_.relax_converged = true;
+          break;
+        }
+        if (t >= c_.relax_time_max) break;
+      }
+      if (k % kStabilityCheckInterval == 0) {
+        stability_.check(sys_, sys_.box.length(t), sys_.box.packing_fraction(t), "relaxation");
+      }
+      if (k > 0 && (k & 255) == 0 && pause_due()) return false;
+      stepper_.step(sys_, t, c_.dt);
+      ++st_.relax_steps;
+      ++steps_here_;
+    }
+    stepper_.reset();
+    if (!c_.start_cache.empty()) {
+      write_checkpoint(c_.start_cache, relaxation_fingerprint(c_), st_, sys_.particles,
+                       stepper_.save_state());
+    }
+    return true;
+  }
 
-  Progress progress(!c.quiet, c.phi_stop);
-  const auto wall_start = Clock::now();
-  std::size_t steps_here = 0;  // relaxation and compression steps done by this invocation
-  const std::size_t builds_before = sys.neighbors.builds();
+  /// The start of the compression: its first output point, t = 0.
+  void begin_compression() {
+    sys_.box = compressing_box_;
+    st_.phase = RunState<D>::kCompressing;
+    if (!c_.write_lammps_data.empty()) write_configuration(c_.write_lammps_data, 0.0, "initial");
+    recorder_.record(sys_, st_, 0.0);
+  }
 
-  auto write_configuration = [&](const std::string& path, double t, const char* what) {
-    const auto masses = sys.species.masses(c.q);
-    write_lammps_data(path, sys.particles, sys.box.length(t), masses[0], masses[1],
+  /// Compression at the rate to phi_stop in fixed steps t_k = k dt (never accumulated), with
+  /// output points at the first step at or after each target time. False: stopped on request.
+  bool compress() {
+    const std::vector<double> targets =
+        output_times(sys_.box, meta_.phi_init, c_.phi_stop, c_.phi_step);
+    t_stop_ = targets.back();
+    const auto n_targets = static_cast<std::int64_t>(targets.size());
+    while (st_.next_output < n_targets) {
+      const auto step = st_.steps;
+      const double t = static_cast<double>(step) * c_.dt;
+      if (step % kStabilityCheckInterval == 0) {
+        stability_.check(sys_, sys_.box.length(t), sys_.box.packing_fraction(t), "compression");
+      }
+      if (step > 0 && (step & 255) == 0) {
+        progress_.update(t / t_stop_, sys_.box.packing_fraction(t), static_cast<std::size_t>(step),
+                         sys_.size());
+        if (pause_due()) return false;
+      }
+      // The last step is shortened to land on t_stop exactly, and a sliver shorter than
+      // 1e-6 dt is folded into it.
+      double h = c_.dt;
+      double t_after = static_cast<double>(step + 1) * c_.dt;
+      if (t_stop_ - t_after < 1e-6 * c_.dt) {
+        h = t_stop_ - t;
+        t_after = t_stop_;
+      }
+      stepper_.step(sys_, t, h);
+      ++st_.steps;
+      ++steps_here_;
+      bool due = false;
+      while (st_.next_output < n_targets && t_after >= targets[st_.next_output]) {
+        due = true;
+        ++st_.next_output;
+      }
+      if (due) recorder_.record(sys_, st_, t_after);
+    }
+    count_steps(static_cast<std::size_t>(st_.steps % 256));
+    stability_.check(sys_, sys_.box.length(t_stop_), sys_.box.packing_fraction(t_stop_),
+                     "compression");
+    progress_.finish();
+    return true;
+  }
+
+  /// The jamming point (FIRE on a scratch copy), the run file, and the summary.
+  RunSummary finish() {
+    const double wall = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+    if (c_.jamming_point) {
+      System<D, Contact> scratch(sys_.particles, sys_.species, sys_.box, c_.skin);
+      scratch.set_threads(c_.threads);
+      const JammingPoint j = find_jamming_point(scratch, st_.saved);
+      meta_.jamming_packing_fraction = j.packing_fraction;
+      meta_.jamming_minimizations = j.minimizations;
+    }
+    meta_.steps = st_.steps;
+    meta_.relax_steps = st_.relax_steps;
+    meta_.relax_converged = !c_.relax || st_.relax_converged;
+    if (!c_.write_final_lammps_data.empty()) {
+      write_configuration(c_.write_final_lammps_data, t_stop_, "final");
+    }
+    write_run_file<D>(c_.out, c_, meta_, st_.points);
+    checkpointer_.remove();
+
+    summary_.steps = static_cast<std::size_t>(st_.steps);
+    summary_.relax_steps = static_cast<std::size_t>(st_.relax_steps);
+    summary_.relax_converged = meta_.relax_converged;
+    summary_.neighbor_builds = sys_.neighbors.builds() - builds_before_;
+    summary_.output_points = st_.points.size();
+    const auto& last = st_.points.back();
+    summary_.final_packing_fraction = last.packing_fraction;
+    summary_.final_pressure = last.pressure;
+    summary_.final_contacts_per_particle = last.contacts_per_particle;
+    summary_.final_energy_per_particle = last.energy_per_particle;
+    summary_.wall_seconds = wall;
+    summary_.particle_steps_per_second =
+        wall > 0 ? static_cast<double>(steps_here_ * sys_.size()) / wall : 0.0;
+    return summary_;
+  }
+
+  /// Every 256 steps: counts them for the campaign's progress and takes a checkpoint when due.
+  /// True when the run must stop (a checkpoint then holds its state).
+  bool pause_due() {
+    count_steps(256);
+    return checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
+  }
+
+  void count_steps(std::size_t steps) {
+    if (control_.particle_steps) control_.particle_steps->fetch_add(steps * sys_.size());
+  }
+
+  RunSummary interrupted() {
+    summary_.interrupted = true;
+    return summary_;
+  }
+
+  void write_configuration(const std::string& path, double t, const char* what) const {
+    const auto masses = sys_.species.masses(c_.q);
+    write_lammps_data(path, sys_.particles, sys_.box.length(t), masses[0], masses[1],
                       fmt::format("jam {} configuration, dim {} n {} phi {:.17g} seed {}", what, D,
-                                  n, sys.box.packing_fraction(t), c.seed));
+                                  sys_.size(), sys_.box.packing_fraction(t), c_.seed));
+  }
+
+  const SimConfig& c_;
+  const RunControl& control_;
+  System<D, Contact>& sys_;
+  Stepper& stepper_;
+  CompressingBox<D> compressing_box_;
+  RunMetadata meta_;
+  Checkpointer<D> checkpointer_;
+  OutputRecorder recorder_;
+  StabilityGuard<D> stability_;
+  Progress progress_;
+  RunState<D> st_;
+  RunSummary summary_;
+  Clock::time_point wall_start_;
+  std::size_t builds_before_;
+  std::size_t steps_here_ = 0;  // relaxation and compression steps done by this invocation
+  double t_stop_ = 0.0;
+};
+
+/// The integrator named by the config, on a system of the config's contact law.
+template <int D, class Contact>
+RunSummary run_with(const SimConfig& c, const RunControl& control, ParticleData<D> particles,
+                    const Species<D>& species, const CompressingBox<D>& box, RunMetadata meta) {
+  // Relaxation happens at zero rate: the box starts at rest (CompressionRun starts it).
+  CompressingBox<D> at_rest = box;
+  at_rest.compression_rate = 0.0;
+  System<D, Contact> sys(std::move(particles), species, at_rest, c.skin);
+  sys.set_threads(c.threads);
+  const std::size_t n = sys.size();
+  auto run = [&](auto& stepper) {
+    return CompressionRun<D, Contact, std::remove_reference_t<decltype(stepper)>>(
+               c, control, sys, stepper, box, std::move(meta))
+        .run();
   };
-  // Configurations kept for the jamming point: every output point from --jamming-search-from,
-  // by default from the start (the search then leans on nothing but the run itself).
-  const double save_from = c.jamming_search_from;
-  auto record = [&](double t) {
-    if (c.jamming_point && sys.box.packing_fraction(t) >= save_from) {
-      SavedConfiguration saved{sys.box.packing_fraction(t), {}};
-      for (int d = 0; d < D; ++d) {
-        saved.s.insert(saved.s.end(), sys.particles.s[d].begin(), sys.particles.s[d].end());
-      }
-      st.saved.push_back(std::move(saved));
-    }
-    st.points.push_back(measure(sys, t, c.rattlers));
-    if (!std::isfinite(st.points.back().pressure)) {
-      throw std::runtime_error(fmt::format(
-          "the dynamics became unstable (non-finite pressure at phi {:.5f}) with --dt {:g}; "
-          "reduce --dt",
-          st.points.back().packing_fraction, c.dt));
-    }
-  };
-
-  if (st.phase == RunState<D>::kRelaxing) {
-    // A start relaxed by another run of the same sample (another rate) is taken as it is.
-    bool from_cache = false;
-    if (c.relax && !c.start_cache.empty()) {
-      if (auto cached =
-              read_checkpoint_or_warn<D>(c.start_cache, relaxation_fingerprint(c), n, true)) {
-        sys.particles = std::move(cached->particles);
-        sys.neighbors.invalidate();
-        stepper.load_state(cached->stepper);
-        st.relax_steps = cached->state.relax_steps;
-        st.relax_converged = cached->state.relax_converged;
-        from_cache = true;
-      }
-    }
-    // Relaxation at zero rate (paper's supplement, "Compression Protocol").
-    if (c.relax && !from_cache) {
-      const double target_energy = c.resolved_relax_energy();
-      sys.box.compression_rate = 0.0;
-      while (true) {
-        const auto k = st.relax_steps;
-        const double t = static_cast<double>(k) * c.dt;
-        if (k % 100 == 0) {
-          const auto obs = measure(sys, 0.0, false);
-          if (!std::isfinite(obs.energy_per_particle)) {
-            throw std::runtime_error(fmt::format(
-                "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt",
-                c.dt));
-          }
-          progress.update_relaxation(obs.energy_per_particle, target_energy, t);
-          if (obs.energy_per_particle <= target_energy) {
-            st.relax_converged = true;
-            break;
-          }
-          if (t >= c.relax_time_max) break;
-        }
-        if (k % kStabilityCheckInterval == 0) {
-          stability.check(sys, sys.box.length(t), sys.box.packing_fraction(t), "relaxation");
-        }
-        if (k > 0 && (k & 255) == 0) {
-          count_steps(256);
-          if (checkpoint_if_due()) {
-            summary.interrupted = true;
-            return summary;
-          }
-        }
-        stepper.step(sys, t, c.dt);
-        ++st.relax_steps;
-        ++steps_here;
-      }
-      sys.box.compression_rate = rate;
-      stepper.reset();
-      if (!c.start_cache.empty()) {
-        write_checkpoint(c.start_cache, relaxation_fingerprint(c), st, sys.particles,
-                         stepper.save_state());
-      }
-    }
-    st.phase = RunState<D>::kCompressing;
-    if (!c.write_lammps_data.empty()) write_configuration(c.write_lammps_data, 0.0, "initial");
-    record(0.0);
+  if (meta.integrator == "euler") {
+    OverdampedEuler<D> stepper(n);
+    return run(stepper);
   }
-
-  const std::vector<double> targets = output_times(sys.box, meta.phi_init, c.phi_stop, c.phi_step);
-  const double t_stop = targets.back();
-  const auto n_targets = static_cast<std::int64_t>(targets.size());
-  while (st.next_output < n_targets) {
-    const auto step = st.steps;
-    if (step % kStabilityCheckInterval == 0) {
-      const double t_now = static_cast<double>(step) * c.dt;
-      stability.check(sys, sys.box.length(t_now), sys.box.packing_fraction(t_now), "compression");
-    }
-    if (step > 0 && (step & 255) == 0) {
-      count_steps(256);
-      progress.update(static_cast<double>(step) * c.dt / t_stop,
-                      sys.box.packing_fraction(static_cast<double>(step) * c.dt),
-                      static_cast<std::size_t>(step), n);
-      if (checkpoint_if_due()) {
-        summary.interrupted = true;
-        return summary;
-      }
-    }
-    // Fixed steps t_k = k dt (never accumulated); the last step is shortened to land on
-    // t_stop exactly, and a sliver shorter than 1e-6 dt is folded into it.
-    const double t = static_cast<double>(step) * c.dt;
-    double h = c.dt;
-    double t_after = static_cast<double>(step + 1) * c.dt;
-    if (t_stop - t_after < 1e-6 * c.dt) {
-      h = t_stop - t;
-      t_after = t_stop;
-    }
-    stepper.step(sys, t, h);
-    ++st.steps;
-    ++steps_here;
-    bool due = false;
-    while (st.next_output < n_targets && t_after >= targets[st.next_output]) {
-      due = true;
-      ++st.next_output;
-    }
-    if (due) record(t_after);
+  if (meta.integrator == "heun") {
+    OverdampedHeun<D> stepper(n);
+    return run(stepper);
   }
-  count_steps(static_cast<std::size_t>(st.steps % 256));
-  stability.check(sys, sys.box.length(t_stop), sys.box.packing_fraction(t_stop), "compression");
-  progress.finish();
-  const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
-
-  if (c.jamming_point) {
-    System<D> scratch(sys.particles, sys.species, sys.box, c.skin);
-    scratch.set_threads(c.threads);
-    const JammingPoint j = find_jamming_point(scratch, st.saved);
-    meta.jamming_packing_fraction = j.packing_fraction;
-    meta.jamming_minimizations = j.minimizations;
-  }
-  meta.steps = st.steps;
-  meta.relax_steps = st.relax_steps;
-  meta.relax_converged = !c.relax || st.relax_converged;
-  if (!c.write_final_lammps_data.empty()) {
-    write_configuration(c.write_final_lammps_data, t_stop, "final");
-  }
-  write_run_file<D>(c.out, c, meta, st.points);
-  std::remove(checkpoint_file.c_str());
-
-  summary.steps = static_cast<std::size_t>(st.steps);
-  summary.relax_steps = static_cast<std::size_t>(st.relax_steps);
-  summary.relax_converged = meta.relax_converged;
-  summary.neighbor_builds = sys.neighbors.builds() - builds_before;
-  summary.output_points = st.points.size();
-  const auto& last = st.points.back();
-  summary.final_packing_fraction = last.packing_fraction;
-  summary.final_pressure = last.pressure;
-  summary.final_contacts_per_particle = last.contacts_per_particle;
-  summary.final_energy_per_particle = last.energy_per_particle;
-  summary.wall_seconds = wall;
-  summary.particle_steps_per_second = wall > 0 ? static_cast<double>(steps_here * n) / wall : 0.0;
-  return summary;
+  InertialVerlet<D> stepper(n, c.q);
+  return run(stepper);
 }
 
 template <int D>
@@ -343,19 +363,9 @@ RunSummary run_dimension(const SimConfig& c, const RunControl& control) {
   validate_box(checked, CompressingBox<D>::length_for_packing(box.particle_volume, c.phi_stop),
                species.max_contact_distance);
 
-  System<D> sys(std::move(start.particles), species, box, c.skin);
-  sys.set_threads(c.threads);
-  const std::size_t n = sys.size();
-  if (meta.integrator == "euler") {
-    OverdampedEuler<D> stepper(n);
-    return integrate(c, control, sys, stepper, meta);
-  }
-  if (meta.integrator == "heun") {
-    OverdampedHeun<D> stepper(n);
-    return integrate(c, control, sys, stepper, meta);
-  }
-  InertialVerlet<D> stepper(n, c.q);
-  return integrate(c, control, sys, stepper, meta);
+  return with_contact_law(c.contact, [&]<class Contact>() {
+    return run_with<D, Contact>(c, control, std::move(start.particles), species, box, meta);
+  });
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ struct SimConfig {
   // round-off, then drift apart chaotically (sim/parallel.hpp).
   int threads = 1;
   double diameter_ratio = 1.4;
-  bool relax = true;  // relax the start at zero rate (paper's protocol)
+  std::string contact = "harmonic";  // the contact law (sim/model/contact_laws.hpp)
+  bool relax = true;                 // relax the start at zero rate (paper's protocol)
   // ... until the energy per particle is at or below this; "auto" = 1e-4 rate^2, so that the
   // residual pressure of the start (~ sqrt(E)) is ~1% of rate, well below the pressure the
   // compression itself builds (zeta rate, with bulk viscosity zeta >= 1 at any phi).

@@ -45,7 +45,8 @@ class StabilityGuard {
 
   /// Stiffness of the current contacts: lambda_max for overdamped dynamics (a rate), omega_max
   /// for inertial dynamics (sqrt of the eigenvalue of M^-1 H). Valid list required.
-  double stiffest(System<D>& sys, double box_length, bool exact) const {
+  template <class Contact>
+  double stiffest(System<D, Contact>& sys, double box_length, bool exact) const {
     const double bound = exact ? stiffest_mode(sys, box_length, inertia_)
                                : stiffest_mode_bound(sys, box_length, inertia_);
     return inertial_ ? std::sqrt(bound) : bound;
@@ -53,7 +54,9 @@ class StabilityGuard {
 
   /// Throws StabilityError when dt times the stiffest mode exceeds kStabilityLimit.
   /// `stage` says where, e.g. "relaxation" or "compression".
-  void check(System<D>& sys, double box_length, double packing_fraction, const char* stage) {
+  template <class Contact>
+  void check(System<D, Contact>& sys, double box_length, double packing_fraction,
+             const char* stage) {
     sys.update_neighbors(box_length);
     if (dt_ * stiffest(sys, box_length, false) <= kStabilityLimit) return;  // cheap bound
     const double lambda = stiffest(sys, box_length, true);
