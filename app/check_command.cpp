@@ -8,7 +8,8 @@
 #include <filesystem>
 
 #include "campaign/campaign_file.hpp"
-#include "checks/regression_check.hpp"
+#include "checks/check_registry.hpp"
+#include "checks/run_checks.hpp"
 #include "sim/io/atomic_file.hpp"
 
 namespace jam {
@@ -31,22 +32,44 @@ void mark_expected_failures(std::vector<checks::Verdict>& verdicts,
 }  // namespace
 
 void add_check_command(CLI::App& app, CheckArgs& a) {
+  // The accepted names and the help text come from the registry (checks/check_registry.hpp).
+  const std::vector<std::string> names = checks::command_names();
+  const double usual_margin = checks::default_margin(names.front());
+  std::string listed, other_margins, not_in_all, packing;
+  for (const auto& name : names) listed += (listed.empty() ? "" : ", ") + name;
+  for (const auto& e : checks::check_registry()) {
+    if (e.default_margin != usual_margin)
+      other_margins +=
+          fmt::format("{}{} {:g}", other_margins.empty() ? "" : ", ", e.name, e.default_margin);
+    if (!e.in_all) not_in_all += (not_in_all.empty() ? "" : ", ") + std::string(e.name);
+    if (e.margin_unit == checks::MarginUnit::packing_fraction)
+      packing += (packing.empty() ? "" : ", ") + std::string(e.name);
+  }
   CLI::App* c = app.add_subcommand(
-      "check",
-      "Statistical verdicts from DIR/stats.h5: finite_size, sample_pairs, phi_init, lammps, "
-      "regression or all. Each verdict is pass (the data exclude effects beyond the margin), "
-      "fail (a difference detected and not within the margin) or inconclusive");
+      "check", fmt::format("Statistical verdicts from DIR/stats.h5: {}. Each verdict is pass (the "
+                           "data exclude effects beyond the margin), fail (a difference detected "
+                           "and not within the margin) or inconclusive",
+                           listed));
   c->footer(
       "Exit status: 0 every verdict passes; 1 a verdict fails (expected failures named in the "
       "campaign file's expected_failures apart); 3 none fails but one is inconclusive; 2 the "
       "check could not run (usage error, missing or corrupt stats.h5).");
   c->option_defaults()->always_capture_default();
+  // --json before --list: flags take effect in the order they are declared, and --list prints
+  // as it is taken (before the required NAME and DIR are asked for).
+  c->add_flag("--json", a.list_json, "--list: as JSON (what checks.json carries under checks)");
+  c->add_flag_callback(
+      "--list",
+      [&a] {
+        fmt::print("{}", a.list_json ? checks::registry_json() : checks::registry_table());
+        throw CLI::Success();
+      },
+      "List the registered checks: kind, default margin and why, member of all, report figure");
   c->add_option("name", a.name,
-                "finite_size, sample_pairs, phi_init, lammps, regression or all (all but "
-                "regression)")
+                fmt::format("{} (all: all but {})", listed,
+                            not_in_all.empty() ? std::string("none") : not_in_all))
       ->required()
-      ->check(CLI::IsMember(
-          {"finite_size", "sample_pairs", "phi_init", "lammps", "regression", "all"}));
+      ->check(CLI::IsMember(names));
   c->add_option("directory", a.directory, "Campaign directory (after `jam stats`)")->required();
   c->add_option("--alpha", a.options.alpha,
                 "False-alarm rate of each check (Bonferroni over its comparisons)");
@@ -58,10 +81,11 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
                 "pressure)")
       ->always_capture_default(false);
   c->add_option("--margin", a.margin,
-                "Margin M of the named check (all: of every check): the largest effect that "
-                "still passes, a relative pressure difference (jamming_point: a packing "
-                "difference). Default: the campaign file's [margins], else 0.1 (lammps 0.005, "
-                "jamming_point 0.005)");
+                fmt::format("Margin M of the named check (all: of every check): the largest "
+                            "effect that still passes, a relative pressure difference ({}: a "
+                            "packing difference). Default: the campaign file's [margins], else "
+                            "{:g} ({})",
+                            packing, usual_margin, other_margins));
   c->add_option("--set-a", a.set_a, "finite_size: first run set, e.g. n=1024,phi_init=0.6,rate=-4");
   c->add_option("--set-b", a.set_b, "finite_size: second run set");
   c->add_option("--reference-dir", a.reference_dir, "lammps: LAMMPS inputs and stored results");
@@ -98,12 +122,12 @@ int run_check_command(const CheckArgs& a) {
       throw CLI::ValidationError("--margin",
                                  fmt::format("{}: must be a finite number > 0", *a.margin));
     }
-    for (const char* check :
-         {"finite_size", "sample_pairs", "phi_init", "regression", "jamming_point", "lammps"}) {
-      if (a.name == "all" || a.name == check ||
-          (a.name == "phi_init" && std::string(check) == "jamming_point")) {
-        o.margins[check] = *a.margin;
-      }
+    // `all` sets every check's margin; a check sets its own and its parts' (phi_init:
+    // jamming_point).
+    for (const auto& e : checks::check_registry()) {
+      const auto* part = std::get_if<checks::PartOf>(&e.run);
+      if (a.name == "all" || a.name == e.name || (part && a.name == part->check))
+        o.margins[std::string(e.name)] = *a.margin;
     }
   }
   if (!(o.alpha > 0 && o.alpha < 1))
@@ -118,27 +142,16 @@ int run_check_command(const CheckArgs& a) {
     o.set_b = checks::RunSetSelector::parse(a.set_b);
   }
   const auto started = std::chrono::steady_clock::now();
-  std::vector<checks::Verdict> verdicts;
-  if (a.name == "regression") {
-    if (a.against.empty())
-      throw std::runtime_error("regression: --against BASELINE_DIR is required");
-    if (!(a.regression.tolerance >= 0))
-      throw std::runtime_error(
-          fmt::format("--tolerance {:g}: must be >= 0", a.regression.tolerance));
-    verdicts = checks::regression_check(checks::read_stats(a.directory),
-                                        checks::read_stats(a.against), o, a.regression);
-  } else if (a.name != "lammps")
-    verdicts = checks::run_check(a.name, checks::read_stats(a.directory), o);
-  if (a.name == "lammps" || a.name == "all") {
-    checks::LammpsCheckOptions l;
-    l.work_directory = (std::filesystem::path(a.directory) / "lammps-check").string();
-    l.reference_directory = (std::filesystem::path(a.reference_dir) / "lammps").string();
-    l.use_lmp = !a.no_lmp;
-    l.regenerate = a.regenerate;
-    l.margin = o.margin("lammps");
-    const auto v = checks::lammps_check(l);
-    verdicts.insert(verdicts.end(), v.begin(), v.end());
-  }
+  checks::CheckInputs in;
+  in.directory = a.directory;
+  in.options = o;
+  in.baseline_directory = a.against;
+  in.regression = a.regression;
+  in.lammps.work_directory = (std::filesystem::path(a.directory) / "lammps-check").string();
+  in.lammps.reference_directory = (std::filesystem::path(a.reference_dir) / "lammps").string();
+  in.lammps.use_lmp = !a.no_lmp;
+  in.lammps.regenerate = a.regenerate;
+  std::vector<checks::Verdict> verdicts = checks::run_checks(a.name, in);
   mark_expected_failures(verdicts, expected);
   fmt::print("{}", checks::format_table(verdicts));
   for (const auto& v : verdicts) {

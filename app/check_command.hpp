@@ -15,7 +15,8 @@ struct CheckArgs {
   std::optional<double> margin;
   std::string reference_dir = data_path("reference").string();
   bool no_lmp = false, regenerate = false;
-  std::string against;  // regression: baseline directory
+  bool list_json = false;  // --list --json
+  std::string against;     // regression: baseline directory
   checks::RegressionOptions regression;
 };
 

@@ -50,6 +50,9 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::Success& e) {
+    // An option that did all that was asked while parsing (`jam check --list`).
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // One line, naming the option: CLI11's messages already do.
     fmt::print(stderr, "jam: error: {}\n", e.what());

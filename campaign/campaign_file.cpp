@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "campaign/run_plan.hpp"
+#include "checks/check_registry.hpp"
 #include "sim/run/sim_config.hpp"
 
 namespace jam {
@@ -191,8 +192,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.stress = r.boolean("stress", c.stress);
   c.jamming_point = r.boolean("jamming_point", c.jamming_point);
   c.checkpoint_interval = r.number("checkpoint_interval", false, c.checkpoint_interval);
-  c.margins = r.number_table("margins", {"finite_size", "sample_pairs", "phi_init", "regression",
-                                         "jamming_point", "lammps"});
+  c.margins = r.number_table("margins", checks::check_names());
   c.expected_failures = r.strings("expected_failures");
   for (const auto& e : c.expected_failures) {
     if (e.find(": ") == std::string::npos || e.find(": ") == 0) {

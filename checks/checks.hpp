@@ -1,6 +1,7 @@
 #pragma once
-// The checks of `jam check NAME DIR`: each turns the per-sample tables of DIR/stats.h5 into
-// verdicts (checks/verdict.hpp).
+// The statistical checks of `jam check NAME DIR`: each turns the per-sample tables of
+// DIR/stats.h5 into verdicts (checks/verdict.hpp). Which checks there are, and their default
+// margins: checks/check_registry.hpp.
 #include <map>
 #include <optional>
 #include <string>
@@ -20,10 +21,8 @@ struct RunSetSelector {
   bool matches(const EnsembleTables& e) const;
 };
 
-/// The default margin M of each check: a relative pressure difference (finite_size,
-/// sample_pairs, phi_init, regression), a packing difference (jamming_point: <phi_Ji>), or a
-/// tolerance (lammps). Why each is what it is: checks/checks.cpp and
-/// docs/statistics-and-checks.md.
+/// The default margin M of a registered check (its registry entry, checks/check_registry.hpp,
+/// says what it measures and why it is what it is). Throws for an unregistered name.
 double default_margin(const std::string& check);
 
 struct CheckOptions {
@@ -44,7 +43,8 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
 std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& o);
 std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o);
 
-/// Runs one check by name ("finite_size", "sample_pairs", "phi_init" or "all").
+/// Runs one statistical check by name, or "all": the statistical members of `all` (the checks
+/// of other kinds: run_checks, checks/run_checks.hpp).
 std::vector<Verdict> run_check(const std::string& name, const StatsData& d, const CheckOptions& o);
 
 }  // namespace jam::checks

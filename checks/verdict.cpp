@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "checks/check_registry.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/version.hpp"
@@ -96,6 +97,9 @@ std::string to_json(const std::vector<Verdict>& v, const std::string& campaign) 
                                {"campaign", campaign},
                                {"code_version", std::string(kVersion)},
                                {"created", std::string(created)},
+                               // The registry of the jam that judged: the report reads from
+                               // it which figure shows which check (check_registry.hpp).
+                               {"checks", nlohmann::json::parse(registry_json())},
                                {"verdicts", j}};
   return file.dump(2) + "\n";
 }

@@ -49,7 +49,7 @@ inline Verdict inconclusive(const std::string& check, const std::string& case_na
 
 std::string format_table(const std::vector<Verdict>& verdicts);
 /// checks.json: {"schema_version": 2, "campaign", "code_version", "created" (UTC),
-/// "verdicts": [...]} (reference/schema.md).
+/// "checks" (the registry, check_registry.hpp), "verdicts": [...]} (reference/schema.md).
 constexpr int kChecksSchemaVersion = 2;
 std::string to_json(const std::vector<Verdict>& verdicts, const std::string& campaign = "");
 

@@ -54,12 +54,27 @@ CONSTANT_Z = ("packing_fraction_mean", "pressure_mean", "pressure_relative_error
 COLLAPSE = ("x", "compression_rate", "in_fit", "scaled_pressure", "scaled_pressure_error")
 SCAN = ("rate_max", "phi_min", "phi_max", "phi_j", "phi_j_error", "beta", "beta_error", "y",
         "y_error")
+# Curves a figure draws from the verdicts it shows, by figure (the registry's `figure`).
 CURVES = {"finite_size": ("grid", "delta", "sigma"),
           "lammps": ("grid", "pressure_jam", "pressure_lammps", "delta", "sigma")}
 JAMMING = ("mean", "error", "found")
 ENSEMBLE = ("n", "phi_init", "log10_rate", "compression_rate", "samples")
 
 MALFORMED = jamio.errors.MALFORMED
+
+# Which figure shows which check and what its margin measures come from the registry that
+# checks.json carries (`jam check --list`). Files written before it carried one name only
+# these checks; this describes them as that jam registered them and is never extended (a new
+# check is described by the files that have it).
+REGISTRY_BEFORE_CHECKS_JSON_HAD_IT = [
+    {"name": "finite_size", "figure": "finite_size", "margin_unit": "relative"},
+    {"name": "sample_pairs", "figure": "sample_pairs", "margin_unit": "relative"},
+    {"name": "phi_init", "figure": "jamming_points", "margin_unit": "relative"},
+    {"name": "jamming_point", "figure": "verdicts", "margin_unit": "packing_fraction"},
+    {"name": "lammps", "figure": "lammps", "margin_unit": "relative"},
+    {"name": "regression", "figure": "verdicts", "margin_unit": "relative"}]
+# A check a registry does not name (none that jam writes): the verdict table shows it.
+UNREGISTERED = {"figure": "verdicts", "margin_unit": "relative"}
 
 
 @contextlib.contextmanager
@@ -125,6 +140,8 @@ class Verdict:
     margin: float | None = None
     samples_needed: float | None = None
     expected_failure: bool = False
+    figure: str = "verdicts"  # the figure that shows the check (its registry entry)
+    margin_unit: str = "relative"  # what the margin measures: relative or packing_fraction
 
 
 @dataclass
@@ -223,14 +240,35 @@ def _verdict(x):
                    expected_failure=bool(x.get("expected_failure", False)))
 
 
+def _registry(checks):
+    """check name -> its registry entry: checks.json's own registry, else the older files'."""
+    with reading(checks.path, "verdict file"):
+        entries = checks.registry
+        if entries is None:
+            entries = REGISTRY_BEFORE_CHECKS_JSON_HAD_IT
+        out = {}
+        for k, e in enumerate(entries):
+            try:
+                out[str(e["name"])] = {"figure": str(e["figure"]),
+                                       "margin_unit": str(e["margin_unit"])}
+            except (KeyError, TypeError) as x:
+                raise ReportInputError(
+                    f"{checks.path}: checks {k}: not a registry entry ({cause(x)})") from x
+    return out
+
+
 def _verdicts(checks):
+    registry = _registry(checks)
     verdicts = []
     with reading(checks.path, "verdict file"):
         for k, x in enumerate(checks.verdicts):
             try:
-                verdicts.append(_verdict(x))
+                v = _verdict(x)
             except KeyError as e:
                 raise ReportInputError(f"{checks.path}: verdict {k}: field {e} missing") from e
+            entry = registry.get(v.check, UNREGISTERED)
+            v.figure, v.margin_unit = entry["figure"], entry["margin_unit"]
+            verdicts.append(v)
     return verdicts
 
 
@@ -244,7 +282,7 @@ def _attach_curves(checks, verdicts):
                 raise ReportInputError(
                     f"{path}: group {name} does not match checks.json; "
                     "rerun `jam check` (the two files come from different runs)", NOT_READY)
-            verdicts[k].curves = _datasets(g, CURVES.get(verdicts[k].check, ()),
+            verdicts[k].curves = _datasets(g, CURVES.get(verdicts[k].figure, ()),
                                            f"/verdicts/{name}")
     return checks.curves_attrs
 

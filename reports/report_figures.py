@@ -190,7 +190,7 @@ def jamming_figure(c, out_dir):
     size and rate; each panel only when the campaign has its numbers."""
     found = [e for e in c.ensembles if e.jamming and e.jamming.get("found", 0) > 0]
     safe = [v.values for v in c.verdicts
-            if v.check == "phi_init" and "largest_consistent_phi_init" in v.values]
+            if v.figure == "jamming_points" and "largest_consistent_phi_init" in v.values]
     panels = [draw for draw, have in ((_jamming_points, found), (_safe_starts, safe)) if have]
     if not panels:
         return None

@@ -49,7 +49,7 @@ def _finite_size_panel(ax, phi_init, at_z, mine, colors, plotted):
 
 def finite_size_figure(c, out_dir):
     """The supplement's relE-p figures: Delta p/p between sizes against phi and Z per rate."""
-    found = [v for v in c.verdicts if v.check == "finite_size" and "delta" in v.curves]
+    found = [v for v in c.verdicts if v.figure == "finite_size" and "delta" in v.curves]
     if not found:
         return None
     panels = _finite_size_panels(found)
@@ -72,7 +72,7 @@ def finite_size_figure(c, out_dir):
 
 def sample_pairs_figure(c, out_dir):
     """Delta p/p of single pairs of samples (sample i of one size against sample i of the other)."""
-    found = [v for v in c.verdicts if v.check == "sample_pairs" and "grid" in v.curves]
+    found = [v for v in c.verdicts if v.figure == "sample_pairs" and "grid" in v.curves]
     if not found:
         return None
     fig, ax = plt.subplots(layout="constrained", figsize=(7.5, 4.5))
@@ -129,7 +129,7 @@ def _lammps_panels(top, bottom, v, plotted):
 
 def lammps_figure(c, out_dir):
     """jam against LAMMPS through jamming: pressure overlay and residuals per dimension."""
-    found = [v for v in c.verdicts if v.check == "lammps" and "pressure_lammps" in v.curves]
+    found = [v for v in c.verdicts if v.figure == "lammps" and "pressure_lammps" in v.curves]
     if not found:
         return None
     fig, axes = plt.subplots(2, len(found), layout="constrained", figsize=(5.5 * len(found), 6),

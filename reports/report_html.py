@@ -61,7 +61,7 @@ def headline(check, verdicts):
     """One line per check: what it excludes, at what margin, and what it could not decide."""
     n = counts(verdicts)
     margins = sorted({v.margin for v in verdicts if v.margin is not None})
-    relative = check not in ("jamming_point",)
+    relative = verdicts[0].margin_unit == "relative"
     if len(margins) == 1:
         margin = _percent(margins[0]) if relative else f"{margins[0]:.3g}"
     else:

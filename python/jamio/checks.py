@@ -42,6 +42,13 @@ class Checks:
     def created(self):
         return self.metadata.get("created")
 
+    @property
+    def registry(self):
+        """The registered checks of the jam that wrote the file (`checks`: one dict per check,
+        with `name`, `figure`, `margin_unit`, ...), None in files written before it was there."""
+        registry = self.metadata.get("checks")
+        return registry if isinstance(registry, list) else None
+
     def curves_of(self, index):
         """The checks.h5 group of verdict `index` (its position in `verdicts`), or None."""
         for name, g in self.curves.items():

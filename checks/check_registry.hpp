@@ -1,0 +1,115 @@
+#pragma once
+// The checks, declared once: the table below is the only place a check is named. `jam check`'s
+// accepted names and help, `run_check` and `all`, `default_margin`, the campaign file's
+// [margins] keys, `jam check --list` and the registry written into checks.json (which the
+// report reads to know which figure shows which check) are all derived from it.
+//
+// A new check: its own file (a function of one of the kinds below) and one line in
+// JAM_CHECK_TABLE.
+//
+// The table is an X-macro so that the campaign file's reader can take the names from it (a
+// header-only expansion, check_names()) without linking the checks: the campaign library sits
+// below statistics and checks, which read campaign directories.
+#include <set>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace jam::checks {
+
+struct StatsData;
+struct CheckOptions;
+struct RegressionOptions;
+struct LammpsCheckOptions;
+struct Verdict;
+
+// What a check reads, one function type per kind:
+/// DIR/stats.h5 (the statistical checks).
+using StatsCheck = std::vector<Verdict> (*)(const StatsData&, const CheckOptions&);
+/// DIR/stats.h5 against a baseline's (`--against`).
+using BaselineCheck = std::vector<Verdict> (*)(const StatsData&, const StatsData&,
+                                               const CheckOptions&, const RegressionOptions&);
+/// LAMMPS's inputs and stored results, and a work directory inside DIR.
+using LammpsCheck = std::vector<Verdict> (*)(const LammpsCheckOptions&);
+/// Verdicts another check writes with a margin of their own (not run by name).
+struct PartOf {
+  std::string_view check;
+};
+using CheckRun = std::variant<StatsCheck, BaselineCheck, LammpsCheck, PartOf>;
+
+/// What a margin measures: a relative pressure difference, or a difference in packing.
+enum class MarginUnit { relative, packing_fraction };
+
+// Why each default margin is what it is (docs/statistics-and-checks.md has the measurements).
+namespace margin_reasons {
+// The paper treats differences of 1-2% as statistical; at this machine's scale (N <= 2048,
+// 10 samples, sample scatter 7-13% at phi 0.84) the checks exclude effects down to 4-8% at the
+// fast rates: at 1-2% every verdict of the stored campaigns would be inconclusive.
+inline constexpr std::string_view kPressure =
+    "what the checks can decide at this machine's scale (N <= 2048, 10 samples, 7-13% sample "
+    "scatter exclude effects down to 4-8% at the fast rates); the paper's 1-2% would leave "
+    "every verdict inconclusive";
+inline constexpr std::string_view kJammingPoint =
+    "about the sample spread of phi_Ji at N ~ 10^3; a larger shift of <phi_Ji> would move "
+    "phi_J by more than the fit's window steps";
+inline constexpr std::string_view kLammps =
+    "Q = 0.03 reproduces the overdamped limit to about 0.01%, so a difference beyond 0.5% is "
+    "an error of one of the two codes; 4 samples exclude differences down to 0.05-0.07%";
+}  // namespace margin_reasons
+
+// One line per check, in the order `all` runs them and the verdicts are written:
+//   X(name, how it runs, default margin, its unit, why, member of `all`, report figure)
+// name: `jam check NAME`, the verdicts' `check`, the [margins] key. Report figure: the stem of
+// the report figure that draws the check's verdicts (reports/report_figures*.py), or
+// "verdicts" when only the verdict table shows them. The functions (declared in checks.hpp,
+// lammps_check.hpp, regression_check.hpp) are named only where check_registry.cpp expands the
+// table; check_names() takes the first column alone.
+#define JAM_CHECK_TABLE(X)                                                                       \
+  X(finite_size, &finite_size_check, 0.10, relative, kPressure, true, "finite_size")             \
+  X(sample_pairs, &sample_pairs_check, 0.10, relative, kPressure, true, "sample_pairs")          \
+  X(phi_init, &phi_init_check, 0.10, relative, kPressure, true, "jamming_points")                \
+  X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts") \
+  X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                             \
+  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")
+
+struct CheckEntry {
+  std::string_view name;
+  CheckRun run;
+  double default_margin;
+  MarginUnit margin_unit;
+  std::string_view margin_reason;
+  bool in_all;  // `jam check all` runs it (a part: its parent writes its verdicts there)
+  std::string_view figure;
+};
+
+/// Every registered check, in table order.
+std::span<const CheckEntry> check_registry();
+
+/// The entry of `name`, or nullptr when no check has that name.
+const CheckEntry* find_check(std::string_view name);
+
+/// True for the checks `jam check NAME` runs by name (all but the parts).
+bool runs_by_name(const CheckEntry& e);
+
+/// The names `jam check` accepts: the checks that run by name, then "all".
+std::vector<std::string> command_names();
+
+/// Every registered name: the campaign file's [margins] keys. Expanded here, in the header, so
+/// that the campaign file's reader needs no link to the checks.
+inline std::set<std::string> check_names() {
+#define JAM_CHECK_NAME(name, ...) #name,
+  return {JAM_CHECK_TABLE(JAM_CHECK_NAME)};
+#undef JAM_CHECK_NAME
+}
+
+/// The registry as a JSON text: an array of {name, runs (stats, baseline, lammps or the
+/// check that writes it), default_margin, margin_unit, margin_reason, in_all, figure}; what
+/// `jam check --list --json` prints and checks.json carries under "checks".
+std::string registry_json();
+
+/// The registry as a table for a terminal (`jam check --list`).
+std::string registry_table();
+
+}  // namespace jam::checks

@@ -1,0 +1,211 @@
+// The check registry (checks/check_registry.hpp) is what names the checks: its names are
+// unique and complete; every name it registers is accepted by `jam check` (the ones that run
+// by name) and as a campaign file's [margins] key, and a name it does not register is refused
+// by both in one line naming it; `all` runs exactly the members of `all`.
+#define BOOST_TEST_MODULE check_registry
+#include <algorithm>
+#include <boost/test/unit_test.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <set>
+#include <string>
+
+#include "campaign/campaign_file.hpp"
+#include "checks/check_registry.hpp"
+#include "checks/run_checks.hpp"
+#include "process.hpp"
+#include "synthetic_runs.hpp"
+
+namespace fs = std::filesystem;
+using namespace jam;
+using namespace jam::checks;
+
+namespace {
+
+const std::string kCampaign = R"(name = "t"
+dim = 2
+sizes = [64, 128]
+phi_init = [0.7, 0.8]
+log10_rates = [-3]
+samples = 3
+phi_stop = 0.86
+seed = 5
+output = "out"
+)";
+
+/// A fresh empty directory under the system's temporary directory.
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("jam-test-check-registry-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// The names of the entries that are members of `all`: those that run by name, and also the
+/// parts when `with_parts`.
+std::set<std::string> members_of_all(bool with_parts) {
+  std::set<std::string> out;
+  for (const auto& e : check_registry())
+    if (e.in_all && (with_parts || runs_by_name(e))) out.emplace(e.name);
+  return out;
+}
+
+std::set<std::string> names_in(const std::vector<Verdict>& verdicts) {
+  std::set<std::string> out;
+  for (const auto& v : verdicts) out.insert(v.check);
+  return out;
+}
+
+/// stderr of `jam <args>` with its exit status.
+test::Outcome jam_stderr(const fs::path& dir, const std::string& args) {
+  return test::run_jam_stderr(dir / "stderr.txt", args);
+}
+
+std::size_t lines(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(names_are_unique_and_entries_complete) {
+  std::set<std::string> names;
+  for (const auto& e : check_registry()) {
+    BOOST_TEST(names.insert(std::string(e.name)).second, "registered twice: " << e.name);
+    BOOST_TEST(e.name != "all");  // the command's word for every member
+    BOOST_TEST(e.default_margin > 0.0, e.name);
+    BOOST_TEST(default_margin(std::string(e.name)) == e.default_margin, e.name);
+    BOOST_TEST(!e.margin_reason.empty(), e.name);
+    BOOST_TEST(!e.figure.empty(), e.name);
+    BOOST_TEST(find_check(e.name) == &e, e.name);
+    // A part's verdicts are written by a check that runs by name, and only in `all` with it.
+    if (const auto* part = std::get_if<PartOf>(&e.run)) {
+      const CheckEntry* parent = find_check(part->check);
+      BOOST_TEST_REQUIRE(parent != nullptr, e.name << " part of an unregistered check");
+      BOOST_TEST(runs_by_name(*parent), e.name);
+      BOOST_TEST(parent->in_all == e.in_all, e.name);
+    }
+  }
+  BOOST_TEST(names == check_names(), "the header's names and the table's entries differ");
+  BOOST_TEST(find_check("no_such_check") == nullptr);
+  BOOST_CHECK_THROW(default_margin("no_such_check"), std::invalid_argument);
+  // The listing that checks.json carries names every entry once, with its figure.
+  const auto json = nlohmann::json::parse(registry_json());
+  BOOST_TEST_REQUIRE(json.size() == check_registry().size());
+  for (std::size_t k = 0; k < json.size(); ++k) {
+    BOOST_TEST(json[k]["name"] == std::string(check_registry()[k].name));
+    BOOST_TEST(json[k]["figure"] == std::string(check_registry()[k].figure));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(jam_check_accepts_every_registered_name_and_refuses_others) {
+  const fs::path dir = scratch("command");
+  const std::string missing = (dir / "no-campaign").string();
+  std::set<std::string> accepted;
+  for (const auto& name : command_names()) accepted.insert(name);
+  BOOST_TEST(accepted.count("all") == 1u);
+  for (const auto& e : check_registry()) {
+    const std::string name(e.name);
+    BOOST_TEST(accepted.count(name) == (runs_by_name(e) ? 1u : 0u), name);
+    // Past the name: the command goes on to the directory, which is not there.
+    const auto out = jam_stderr(dir, "check " + name + " " + missing);
+    BOOST_TEST(out.status == 2, name << ": " << out.output);
+    BOOST_TEST(lines(out.output) == 1u, out.output);
+    if (runs_by_name(e)) {
+      BOOST_TEST(out.output.find("no such campaign directory") != std::string::npos,
+                 name << ": " << out.output);
+    } else {
+      BOOST_TEST(out.output.find("name: " + name + " not in") != std::string::npos, out.output);
+    }
+  }
+  const auto all = jam_stderr(dir, "check all " + missing);
+  BOOST_TEST(all.output.find("no such campaign directory") != std::string::npos, all.output);
+  const auto refused = jam_stderr(dir, "check no_such_check " + missing);
+  BOOST_TEST(refused.status == 2);
+  BOOST_TEST(lines(refused.output) == 1u, refused.output);
+  BOOST_TEST(refused.output.find("no_such_check") != std::string::npos, refused.output);
+  // `jam check --list` lists the registry without NAME or DIR.
+  const auto list = test::run_jam_logged(dir / "list.txt", "check --list --json");
+  BOOST_TEST(list.status == 0, list.output);
+  BOOST_TEST(nlohmann::json::parse(list.output) == nlohmann::json::parse(registry_json()));
+}
+
+BOOST_AUTO_TEST_CASE(campaign_margins_accept_every_registered_name_and_refuse_others) {
+  for (const auto& e : check_registry()) {
+    const std::string name(e.name);
+    const Campaign c = parse_campaign(kCampaign + "[margins]\n" + name + " = 0.25\n", "c.toml");
+    BOOST_TEST(c.margins.at(name) == 0.25, name);
+  }
+  try {
+    parse_campaign(kCampaign + "[margins]\nno_such_check = 0.25\n", "c.toml");
+    BOOST_FAIL("an unregistered [margins] key was accepted");
+  } catch (const CampaignError& e) {
+    BOOST_TEST(std::string(e.what()) == "c.toml:10: margins: no_such_check: unknown check");
+  }
+  // From the command line: `jam check` reads the campaign directory's campaign.toml first.
+  const fs::path dir = scratch("margins");
+  std::ofstream(dir / "campaign.toml") << kCampaign << "[margins]\nno_such_check = 0.25\n";
+  const auto out = jam_stderr(dir, "check all " + dir.string());
+  BOOST_TEST(out.status == 2);
+  BOOST_TEST(lines(out.output) == 1u, out.output);
+  BOOST_TEST(out.output.find("margins: no_such_check: unknown check") != std::string::npos,
+             out.output);
+}
+
+BOOST_AUTO_TEST_CASE(all_runs_exactly_the_members_of_all) {
+  // Statistical checks on synthetic sets with jamming points, so that phi_init writes its
+  // part's (jamming_point) verdicts too.
+  std::mt19937_64 rng(5);
+  StatsData d;
+  for (double phi_init : {0.6, 0.8}) {
+    for (std::int64_t n : {1024, 2048}) {
+      auto e = testing::ensemble(n, phi_init, -4.0, testing::runs(6, 0.0, rng));
+      e.jamming_points.assign(6, 0.84);
+      for (auto& p : e.jamming_points) p += 0.001 * std::normal_distribution<double>()(rng);
+      d.ensembles.push_back(e);
+    }
+  }
+  CheckOptions o;
+  o.permutations = 100;
+  std::set<std::string> statistical;
+  for (const auto& e : check_registry()) {
+    const auto* part = std::get_if<PartOf>(&e.run);
+    const CheckEntry* runner = part ? find_check(part->check) : &e;
+    if (e.in_all && std::holds_alternative<StatsCheck>(runner->run)) statistical.emplace(e.name);
+  }
+  BOOST_TEST(names_in(run_check("all", d, o)) == statistical);
+  for (const auto& name : statistical)
+    if (std::holds_alternative<StatsCheck>(find_check(name)->run))
+      BOOST_TEST(!run_check(name, d, o).empty(), name);
+  BOOST_CHECK_THROW(run_check("lammps", d, o), std::invalid_argument);
+  BOOST_CHECK_THROW(run_check("no_such_check", d, o), std::invalid_argument);
+
+  // Every kind, on a stored stats.h5 (which has no jamming points) and the stored LAMMPS
+  // result: each member that runs by name writes verdicts, nothing else does.
+  const fs::path dir = scratch("all");
+  fs::copy_file(fs::path(JAM_SOURCE_DIR) / "reference/results/reduced-2d/stats.h5",
+                dir / "stats.h5");
+  CheckInputs in;
+  in.directory = dir.string();
+  in.options = o;
+  in.lammps.work_directory = (dir / "lammps-check").string();
+  in.lammps.reference_directory = (fs::path(JAM_SOURCE_DIR) / "reference/lammps").string();
+  in.lammps.use_lmp = false;
+  const auto names = names_in(run_checks("all", in));
+  BOOST_TEST(names == members_of_all(false));
+  for (const auto& name : names) BOOST_TEST(members_of_all(true).count(name) == 1u, name);
+  BOOST_CHECK_THROW(run_checks("jamming_point", in), std::invalid_argument);
+  // A baseline check needs its baseline: the error names the check and the option.
+  for (const auto& e : check_registry()) {
+    if (!std::holds_alternative<BaselineCheck>(e.run)) continue;
+    try {
+      run_checks(std::string(e.name), in);
+      BOOST_FAIL(e.name << " ran without --against");
+    } catch (const std::runtime_error& x) {
+      BOOST_TEST(std::string(x.what()).find("--against") != std::string::npos, x.what());
+    }
+  }
+  fs::remove_all(dir);
+}
