@@ -21,6 +21,9 @@ void add_sim_command(CLI::App& app, SimConfig& c) {
   sim->add_option("--dynamics", c.dynamics, "overdamped (Q -> 0) or inertial");
   sim->add_option("--integrator", c.integrator,
                   "euler or heun (overdamped; default heun), verlet (inertial)");
+  sim->add_option("--tolerance", c.tolerance,
+                  "chebyshev: largest local error of a particle's displacement per step (d_s)");
+  sim->add_option("--contact", c.contact, "Contact law: harmonic or hertzian");
   sim->add_option("--q", c.q, "Quality factor Q (inertial dynamics only)");
   sim->add_option("--seed", c.seed, "Seed of the random initial configuration, 0 ... 2^63-1")
       ->check(CLI::Validator(
@@ -106,6 +109,9 @@ int run_sim_command(const SimConfig& c) {
     fmt::print("  bulk viscosity p/rate {:.6e}\n", s.final_pressure / c.compression_rate);
     fmt::print("  wall time {:.2f} s, {:.3g} particle-steps/s, {} neighbor-list builds\n",
                s.wall_seconds, s.particle_steps_per_second, s.neighbor_builds);
+    fmt::print("  {} force evaluations{}\n", s.force_evaluations,
+               s.rejected_steps ? fmt::format(", {} steps rejected and retried", s.rejected_steps)
+                                : std::string());
     fmt::print("  wrote {}\n", c.out);
   }
   return 0;

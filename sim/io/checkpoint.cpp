@@ -60,6 +60,8 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     f.write_attribute("relax_converged", std::int64_t{state.relax_converged});
     f.write_attribute("steps", state.steps);
     f.write_attribute("next_output", state.next_output);
+    f.write_attribute("time", state.time);
+    f.write_attribute("relax_time", state.relax_time);
     for (int d = 0; d < D; ++d) f.write_dataset(fmt::format("s_{}", d), particles.s[d]);
     f.write_dataset("id", particles.id);
     f.write_dataset("type",
@@ -132,6 +134,9 @@ Checkpoint<D> read_checkpoint_data(const std::string& path) {
   c.state.relax_converged = f.read_attribute_int("relax_converged") != 0;
   c.state.steps = f.read_attribute_int("steps");
   c.state.next_output = f.read_attribute_int("next_output");
+  // Times of adaptive steps (fixed-step runs compute theirs from the step count).
+  if (f.has_attribute("time")) c.state.time = f.read_attribute_double("time");
+  if (f.has_attribute("relax_time")) c.state.relax_time = f.read_attribute_double("relax_time");
   c.particles.id = f.read_dataset_u32("id");
   c.particles.resize(c.particles.id.size());
   const auto type = f.read_dataset_u32("type");

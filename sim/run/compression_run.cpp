@@ -9,8 +9,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 
 #include "sim/dynamics/inertial_verlet.hpp"
+#include "sim/dynamics/overdamped_chebyshev.hpp"
 #include "sim/dynamics/overdamped_euler.hpp"
 #include "sim/dynamics/overdamped_heun.hpp"
 #include "sim/initial_state.hpp"
@@ -85,6 +87,17 @@ std::vector<double> output_times(const CompressingBox<D>& box, double phi_init, 
   return t;
 }
 
+/// Adaptive integrators choose their own steps (times accumulate in RunState); the others take
+/// fixed steps t_k = k dt.
+template <class Stepper>
+constexpr bool adaptive_stepper() {
+  if constexpr (requires { Stepper::kAdaptive; }) {
+    return Stepper::kAdaptive;
+  } else {
+    return false;
+  }
+}
+
 /// One compression run in named phases: resume (from the run's checkpoint), relax (at zero
 /// rate, or from the sample's cached relaxed start), compress (to phi_stop, recording output
 /// points), finish (jamming point, run file). The box is at rest during relaxation and starts
@@ -93,6 +106,7 @@ template <int D, class Contact, class Stepper>
 class CompressionRun {
  public:
   using Clock = std::chrono::steady_clock;
+  static constexpr bool kAdaptive = adaptive_stepper<Stepper>();
 
   CompressionRun(const SimConfig& c, const RunControl& control, System<D, Contact>& sys,
                  Stepper& stepper, const CompressingBox<D>& compressing_box, RunMetadata meta)
@@ -107,7 +121,9 @@ class CompressionRun {
         stability_(c, sys.species),
         progress_(!c.quiet, c.phi_stop),
         wall_start_(Clock::now()),
-        builds_before_(sys.neighbors.builds()) {}
+        builds_before_(sys.neighbors.builds()) {
+    sys_.guard_rebuilds = !kAdaptive;
+  }
 
   RunSummary run() {
     summary_.resumed = resume();
@@ -154,12 +170,13 @@ class CompressionRun {
     const double target_energy = c_.resolved_relax_energy();
     while (true) {
       const auto k = st_.relax_steps;
-      const double t = static_cast<double>(k) * c_.dt;
+      const double t = kAdaptive ? st_.relax_time : static_cast<double>(k) * c_.dt;
       if (k % 100 == 0) {
         const auto obs = measure(sys_, 0.0, false);
         if (!std::isfinite(obs.energy_per_particle)) {
           throw std::runtime_error(fmt::format(
-              "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt", c_.dt));
+              "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt",
+              c_.dt));
         }
         progress_.update_relaxation(obs.energy_per_particle, target_energy, t);
         if (obs.energy_per_particle <= target_energy) {
@@ -168,11 +185,15 @@ class CompressionRun {
         }
         if (t >= c_.relax_time_max) break;
       }
-      if (k % kStabilityCheckInterval == 0) {
+      if (!kAdaptive && k % kStabilityCheckInterval == 0) {
         stability_.check(sys_, sys_.box.length(t), sys_.box.packing_fraction(t), "relaxation");
       }
       if (k > 0 && (k & 255) == 0 && pause_due()) return false;
-      stepper_.step(sys_, t, c_.dt);
+      if constexpr (kAdaptive) {
+        st_.relax_time += stepper_.step(sys_, t, std::numeric_limits<double>::infinity());
+      } else {
+        stepper_.step(sys_, t, c_.dt);
+      }
       ++st_.relax_steps;
       ++steps_here_;
     }
@@ -192,8 +213,8 @@ class CompressionRun {
     recorder_.record(sys_, st_, 0.0);
   }
 
-  /// Compression at the rate to phi_stop in fixed steps t_k = k dt (never accumulated), with
-  /// output points at the first step at or after each target time. False: stopped on request.
+  /// Compression at the rate to phi_stop, with output points at the first step at or after
+  /// each target time. False: stopped on request.
   bool compress() {
     const std::vector<double> targets =
         output_times(sys_.box, meta_.phi_init, c_.phi_stop, c_.phi_step);
@@ -201,24 +222,16 @@ class CompressionRun {
     const auto n_targets = static_cast<std::int64_t>(targets.size());
     while (st_.next_output < n_targets) {
       const auto step = st_.steps;
-      const double t = static_cast<double>(step) * c_.dt;
-      if (step % kStabilityCheckInterval == 0) {
+      const double t = kAdaptive ? st_.time : static_cast<double>(step) * c_.dt;
+      if (!kAdaptive && step % kStabilityCheckInterval == 0) {
         stability_.check(sys_, sys_.box.length(t), sys_.box.packing_fraction(t), "compression");
       }
       if (step > 0 && (step & 255) == 0) {
-        progress_.update(t / t_stop_, sys_.box.packing_fraction(t), static_cast<std::size_t>(step),
-                         sys_.size());
+        progress_.update(t / t_stop_, sys_.box.packing_fraction(t),
+                         static_cast<std::size_t>(step), sys_.size());
         if (pause_due()) return false;
       }
-      // The last step is shortened to land on t_stop exactly, and a sliver shorter than
-      // 1e-6 dt is folded into it.
-      double h = c_.dt;
-      double t_after = static_cast<double>(step + 1) * c_.dt;
-      if (t_stop_ - t_after < 1e-6 * c_.dt) {
-        h = t_stop_ - t;
-        t_after = t_stop_;
-      }
-      stepper_.step(sys_, t, h);
+      const double t_after = advance(t, targets[st_.next_output]);
       ++st_.steps;
       ++steps_here_;
       bool due = false;
@@ -229,10 +242,33 @@ class CompressionRun {
       if (due) recorder_.record(sys_, st_, t_after);
     }
     count_steps(static_cast<std::size_t>(st_.steps % 256));
-    stability_.check(sys_, sys_.box.length(t_stop_), sys_.box.packing_fraction(t_stop_),
-                     "compression");
+    if (!kAdaptive) {
+      stability_.check(sys_, sys_.box.length(t_stop_), sys_.box.packing_fraction(t_stop_),
+                       "compression");
+    }
     progress_.finish();
     return true;
+  }
+
+  /// One step of the compression from t towards the next output time; returns the time
+  /// reached. Fixed steps land on t_{k+1} = (k + 1) dt (never accumulated; the last step is
+  /// shortened to land on t_stop exactly, and a sliver shorter than 1e-6 dt is folded into it).
+  /// Adaptive steps accumulate and land exactly on each output time.
+  double advance(double t, double next_target) {
+    if constexpr (kAdaptive) {
+      const double h = stepper_.step(sys_, t, next_target - t);
+      st_.time = h == next_target - t ? next_target : t + h;
+      return st_.time;
+    } else {
+      double h = c_.dt;
+      double t_after = static_cast<double>(st_.steps + 1) * c_.dt;
+      if (t_stop_ - t_after < 1e-6 * c_.dt) {
+        h = t_stop_ - t;
+        t_after = t_stop_;
+      }
+      stepper_.step(sys_, t, h);
+      return t_after;
+    }
   }
 
   /// The jamming point (FIRE on a scratch copy), the run file, and the summary.
@@ -258,6 +294,8 @@ class CompressionRun {
     summary_.relax_steps = static_cast<std::size_t>(st_.relax_steps);
     summary_.relax_converged = meta_.relax_converged;
     summary_.neighbor_builds = sys_.neighbors.builds() - builds_before_;
+    summary_.force_evaluations = sys_.force_evaluations();
+    if constexpr (kAdaptive) summary_.rejected_steps = stepper_.stats().rejections;
     summary_.output_points = st_.points.size();
     const auto& last = st_.points.back();
     summary_.final_packing_fraction = last.packing_fraction;
@@ -332,6 +370,10 @@ RunSummary run_with(const SimConfig& c, const RunControl& control, ParticleData<
   }
   if (meta.integrator == "heun") {
     OverdampedHeun<D> stepper(n);
+    return run(stepper);
+  }
+  if (meta.integrator == "chebyshev") {
+    OverdampedChebyshev<D> stepper(n, c.tolerance, c.dt);
     return run(stepper);
   }
   InertialVerlet<D> stepper(n, c.q);

@@ -18,6 +18,8 @@ struct RunSummary {
   std::size_t relax_steps = 0;
   bool relax_converged = true;
   std::size_t neighbor_builds = 0;
+  std::uint64_t force_evaluations = 0;  // by this invocation (relaxation, compression)
+  std::uint64_t rejected_steps = 0;     // adaptive integrators: steps tried again shorter
   std::size_t output_points = 0;
   double initial_box_length = 0.0;
   double phi_init = 0.0;

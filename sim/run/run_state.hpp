@@ -18,6 +18,10 @@ struct RunState {
   bool relax_converged = false;
   std::int64_t steps = 0;        // compression steps done
   std::int64_t next_output = 0;  // index of the next output time
+  // Time reached by an adaptive integrator's accumulated steps (compression, relaxation);
+  // fixed-step integrators use t = k dt from the step counts instead.
+  double time = 0.0;
+  double relax_time = 0.0;
   std::vector<Observables<D>> points;
   std::vector<SavedConfiguration> saved;  // for the jamming point, when asked for
 };

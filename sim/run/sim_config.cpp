@@ -92,8 +92,8 @@ void validate(const SimConfig& c) {
     reject("dynamics", c.dynamics, "must be overdamped or inertial");
   }
   const std::string integ = c.resolved_integrator();
-  if (c.dynamics == "overdamped" && integ != "euler" && integ != "heun") {
-    reject("integrator", integ, "overdamped dynamics takes euler or heun");
+  if (c.dynamics == "overdamped" && integ != "euler" && integ != "heun" && integ != "chebyshev") {
+    reject("integrator", integ, "overdamped dynamics takes euler, heun or chebyshev");
   }
   if (c.seed > kMaxSeed) reject("seed", std::to_string(c.seed), "must be in [0, 2^63 - 1]");
   if (c.dynamics == "inertial") {

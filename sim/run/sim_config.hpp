@@ -25,7 +25,10 @@ struct SimConfig {
   // dt up to about 0.2). Inertial dynamics needs dt below 4 Q^2 / D: give it explicitly.
   double dt = 0.1;
   std::string dynamics = "overdamped";  // overdamped | inertial
-  std::string integrator;               // euler | heun (overdamped), verlet (inertial)
+  std::string integrator;  // euler | heun | chebyshev (overdamped), verlet (inertial)
+  // chebyshev: the largest local error of one particle's displacement in one step (d_s);
+  // --dt is then its first step.
+  double tolerance = 1e-5;
   double q = 0.03;                      // quality factor, inertial dynamics only
   std::uint64_t seed = 1;
   double skin = 0.3;
