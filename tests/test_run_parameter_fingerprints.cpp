@@ -118,12 +118,41 @@ BOOST_AUTO_TEST_CASE(parameters_outside_the_physics_do_not_count) {
   // Output names, the wall-time checkpoint interval and the campaign a run belongs to never
   // change a run's numbers.
   SimConfig a, b;
-  b.out = "x.h5";
+  b.out = std::string("x.h5");
   b.checkpoint_interval = 5;
   b.quiet = b.force = true;
-  b.campaign = "c";
+  b.campaign = std::string("campaign");
   b.sample = 3;
-  b.write_lammps_data = "w.data";
+  b.write_lammps_data = std::string("w.data");
   BOOST_TEST(jam::fingerprint(a) == jam::fingerprint(b));
   BOOST_TEST(jam::relaxation_fingerprint(a) == jam::relaxation_fingerprint(b));
+}
+
+BOOST_AUTO_TEST_CASE(contact_law_is_a_suffix_only_when_not_harmonic) {
+  SimConfig c;
+  c.contact = "harmonic";  // the default: fingerprints as before the parameter existed
+  BOOST_TEST(jam::fingerprint(c) == jam::fingerprint(SimConfig{}));
+  c.contact = "hertzian";
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.0001 dt=0.10000000000000001 dynamics=overdamped "
+             "integrator=heun q=0 seed=1 " +
+                 kDefaultRelax + " read= jamming_point=false from=0 contact=hertzian");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=1 "
+             "dt=0.10000000000000001 dynamics=overdamped integrator=heun q=0 "
+             "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
+             "relax_energy=9.9999999999999998e-13 relax_time_max=10000 read= contact=hertzian");
+  c.threads = 2;  // both suffixes: threads first
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.0001 dt=0.10000000000000001 dynamics=overdamped "
+             "integrator=heun q=0 seed=1 " +
+                 kDefaultRelax + " read= jamming_point=false from=0 threads=2 contact=hertzian");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=1 "
+             "dt=0.10000000000000001 dynamics=overdamped integrator=heun q=0 "
+             "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
+             "relax_energy=9.9999999999999998e-13 relax_time_max=10000 read= threads=2 "
+             "contact=hertzian");
 }
