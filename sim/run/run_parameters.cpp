@@ -218,9 +218,6 @@ std::vector<RunParameter> make_table() {
   };
 }
 
-template <class T>
-constexpr bool is_integer = std::is_integral_v<T> && !std::is_same_v<T, bool>;
-
 }  // namespace
 
 std::string RunParameter::option() const {
@@ -255,22 +252,6 @@ ParameterValue field_value(const SimConfig& c, const RunParameter& p) {
         }
       },
       p.field);
-}
-
-void set_field(SimConfig& c, const RunParameter& p, const ParameterValue& v) {
-  std::visit(
-      [&c](auto member, const auto& value) {
-        using Target = std::decay_t<decltype(c.*member)>;
-        using Source = std::decay_t<decltype(value)>;
-        if constexpr (std::is_same_v<Target, Source>) {
-          c.*member = value;
-        } else if constexpr (is_integer<Target> && is_integer<Source>) {
-          c.*member = static_cast<Target>(value);  // callers check the range
-        } else {
-          throw std::logic_error("set_field: value of another type");
-        }
-      },
-      p.field, v);
 }
 
 ParameterValue zero_like(const ParameterValue& v) {

@@ -65,9 +65,6 @@ const RunParameter* find_run_parameter(std::string_view name);
 /// The member's value.
 ParameterValue field_value(const SimConfig& c, const RunParameter& p);
 
-/// Sets the member (the value converted to its type).
-void set_field(SimConfig& c, const RunParameter& p, const ParameterValue& v);
-
 /// What fingerprints and the run file store: the resolved value, 0 for inertial_only
 /// parameters of overdamped runs.
 ParameterValue stored_value(const SimConfig& c, const RunParameter& p);
