@@ -17,6 +17,7 @@
 #include "bench/accuracy_runs.hpp"
 #include "bench/lammps_bench.hpp"
 #include "bench/report_files.hpp"
+#include "sim/dynamics/integrator_list.hpp"
 #include "sim/model/paper_values.hpp"
 
 namespace jam::bench {
@@ -216,9 +217,8 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       Method& m = res.methods[mi];
       const double t_end =
           std::log(accuracy_packings(m.dim)[2] / o.start_packing(m.dim)) / (m.dim * m.rate);
-      const bool two_evals = m.integrator != "euler" && m.integrator != "verlet";
-      cost.push_back(t_end / m.dt * (two_evals ? 2 : 1) * (m.engine == "lammps" ? 3 : 1) *
-                     (m.dim == 3 ? 2 : 1));
+      cost.push_back(t_end / m.dt * force_evaluations_per_step(m.integrator) *
+                     (m.engine == "lammps" ? 3 : 1) * (m.dim == 3 ? 2 : 1));
       tasks.push_back([&, mi, s] {
         Method& m = res.methods[mi];
         const auto phi = accuracy_packings(m.dim);

@@ -3,15 +3,20 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <set>
 #include <sstream>
+#include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "campaign/run_plan.hpp"
 #include "checks/check_registry.hpp"
+#include "sim/run/run_parameters.hpp"
 #include "sim/run/sim_config.hpp"
 
 namespace jam {
@@ -140,7 +145,52 @@ class Reader {
   std::set<std::string> seen_;
 };
 
+/// A campaign key of an integer parameter: the allowed values and the member's range are
+/// checked before narrowing, so that 2^32 + 2 is not read as 2.
+template <class T>
+T integer_key(Reader& r, const RunParameter& p, T fallback) {
+  const std::int64_t v =
+      r.integer(p.name, p.campaign == CampaignKey::required, static_cast<std::int64_t>(fallback));
+  const std::string text = std::to_string(v);
+  if (!p.choices.empty() &&
+      std::find(p.choices.begin(), p.choices.end(), text) == p.choices.end()) {
+    r.fail(p.name, fmt::format("{} (must be {})", v, or_list(p.choices)));
+  }
+  if (!std::in_range<T>(v)) r.fail(p.name, fmt::format("{} (out of range)", v));
+  return static_cast<T>(v);
+}
+
+/// The per-run keys of a campaign: the campaign keys of the parameter table, by type.
+void read_run_parameters(Reader& r, SimConfig& run) {
+  for (const RunParameter& p : run_parameters()) {
+    if (p.campaign == CampaignKey::none) continue;
+    const bool required = p.campaign == CampaignKey::required;
+    std::visit(
+        [&](auto member) {
+          auto& target = run.*member;
+          using T = std::decay_t<decltype(target)>;
+          if constexpr (std::is_same_v<T, double>) {
+            target = r.number(p.name, required, target);
+          } else if constexpr (std::is_same_v<T, bool>) {
+            target = r.boolean(p.name, target);
+          } else if constexpr (std::is_same_v<T, std::string>) {
+            target = r.string(p.name, required, target);
+          } else {
+            target = integer_key<T>(r, p, target);
+          }
+        },
+        p.field);
+  }
+}
+
 }  // namespace
+
+SimConfig campaign_run_defaults() {
+  SimConfig s;
+  s.relax_energy = "1e-14";
+  s.quiet = true;
+  return s;
+}
 
 Campaign parse_campaign(const std::string& text, const std::string& path) {
   // Plain ASCII only: the TOML parser of Debian 12 (toml++ 3.3.0) reaches undefined behaviour
@@ -167,32 +217,16 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.source_path = path;
   c.source_text = text;
   c.name = r.string("name", true, "");
-  const std::int64_t dim = r.integer("dim", true, 2);
-  if (dim != 2 && dim != 3) r.fail("dim", fmt::format("{} (must be 2 or 3)", dim));
-  c.dim = static_cast<int>(dim);
+  read_run_parameters(r, c.run);
   c.sizes = r.integers("sizes");
   c.phi_init = r.numbers("phi_init");
   c.log10_rates = r.numbers("log10_rates");
   c.samples = r.integer("samples", true, 0);
   c.first_sample = r.integer("first_sample", false, c.first_sample);
-  c.phi_stop = r.number("phi_stop", true, 0.0);
-  c.phi_step = r.number("phi_step", false, c.phi_step);
-  c.dynamics = r.string("dynamics", false, c.dynamics);
-  c.integrator = r.string("integrator", false, c.integrator);
-  c.dt = r.number("dt", false, c.dt);
-  c.q = r.number("q", false, c.q);
   const std::int64_t seed = r.integer("seed", true, 0);
   c.output = r.string("output", true, "");
-  c.skin = r.number("skin", false, c.skin);
-  c.diameter_ratio = r.number("diameter_ratio", false, c.diameter_ratio);
-  c.relax = r.boolean("relax", c.relax);
-  c.relax_energy = r.string("relax_energy", false, c.relax_energy);
-  c.relax_time_max = r.number("relax_time_max", false, c.relax_time_max);
-  c.rattlers = r.boolean("rattlers", c.rattlers);
-  c.stress = r.boolean("stress", c.stress);
-  c.jamming_point = r.boolean("jamming_point", c.jamming_point);
-  c.checkpoint_interval = r.number("checkpoint_interval", false, c.checkpoint_interval);
-  c.margins = r.number_table("margins", checks::check_names());
+  c.margins = r.number_table("margins", {"finite_size", "sample_pairs", "phi_init", "regression",
+                                         "jamming_point", "lammps"});
   c.expected_failures = r.strings("expected_failures");
   for (const auto& e : c.expected_failures) {
     if (e.find(": ") == std::string::npos || e.find(": ") == 0) {
@@ -204,15 +238,14 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   if (c.name.empty() || c.name.find_first_of("/ \t") != std::string::npos) {
     r.fail("name", "must be a non-empty word (it names the report)");
   }
-  if (c.dim != 2 && c.dim != 3) r.fail("dim", fmt::format("{} (must be 2 or 3)", c.dim));
   for (auto n : c.sizes) {
     if (n < 2 || n % 2 != 0) r.fail("sizes", fmt::format("{} (each must be even and >= 2)", n));
     if (n > (std::int64_t{1} << 31)) r.fail("sizes", fmt::format("{} (at most 2^31)", n));
   }
   for (double phi : c.phi_init) {
-    if (!(phi > 0.0 && phi < c.phi_stop)) {
+    if (!(phi > 0.0 && phi < c.run.phi_stop)) {
       r.fail("phi_init",
-             fmt::format("{:g} (each must be in (0, phi_stop = {:g}))", phi, c.phi_stop));
+             fmt::format("{:g} (each must be in (0, phi_stop = {:g}))", phi, c.run.phi_stop));
     }
   }
   for (double lr : c.log10_rates) {
@@ -226,29 +259,22 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
     r.fail("first_sample", fmt::format("{} (must be in [0, 10^6])", c.first_sample));
   }
   if (seed < 0) r.fail("seed", fmt::format("{} (must be >= 0)", seed));
-  c.seed = static_cast<std::uint64_t>(seed);
+  c.base_seed = static_cast<std::uint64_t>(seed);
   if (c.output.empty()) r.fail("output", "must name a directory");
-  if (c.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
+  if (c.run.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
 
   // Everything a single run checks, with the campaign's key names in the message.
-  const std::map<std::string, std::string> option_to_key = {{"--phi-stop", "phi_stop"},
-                                                            {"--phi-step", "phi_step"},
-                                                            {"--dt", "dt"},
-                                                            {"--dynamics", "dynamics"},
-                                                            {"--integrator", "integrator"},
-                                                            {"--q", "q"},
-                                                            {"--skin", "skin"},
-                                                            {"--diameter-ratio", "diameter_ratio"},
-                                                            {"--relax-energy", "relax_energy"},
-                                                            {"--relax-time-max", "relax_time_max"}};
   SimConfig probe = run_config(c, c.sizes.front(), c.phi_init.front(), c.log10_rates.front(), 0);
   probe.out = "probe";
   try {
     validate(probe);
   } catch (const ConfigError& e) {
     const std::string message = e.what();
-    for (const auto& [option, key] : option_to_key) {
-      if (message.rfind(option + " ", 0) == 0) r.fail(key, message.substr(option.size() + 1));
+    for (const RunParameter& p : run_parameters()) {
+      const std::string option = p.option() + " ";
+      if (p.campaign != CampaignKey::none && message.rfind(option, 0) == 0) {
+        r.fail(p.name, message.substr(option.size()));
+      }
     }
     throw CampaignError(fmt::format("{}: {}", path, message));
   }
@@ -264,23 +290,15 @@ Campaign read_campaign(const std::string& path) {
 }
 
 std::vector<std::pair<std::string, std::string>> identity_keys(const Campaign& c) {
-  auto g = [](double v) { return fmt::format("{:.17g}", v); };
-  return {{"dim", std::to_string(c.dim)},
-          {"phi_stop", g(c.phi_stop)},
-          {"phi_step", g(c.phi_step)},
-          {"dynamics", c.dynamics},
-          {"integrator", c.integrator},
-          {"dt", g(c.dt)},
-          {"q", c.dynamics == "inertial" ? g(c.q) : "-"},
-          {"seed", std::to_string(c.seed)},
-          {"skin", g(c.skin)},
-          {"diameter_ratio", g(c.diameter_ratio)},
-          {"relax", c.relax ? "true" : "false"},
-          {"relax_energy", c.relax_energy},
-          {"relax_time_max", g(c.relax_time_max)},
-          {"rattlers", c.rattlers ? "true" : "false"},
-          {"stress", c.stress ? "true" : "false"},
-          {"jamming_point", c.jamming_point ? "true" : "false"}};
+  std::vector<std::pair<std::string, std::string>> keys;
+  for (const RunParameter& p : run_parameters()) {
+    if (p.campaign == CampaignKey::none || !p.in_fingerprint()) continue;
+    // As written in the file (relax_energy "auto" stays "auto"); a Q the dynamics ignores is "-".
+    const bool ignored = p.inertial_only && c.run.dynamics != "inertial";
+    keys.emplace_back(p.name, ignored ? "-" : fingerprint_text(field_value(c.run, p)));
+  }
+  keys.emplace_back("seed", std::to_string(c.base_seed));
+  return keys;
 }
 
 }  // namespace jam

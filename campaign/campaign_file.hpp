@@ -16,9 +16,13 @@ struct CampaignError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The per-run defaults of a campaign: SimConfig's, except a fixed relaxation target (not
+/// "auto", which depends on the rate) so that every rate of a sample shares one relaxed start,
+/// cached in <output>/starts/, and no progress display.
+SimConfig campaign_run_defaults();
+
 struct Campaign {
   std::string name;
-  int dim = 2;
   std::vector<std::int64_t> sizes;
   std::vector<double> phi_init;
   std::vector<double> log10_rates;
@@ -26,26 +30,11 @@ struct Campaign {
   // Samples are numbered first_sample ... first_sample + samples - 1: a rerun of part of a
   // campaign (first_sample inside it) or new samples of it (first_sample past its end).
   std::int64_t first_sample = 0;
-  double phi_stop = 0.0;
-  // Per-run keys default to what `jam sim` does (one source: SimConfig).
-  double phi_step = SimConfig{}.phi_step;
-  std::string dynamics = SimConfig{}.dynamics;
-  std::string integrator;  // empty: the dynamics' default (SimConfig::resolved_integrator)
-  double dt = SimConfig{}.dt;
-  double q = SimConfig{}.q;
-  std::uint64_t seed = 0;
-  std::string output;  // campaign directory
-  double skin = SimConfig{}.skin;
-  double diameter_ratio = SimConfig{}.diameter_ratio;
-  bool relax = true;
-  // Fixed (not "auto", which depends on the rate) so that every rate of a sample shares one
-  // relaxed start, cached in <output>/starts/.
-  std::string relax_energy = "1e-14";
-  double relax_time_max = SimConfig{}.relax_time_max;
-  bool rattlers = false;
-  bool stress = false;
-  bool jamming_point = false;  // find each run's phi_Ji (FIRE), for the phi_init check
-  double checkpoint_interval = SimConfig{}.checkpoint_interval;  // seconds
+  std::uint64_t base_seed = 0;  // key "seed": each run's seed derives from it (run_plan.hpp)
+  std::string output;           // campaign directory
+  // Every run's parameters: the campaign keys of the parameter table (run_parameters.hpp) read
+  // into it; n, phi_init, rate and seed are set per run by run_config().
+  SimConfig run = campaign_run_defaults();
   // How `jam check` judges this campaign (not part of its identity: changing them never
   // touches a run). [margins]: a check's name -> its margin M (checks/checks.hpp).
   std::map<std::string, double> margins;

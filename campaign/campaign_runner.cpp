@@ -309,10 +309,10 @@ int print_campaign_plan(const Campaign& c) {
     total += run.estimated_particle_steps;
     by_size[run.n] += run.estimated_particle_steps;
   }
-  const double speed = measure_throughput(c.dim);
+  const double speed = measure_throughput(c.run.dim);
   const double core_hours = total / speed / 3600.0;
   fmt::print("campaign {}: {}D, {} runs ({} sizes x {} phi_init x {} rates x {} samples)\n", c.name,
-             c.dim, plan.size(), c.sizes.size(), c.phi_init.size(), c.log10_rates.size(),
+             c.run.dim, plan.size(), c.sizes.size(), c.phi_init.size(), c.log10_rates.size(),
              c.samples);
   fmt::print("  particle-steps (force evaluations x particles, relaxation included): {:.3g}\n",
              total);
@@ -320,7 +320,7 @@ int print_campaign_plan(const Campaign& c) {
     fmt::print("    N = {:>7}: {:.3g} ({:.1f}%)\n", n, steps, 100.0 * steps / total);
   }
   fmt::print("  measured throughput of this build: {:.3g} particle-steps/s per core ({}D)\n", speed,
-             c.dim);
+             c.run.dim);
   fmt::print("  estimated cost: {:.3g} core-hours; {} on {} cores of this machine\n", core_hours,
              duration(total / speed / std::max(1u, std::thread::hardware_concurrency())),
              std::max(1u, std::thread::hardware_concurrency()));

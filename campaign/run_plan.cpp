@@ -45,30 +45,13 @@ std::string runs_directory(const Campaign& campaign) {
 
 SimConfig run_config(const Campaign& c, std::int64_t n, double phi_init, double log10_rate,
                      std::int64_t sample) {
-  SimConfig s;
-  s.dim = c.dim;
+  SimConfig s = c.run;  // every campaign key; the rest are SimConfig's defaults
   s.n = n;
   s.phi_init = phi_init;
-  s.phi_stop = c.phi_stop;
-  s.phi_step = c.phi_step;
   s.compression_rate = std::pow(10.0, log10_rate);
-  s.dt = c.dt;
-  s.dynamics = c.dynamics;
-  s.integrator = c.integrator;
-  s.q = c.q;
-  s.seed = derive_seed(c.seed, n, phi_init, sample);
+  s.seed = derive_seed(c.base_seed, n, phi_init, sample);
   s.campaign = c.name;
   s.sample = sample;
-  s.skin = c.skin;
-  s.diameter_ratio = c.diameter_ratio;
-  s.relax = c.relax;
-  s.relax_energy = c.relax_energy;
-  s.relax_time_max = c.relax_time_max;
-  s.rattlers = c.rattlers;
-  s.stress = c.stress;
-  s.jamming_point = c.jamming_point;
-  s.quiet = true;
-  s.checkpoint_interval = c.checkpoint_interval;
   return s;
 }
 
@@ -99,16 +82,18 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
           r.config = run_config(c, n, phi, lr, k);
           SimConfig& s = r.config;
           s.out = (std::filesystem::path(dir) / (r.name + ".h5")).string();
-          if (c.relax && c.relax_energy != "auto") {
+          if (s.relax && s.relax_energy != "auto") {
             s.start_cache = (std::filesystem::path(starts_directory(c)) /
                              fmt::format("n{}_phi{:.4f}_s{:03d}.h5", n, phi, k))
                                 .string();
           }
-          const double compression_time = std::log(c.phi_stop / phi) / (c.dim * s.compression_rate);
-          const double evaluations = s.resolved_integrator() == "heun" ? 2.0 : 1.0;
-          const double relax_time = c.relax ? kRelaxTimeEstimate : 0.0;
+          const double compression_time = std::log(s.phi_stop / phi) / (s.dim * s.compression_rate);
+          const double relax_time = s.relax ? kRelaxTimeEstimate : 0.0;
           r.estimated_particle_steps =
-              static_cast<double>(n) * evaluations * (compression_time + relax_time) / c.dt;
+              static_cast<double>(n) *
+              (force_evaluations_per_time(s.resolved_integrator(), s.dt, s.compression_rate) *
+                   compression_time +
+               force_evaluations_per_step(s.resolved_integrator()) * relax_time / s.dt);
           runs.push_back(std::move(r));
         }
       }

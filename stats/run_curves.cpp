@@ -12,8 +12,8 @@ CampaignData read_campaign_runs(const std::string& directory) {
   const Campaign campaign = stored_campaign(directory);
   CampaignData data;
   data.name = campaign.name;
-  data.dim = campaign.dim;
-  data.phi_step = campaign.phi_step;
+  data.dim = campaign.run.dim;
+  data.phi_step = campaign.run.phi_step;
   Campaign located = campaign;
   located.output = directory;  // the directory may have moved since it was run
   for (const PlannedRun& run : plan_runs(located)) {

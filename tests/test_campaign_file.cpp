@@ -46,7 +46,7 @@ BOOST_AUTO_TEST_CASE(good_file_parses) {
   BOOST_TEST(c.name == "t");
   BOOST_TEST(c.sizes.size() == 2u);
   BOOST_TEST(c.log10_rates[1] == -3.5);
-  BOOST_TEST(c.dt == 0.1);  // default (Heun)
+  BOOST_TEST(c.run.dt == 0.1);  // default (Heun)
   BOOST_TEST(c.samples == 3);
 }
 

@@ -63,10 +63,11 @@ BOOST_AUTO_TEST_CASE(packing_fraction_over_the_longest_paper_runs) {
     const double slowest =
         std::pow(10.0, *std::min_element(c.log10_rates.begin(), c.log10_rates.end()));
     const double phi0 = *std::min_element(c.phi_init.begin(), c.phi_init.end());
-    const double steps = std::ceil(std::log(c.phi_stop / phi0) / (c.dim * slowest * c.dt));
+    const double steps =
+        std::ceil(std::log(c.run.phi_stop / phi0) / (c.run.dim * slowest * c.run.dt));
     BOOST_TEST(steps >= 1e7);
-    const double worst = c.dim == 2 ? worst_packing_error<2>(phi0, slowest, c.dt, steps)
-                                    : worst_packing_error<3>(phi0, slowest, c.dt, steps);
+    const double worst = c.run.dim == 2 ? worst_packing_error<2>(phi0, slowest, c.run.dt, steps)
+                                        : worst_packing_error<3>(phi0, slowest, c.run.dt, steps);
     BOOST_TEST_MESSAGE(name << ": rate " << slowest << ", " << steps
                             << " steps, max |phi - phi_expected| / phi = " << worst);
     BOOST_TEST(worst < 1e-14);

@@ -8,10 +8,13 @@
 #include <cstdio>
 #include <cstring>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/content_checksum.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/run/run_parameters.hpp"
 #include "sim/version.hpp"
 
 namespace jam {
@@ -172,30 +175,42 @@ std::string run_identity_problem(const std::string& path, const SimConfig& plann
   }
 }
 
+namespace {
+
+/// The run's parameters (run_parameters.cpp): integers and flags as int64, numbers as float64,
+/// words as strings. N, phi_init and the integrator are the ones the run found (from a data
+/// file, the dynamics' default).
+void write_parameter_attributes(h5::File& f, const SimConfig& c, const RunMetadata& meta) {
+  SimConfig run = c;
+  run.n = meta.n;
+  run.phi_init = meta.phi_init;
+  run.integrator = meta.integrator;
+  for (const RunParameter& p : run_parameters()) {
+    if (p.attribute.empty()) continue;
+    std::visit(
+        [&](const auto& v) {
+          using T = std::decay_t<decltype(v)>;
+          if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::string>) {
+            f.write_attribute(p.attribute, v);
+          } else {
+            f.write_attribute(p.attribute, static_cast<std::int64_t>(v));
+          }
+        },
+        stored_value(run, p));
+  }
+}
+
+}  // namespace
+
 template <int D>
 void write_run_file(const std::string& path, const SimConfig& c, const RunMetadata& meta,
                     const std::vector<Observables<D>>& points) {
   const std::string temporary = AtomicFile::temporary_name(path);
   try {
     h5::File f = h5::File::create(temporary);
-    f.write_attribute("dim", std::int64_t{D});
-    f.write_attribute("n", meta.n);
-    f.write_attribute("phi_init", meta.phi_init);
-    f.write_attribute("phi_stop", c.phi_stop);
-    f.write_attribute("phi_step", c.phi_step);
-    f.write_attribute("compression_rate", c.compression_rate);
-    f.write_attribute("dt", c.dt);
-    f.write_attribute("seed", static_cast<std::int64_t>(c.seed));
-    f.write_attribute("integrator", meta.integrator);
-    f.write_attribute("dynamics", c.dynamics);
-    f.write_attribute("q", c.dynamics == "inertial" ? c.q : 0.0);
-    f.write_attribute("diameter_ratio", c.diameter_ratio);
-    f.write_attribute("skin", c.skin);
-    f.write_attribute("threads", std::int64_t{c.threads});
+    write_parameter_attributes(f, c, meta);
     f.write_attribute("initial_box_length", meta.initial_box_length);
     f.write_attribute("initial_configuration", meta.initial_configuration);
-    f.write_attribute("relax", std::int64_t{c.relax});
-    f.write_attribute("relax_energy", c.resolved_relax_energy());
     f.write_attribute("relax_steps", meta.relax_steps);
     f.write_attribute("relax_converged", std::int64_t{meta.relax_converged});
     f.write_attribute("steps", meta.steps);

@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "sim/parallel.hpp"
+#include "sim/run/run_parameters.hpp"
 
 namespace jam {
 namespace {
@@ -20,6 +23,27 @@ std::string str(double v) {
 
 void require_finite_positive(const std::string& option, double v) {
   if (!std::isfinite(v) || v <= 0.0) reject(option, str(v), "must be a finite number > 0");
+}
+
+/// Parameters with a list of allowed values (run_parameters.cpp): --dim, --dynamics, ...
+void validate_choices(const SimConfig& c) {
+  for (const auto& p : run_parameters()) {
+    if (p.choices.empty()) continue;
+    const std::string value = message_text(field_value(c, p));
+    if (std::find(p.choices.begin(), p.choices.end(), value) == p.choices.end()) {
+      reject(p.option().substr(2), value.empty() ? "''" : value, "must be " + or_list(p.choices));
+    }
+  }
+}
+
+/// The integrator against the integrator list: one of the dynamics' own.
+void validate_integrator(const SimConfig& c) {
+  const std::string integ = c.resolved_integrator();
+  const IntegratorInfo* info = find_integrator(integ);
+  if (!info || info->dynamics != c.dynamics) {
+    reject("integrator", integ,
+           fmt::format("{} dynamics takes {}", c.dynamics, or_list(integrators_of(c.dynamics))));
+  }
 }
 
 }  // namespace
@@ -49,7 +73,7 @@ std::uint64_t parse_seed(const std::string& option, const std::string& text) {
 }
 
 void validate(const SimConfig& c) {
-  if (c.dim != 2 && c.dim != 3) reject("dim", std::to_string(c.dim), "must be 2 or 3");
+  validate_choices(c);
   if (c.read_lammps_data.empty()) {
     if (c.n < 2) reject("n", std::to_string(c.n), "at least 2 particles are needed");
     if (c.n % 2 != 0) {
@@ -88,16 +112,9 @@ void validate(const SimConfig& c) {
   if (!std::isfinite(c.relax_time_max) || c.relax_time_max < 0.0) {
     reject("relax-time-max", str(c.relax_time_max), "must be >= 0");
   }
-  if (c.dynamics != "overdamped" && c.dynamics != "inertial") {
-    reject("dynamics", c.dynamics, "must be overdamped or inertial");
-  }
-  const std::string integ = c.resolved_integrator();
-  if (c.dynamics == "overdamped" && integ != "euler" && integ != "heun" && integ != "chebyshev") {
-    reject("integrator", integ, "overdamped dynamics takes euler, heun or chebyshev");
-  }
+  validate_integrator(c);
   if (c.seed > kMaxSeed) reject("seed", std::to_string(c.seed), "must be in [0, 2^63 - 1]");
   if (c.dynamics == "inertial") {
-    if (integ != "verlet") reject("integrator", integ, "inertial dynamics takes verlet");
     require_finite_positive("q", c.q);
     if (c.q > kMaxQ) {
       reject("q", str(c.q),
@@ -121,42 +138,53 @@ void validate(const SimConfig& c) {
 }
 
 namespace {
-// The thread count changes the force summation order, so it is part of a fingerprint; one
-// thread adds nothing, so that single-threaded fingerprints are those of earlier versions.
-std::string threads_suffix(const SimConfig& c) {
-  return c.threads == 1 ? std::string() : fmt::format(" threads={}", c.threads);
+
+/// The words of a fingerprint: " key=value" for each parameter in `words` (in that order),
+/// then the suffixes, in table order, of those that differ from their defaults.
+std::string identity_words(const SimConfig& c, const std::vector<const RunParameter*>& words) {
+  static const SimConfig defaults;
+  std::string text, suffixes;
+  for (const RunParameter* p : words) {
+    ParameterValue v = stored_value(c, *p);
+    // A data file gives N and the packing: its name identifies them.
+    if (p->from_data_file && !c.read_lammps_data.empty()) v = zero_like(v);
+    const std::string word = fmt::format(" {}={}", p->word(), fingerprint_text(v));
+    if (p->identity == Identity::word) {
+      text += word;
+    } else if (v != stored_value(defaults, *p)) {
+      suffixes += word;
+    }
+  }
+  return text + suffixes;
 }
+
+std::vector<const RunParameter*> fingerprint_parameters() {
+  std::vector<const RunParameter*> out;
+  for (const auto& p : run_parameters())
+    if (p.in_fingerprint()) out.push_back(&p);
+  return out;
+}
+
+std::vector<const RunParameter*> relaxation_parameters() {
+  std::vector<const RunParameter*> out;
+  for (const auto& p : run_parameters())
+    if (p.in_fingerprint() && p.relaxation_position > 0) out.push_back(&p);
+  std::stable_sort(out.begin(), out.end(), [](const RunParameter* a, const RunParameter* b) {
+    return a->relaxation_position < b->relaxation_position;
+  });
+  return out;
+}
+
 }  // namespace
 
 std::string fingerprint(const SimConfig& c) {
-  return fmt::format(
-             "dim={} n={} phi_init={:.17g} phi_stop={:.17g} phi_step={:.17g} rate={:.17g} "
-             "dt={:.17g} "
-             "dynamics={} integrator={} q={:.17g} seed={} skin={:.17g} diameter_ratio={:.17g} "
-             "relax={} "
-             "relax_energy={:.17g} relax_time_max={:.17g} rattlers={} stress={} read={} "
-             "jamming_point={} "
-             "from={:.17g}",
-             c.dim, c.read_lammps_data.empty() ? c.n : 0,
-             c.read_lammps_data.empty() ? c.phi_init : 0.0, c.phi_stop, c.phi_step,
-             c.compression_rate, c.dt, c.dynamics, c.resolved_integrator(),
-             c.dynamics == "inertial" ? c.q : 0.0, c.seed, c.skin, c.diameter_ratio, c.relax,
-             c.resolved_relax_energy(), c.relax_time_max, c.rattlers, c.stress, c.read_lammps_data,
-             c.jamming_point, c.jamming_search_from) +
-         threads_suffix(c);
+  static const auto words = fingerprint_parameters();
+  return identity_words(c, words).substr(1);
 }
 
 std::string relaxation_fingerprint(const SimConfig& c) {
-  return fmt::format(
-             "relaxation dim={} n={} phi_init={:.17g} seed={} dt={:.17g} dynamics={} integrator={} "
-             "q={:.17g} skin={:.17g} diameter_ratio={:.17g} relax_energy={:.17g} "
-             "relax_time_max={:.17g} "
-             "read={}",
-             c.dim, c.read_lammps_data.empty() ? c.n : 0,
-             c.read_lammps_data.empty() ? c.phi_init : 0.0, c.seed, c.dt, c.dynamics,
-             c.resolved_integrator(), c.dynamics == "inertial" ? c.q : 0.0, c.skin,
-             c.diameter_ratio, c.resolved_relax_energy(), c.relax_time_max, c.read_lammps_data) +
-         threads_suffix(c);
+  static const auto words = relaxation_parameters();
+  return "relaxation" + identity_words(c, words);
 }
 
 void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance) {

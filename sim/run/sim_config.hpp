@@ -1,9 +1,12 @@
 #pragma once
-// Parameters of one compression run (`jam sim`), their defaults and their validation.
+// Parameters of one compression run (`jam sim`), their defaults and their validation. How each
+// is named, fingerprinted and stored: the table in run_parameters.hpp.
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
+
+#include "sim/dynamics/integrator_list.hpp"
 
 namespace jam {
 
@@ -25,7 +28,7 @@ struct SimConfig {
   // dt up to about 0.2). Inertial dynamics needs dt below 4 Q^2 / D: give it explicitly.
   double dt = 0.1;
   std::string dynamics = "overdamped";  // overdamped | inertial
-  std::string integrator;  // euler | heun | chebyshev (overdamped), verlet (inertial)
+  std::string integrator;               // empty: the dynamics' default (integrator_list.hpp)
   // chebyshev: the largest local error of one particle's displacement in one step (d_s);
   // --dt is then its first step.
   double tolerance = 1e-5;
@@ -37,8 +40,10 @@ struct SimConfig {
   // round-off, then drift apart chaotically (sim/parallel.hpp).
   int threads = 1;
   double diameter_ratio = 1.4;
-  std::string contact = "harmonic";  // the contact law (sim/model/contact_laws.hpp)
-  bool relax = true;                 // relax the start at zero rate (paper's protocol)
+  // The contact law: harmonic (the paper's) or hertzian. Fingerprints name it only when it is
+  // not harmonic, so that the harmonic runs keep the identity they had before it existed.
+  std::string contact = "harmonic";
+  bool relax = true;  // relax the start at zero rate (paper's protocol)
   // ... until the energy per particle is at or below this; "auto" = 1e-4 rate^2, so that the
   // residual pressure of the start (~ sqrt(E)) is ~1% of rate, well below the pressure the
   // compression itself builds (zeta rate, with bulk viscosity zeta >= 1 at any phi).
@@ -74,7 +79,7 @@ struct SimConfig {
   /// The integrator after applying the dynamics-dependent default.
   std::string resolved_integrator() const {
     if (!integrator.empty()) return integrator;
-    return dynamics == "inertial" ? "verlet" : "heun";
+    return std::string(default_integrator(dynamics == "inertial" ? "inertial" : "overdamped"));
   }
 };
 

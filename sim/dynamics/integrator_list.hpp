@@ -1,0 +1,101 @@
+#pragma once
+// The integrators a run can choose, in one list: which dynamics each integrates, its cost in
+// force evaluations per step and its order in dt. Validation (sim_config.cpp), the default per
+// dynamics (SimConfig::resolved_integrator), the cost estimates of campaigns and benchmarks
+// and the help of --integrator all read it. The classes themselves are in one header each
+// (overdamped_euler.hpp, overdamped_heun.hpp, inertial_verlet.hpp), dispatched once per run in
+// sim/run/compression_run.cpp.
+#include <array>
+#include <cmath>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace jam {
+
+struct IntegratorInfo {
+  std::string_view name;      // --integrator value, the classes' kName
+  std::string_view dynamics;  // --dynamics it integrates
+  int force_evaluations;      // per step: what a step costs (0: adaptive, see below)
+  int order;                  // global error ~ dt^order
+  bool is_default;            // its dynamics' default (exactly one per dynamics)
+};
+
+// Heun is the overdamped default: at dt = 0.1 it is 2.5-4x cheaper than Euler at equal
+// accuracy (docs/performance.md, the defaults).
+inline constexpr std::array<IntegratorInfo, 4> kIntegrators = {{
+    {"euler", "overdamped", 1, 1, false},
+    {"heun", "overdamped", 2, 2, true},
+    // Runge-Kutta-Chebyshev with error control: its steps and stages adapt to the run.
+    {"chebyshev", "overdamped", 0, 2, false},
+    {"verlet", "inertial", 1, 2, true},  // forces at the new positions serve the next step too
+}};
+
+/// The dynamics, in the order of the list ("overdamped", "inertial").
+inline constexpr std::array<std::string_view, 2> kDynamics = {"overdamped", "inertial"};
+
+/// The entry named `name`, or nullptr.
+inline const IntegratorInfo* find_integrator(std::string_view name) {
+  for (const auto& i : kIntegrators)
+    if (i.name == name) return &i;
+  return nullptr;
+}
+
+/// The default integrator of `dynamics` ("" for an unknown dynamics).
+inline std::string_view default_integrator(std::string_view dynamics) {
+  for (const auto& i : kIntegrators)
+    if (i.dynamics == dynamics && i.is_default) return i.name;
+  return {};
+}
+
+/// Force evaluations per step of the integrator `name` (1 for an unknown name).
+inline int force_evaluations_per_step(std::string_view name) {
+  const IntegratorInfo* i = find_integrator(name);
+  return i ? i->force_evaluations : 1;
+}
+
+/// Force evaluations per unit time t0 of a compression at `rate`: dt-stepped integrators
+/// take force_evaluations / dt; the adaptive Chebyshev integrator's cost is a model of its
+/// measured cost (docs/performance.md, the Chebyshev integrator): about 20 evaluations per t0 at
+/// rate 1e-3 falling as rate^(1/2) to ~0.6 at 1e-6 at its default tolerance.
+inline double force_evaluations_per_time(std::string_view name, double dt, double rate) {
+  const IntegratorInfo* i = find_integrator(name);
+  if (i && i->force_evaluations == 0) return 20.0 * std::sqrt(rate / 1e-3);
+  return (i ? i->force_evaluations : 1) / dt;
+}
+
+/// "a", "a or b", "a, b or c": words joined as the one-line errors list allowed values.
+template <class Words>
+std::string or_list(const Words& words) {
+  std::string out;
+  std::size_t k = 0;
+  for (const auto& w : words) {
+    if (k > 0) out += k + 1 == std::size(words) ? " or " : ", ";
+    out += std::string(w);
+    ++k;
+  }
+  return out;
+}
+
+/// The integrators of `dynamics`, in the order of the list.
+inline std::vector<std::string_view> integrators_of(std::string_view dynamics) {
+  std::vector<std::string_view> names;
+  for (const auto& i : kIntegrators)
+    if (i.dynamics == dynamics) names.push_back(i.name);
+  return names;
+}
+
+/// The help of --integrator: "euler or heun (overdamped; default heun), verlet (inertial)".
+inline std::string integrator_help() {
+  std::string out;
+  for (const auto dynamics : kDynamics) {
+    const auto names = integrators_of(dynamics);
+    if (!out.empty()) out += ", ";
+    out += or_list(names) + " (" + std::string(dynamics);
+    if (names.size() > 1) out += "; default " + std::string(default_integrator(dynamics));
+    out += ")";
+  }
+  return out;
+}
+
+}  // namespace jam

@@ -1,0 +1,300 @@
+#include "sim/run/run_parameters.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <type_traits>
+
+#include "sim/dynamics/integrator_list.hpp"
+#include "sim/model/contact_laws.hpp"
+
+namespace jam {
+namespace {
+
+using C = CampaignKey;
+using I = Identity;
+
+ParameterValue resolved_integrator(const SimConfig& c) {
+  return c.resolved_integrator();
+}
+
+ParameterValue resolved_relax_energy(const SimConfig& c) {
+  return c.resolved_relax_energy();
+}
+
+std::vector<std::string> dynamics_names() {
+  return {kDynamics.begin(), kDynamics.end()};
+}
+
+// The order of the rows is the order of the fingerprint's words (and of `jam sim --help`):
+// never reorder the rows that are fingerprint words, or every stored run changes identity.
+std::vector<RunParameter> make_table() {
+  return {
+      {.name = "dim",
+       .field = &SimConfig::dim,
+       .help = "Dimension, 2 or 3",
+       .campaign = C::required,
+       .identity = I::word,
+       .relaxation_position = 1,
+       .attribute = "dim",
+       .choices = {"2", "3"}},
+      {.name = "n",
+       .field = &SimConfig::n,
+       .help = "Number of particles (even; half small d=1, half big)",
+       .identity = I::word,
+       .relaxation_position = 2,
+       .attribute = "n",
+       .from_data_file = true},
+      {.name = "phi_init",
+       .field = &SimConfig::phi_init,
+       .help = "Packing fraction of the random start",
+       .identity = I::word,
+       .relaxation_position = 3,
+       .attribute = "phi_init",
+       .from_data_file = true},
+      {.name = "phi_stop",
+       .field = &SimConfig::phi_stop,
+       .help = "Packing fraction at which the run ends",
+       .campaign = C::required,
+       .identity = I::word,
+       .attribute = "phi_stop"},
+      {.name = "phi_step",
+       .field = &SimConfig::phi_step,
+       .help = "Output spacing in packing fraction",
+       .campaign = C::optional,
+       .identity = I::word,
+       .attribute = "phi_step"},
+      {.name = "rate",
+       .field = &SimConfig::compression_rate,
+       .help = "Compression rate (true strain rate, 1/t0)",
+       .identity = I::word,
+       .attribute = "compression_rate",
+       .unit = "1/t0"},
+      {.name = "dt",
+       .field = &SimConfig::dt,
+       .help = "Time step (units of t0)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 5,
+       .attribute = "dt",
+       .unit = "t0"},
+      {.name = "dynamics",
+       .field = &SimConfig::dynamics,
+       .help = "overdamped (Q -> 0) or inertial",
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 6,
+       .attribute = "dynamics",
+       .choices = dynamics_names()},
+      // Allowed values depend on the dynamics: validate() asks the integrator list.
+      {.name = "integrator",
+       .field = &SimConfig::integrator,
+       .help = integrator_help(),
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 7,
+       .attribute = "integrator",
+       .resolve = resolved_integrator},
+      {.name = "q",
+       .field = &SimConfig::q,
+       .help = "Quality factor Q (inertial dynamics only)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 8,
+       .attribute = "q",
+       .inertial_only = true},
+      // A campaign derives each run's seed from its base seed (campaign_file.hpp).
+      {.name = "seed",
+       .field = &SimConfig::seed,
+       .help = "Seed of the random initial configuration, 0 ... 2^63-1",
+       .identity = I::word,
+       .relaxation_position = 4,
+       .attribute = "seed"},
+      // The thread count changes the force summation order; campaigns run one
+      // single-threaded run per core instead.
+      {.name = "threads",
+       .field = &SimConfig::threads,
+       .help = "Threads of this run; bitwise reproducible for a given count (campaigns run one "
+               "single-threaded run per core instead)",
+       .identity = I::suffix_unless_default,
+       .relaxation_position = 14,
+       .attribute = "threads"},
+      {.name = "skin",
+       .field = &SimConfig::skin,
+       .help = "Neighbor-list skin (units of d_s)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 9,
+       .attribute = "skin",
+       .unit = "d_s"},
+      {.name = "diameter_ratio",
+       .field = &SimConfig::diameter_ratio,
+       .help = "Big/small diameter ratio",
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 10,
+       .attribute = "diameter_ratio"},
+      {.name = "contact",
+       .field = &SimConfig::contact,
+       .help = "Contact law: harmonic (the paper's) or hertzian",
+       .campaign = C::optional,
+       .identity = I::suffix_unless_default,
+       .relaxation_position = 15,
+       .attribute = "contact",
+       .choices = contact_law_names()},
+      {.name = "tolerance",
+       .field = &SimConfig::tolerance,
+       .help = "chebyshev integrator: the largest local error of one particle's displacement in "
+               "one step (units of d_s); --dt is then its first step",
+       .campaign = C::optional,
+       .identity = I::suffix_unless_default,
+       .relaxation_position = 16,
+       .attribute = "tolerance",
+       .unit = "d_s"},
+      {.name = "relax",
+       .field = &SimConfig::relax,
+       .help = "Relax the start at zero rate before compressing (the paper's protocol)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .attribute = "relax"},
+      {.name = "relax_energy",
+       .field = &SimConfig::relax_energy,
+       .help = "Relaxation ends when the energy per particle is at or below this; auto = "
+               "1e-4 rate^2 (residual pressure ~1% of the rate)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 11,
+       .attribute = "relax_energy",
+       .unit = "k_e",
+       .resolve = resolved_relax_energy},
+      {.name = "relax_time_max",
+       .field = &SimConfig::relax_time_max,
+       .help = "Longest relaxation (units of t0)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .relaxation_position = 12},
+      {.name = "rattlers",
+       .field = &SimConfig::rattlers,
+       .help = "Also write Z with rattlers removed (fewer than D+1 contacts, iteratively)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .flag = true},
+      {.name = "stress",
+       .field = &SimConfig::stress,
+       .help = "Also write the full stress tensor at each output point",
+       .campaign = C::optional,
+       .identity = I::word,
+       .flag = true},
+      {.name = "read_lammps_data",
+       .field = &SimConfig::read_lammps_data,
+       .help = "Start from this LAMMPS data file (box and packing from the file)",
+       .identity = I::word,
+       .fingerprint_key = "read",
+       .relaxation_position = 13},
+      {.name = "jamming_point",
+       .field = &SimConfig::jamming_point,
+       .help = "Also find the run's jamming point phi_Ji (FIRE minimizations; "
+               "docs/statistics-and-checks.md)",
+       .campaign = C::optional,
+       .identity = I::word,
+       .flag = true},
+      {.name = "jamming_search_from",
+       .field = &SimConfig::jamming_search_from,
+       .help = "Lowest packing searched for phi_Ji (0: from the start)",
+       .identity = I::word,
+       .fingerprint_key = "from"},
+      {.name = "out", .field = &SimConfig::out, .help = "Run file to write (HDF5)"},
+      {.name = "write_lammps_data",
+       .field = &SimConfig::write_lammps_data,
+       .help = "Write the configuration the compression starts from as a LAMMPS data file"},
+      {.name = "write_final_lammps_data",
+       .field = &SimConfig::write_final_lammps_data,
+       .help = "Write the configuration at phi-stop as a LAMMPS data file (a start for a "
+               "slower rate, as in the paper's protocol)"},
+      {.name = "quiet",
+       .field = &SimConfig::quiet,
+       .help = "No progress display and no summary",
+       .flag = true},
+      {.name = "force",
+       .field = &SimConfig::force,
+       .help = "Run even beyond the limits on steps (1e10), output points (1e6) and memory "
+               "(half of this machine's) that otherwise refuse the run",
+       .flag = true},
+      {.name = "checkpoint_interval",
+       .field = &SimConfig::checkpoint_interval,
+       .help = "Seconds of wall time between checkpoints (<out>.checkpoint); 0 = none. An "
+               "interrupted run resumes from its checkpoint when run again",
+       .campaign = C::optional},
+  };
+}
+
+}  // namespace
+
+std::string RunParameter::option() const {
+  std::string o = "--" + name;
+  std::replace(o.begin(), o.end(), '_', '-');
+  return o;
+}
+
+std::string RunParameter::word() const {
+  return fingerprint_key.empty() ? name : fingerprint_key;
+}
+
+const std::vector<RunParameter>& run_parameters() {
+  static const std::vector<RunParameter> table = make_table();
+  return table;
+}
+
+const RunParameter* find_run_parameter(std::string_view name) {
+  for (const auto& p : run_parameters())
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+ParameterValue field_value(const SimConfig& c, const RunParameter& p) {
+  return std::visit(
+      [&c](auto member) -> ParameterValue {
+        const auto& v = c.*member;
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, int>) {
+          return std::int64_t{v};
+        } else {
+          return v;
+        }
+      },
+      p.field);
+}
+
+ParameterValue zero_like(const ParameterValue& v) {
+  return std::visit([](const auto& x) -> ParameterValue { return std::decay_t<decltype(x)>{}; }, v);
+}
+
+ParameterValue stored_value(const SimConfig& c, const RunParameter& p) {
+  const ParameterValue v = p.resolve ? p.resolve(c) : field_value(c, p);
+  return p.inertial_only && c.dynamics != "inertial" ? zero_like(v) : v;
+}
+
+std::string fingerprint_text(const ParameterValue& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, double>) {
+          return fmt::format("{:.17g}", x);
+        } else {
+          return fmt::format("{}", x);
+        }
+      },
+      v);
+}
+
+std::string message_text(const ParameterValue& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, double>) {
+          return fmt::format("{:g}", x);
+        } else {
+          return fmt::format("{}", x);
+        }
+      },
+      v);
+}
+
+}  // namespace jam

@@ -1,0 +1,158 @@
+// Fingerprints identify stored runs, checkpoints, relaxed starts and campaign directories, so
+// their text must never change for an existing configuration. The expected strings are fixed
+// literals (taken from the version before the parameter table), not computed.
+#define BOOST_TEST_MODULE run_parameter_fingerprints
+#include <boost/test/unit_test.hpp>
+#include <string>
+
+#include "sim/run/sim_config.hpp"
+
+using jam::SimConfig;
+
+namespace {
+
+// Common tails of the expected strings.
+const std::string kDefaultRelax =
+    "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 relax=true "
+    "relax_energy=9.9999999999999998e-13 relax_time_max=10000 rattlers=false stress=false";
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(defaults) {
+  const SimConfig c;
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.0001 dt=0.10000000000000001 dynamics=overdamped "
+             "integrator=heun q=0 seed=1 " +
+                 kDefaultRelax + " read= jamming_point=false from=0");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=1 "
+             "dt=0.10000000000000001 dynamics=overdamped integrator=heun q=0 "
+             "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
+             "relax_energy=9.9999999999999998e-13 relax_time_max=10000 read=");
+}
+
+BOOST_AUTO_TEST_CASE(read_from_lammps_data) {
+  // n and phi_init come from the file: the fingerprints store 0 for them.
+  SimConfig c;
+  c.read_lammps_data = "start.data";
+  c.n = 512;
+  c.phi_init = 0.7;
+  c.dim = 3;
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=3 n=0 phi_init=0 phi_stop=0.85999999999999999 phi_step=0.001 rate=0.0001 "
+             "dt=0.10000000000000001 dynamics=overdamped integrator=heun q=0 seed=1 " +
+                 kDefaultRelax + " read=start.data jamming_point=false from=0");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=3 n=0 phi_init=0 seed=1 dt=0.10000000000000001 "
+             "dynamics=overdamped integrator=heun q=0 skin=0.29999999999999999 "
+             "diameter_ratio=1.3999999999999999 relax_energy=9.9999999999999998e-13 "
+             "relax_time_max=10000 read=start.data");
+}
+
+BOOST_AUTO_TEST_CASE(inertial) {
+  SimConfig c;
+  c.dynamics = "inertial";
+  c.q = 0.01;
+  c.dt = 0.0001;
+  c.seed = 9223372036854775807ULL;
+  c.relax_energy = "1e-14";
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.0001 dt=0.0001 dynamics=inertial integrator=verlet q=0.01 "
+             "seed=9223372036854775807 skin=0.29999999999999999 "
+             "diameter_ratio=1.3999999999999999 relax=true relax_energy=1e-14 "
+             "relax_time_max=10000 rattlers=false stress=false read= jamming_point=false from=0");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=9223372036854775807 "
+             "dt=0.0001 dynamics=inertial integrator=verlet q=0.01 skin=0.29999999999999999 "
+             "diameter_ratio=1.3999999999999999 relax_energy=1e-14 relax_time_max=10000 read=");
+}
+
+BOOST_AUTO_TEST_CASE(two_threads_and_every_switch) {
+  SimConfig c;
+  c.threads = 2;
+  c.integrator = "euler";
+  c.compression_rate = 3.1622776601683794e-4;
+  c.rattlers = c.stress = c.jamming_point = true;
+  c.jamming_search_from = 0.8;
+  c.relax = false;
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.00031622776601683794 dt=0.10000000000000001 "
+             "dynamics=overdamped integrator=euler q=0 seed=1 skin=0.29999999999999999 "
+             "diameter_ratio=1.3999999999999999 relax=false "
+             "relax_energy=1.0000000000000003e-11 relax_time_max=10000 rattlers=true "
+             "stress=true read= jamming_point=true from=0.80000000000000004 threads=2");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=1 "
+             "dt=0.10000000000000001 dynamics=overdamped integrator=euler q=0 "
+             "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
+             "relax_energy=1.0000000000000003e-11 relax_time_max=10000 read= threads=2");
+}
+
+BOOST_AUTO_TEST_CASE(three_dimensions) {
+  SimConfig c;
+  c.dim = 3;
+  c.n = 2048;
+  c.phi_init = 0.45;
+  c.phi_stop = 0.7;
+  c.phi_step = 0.0005;
+  c.skin = 0.25;
+  c.diameter_ratio = 1.2;
+  c.relax_time_max = 500;
+  c.dt = 0.05;
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=3 n=2048 phi_init=0.45000000000000001 phi_stop=0.69999999999999996 "
+             "phi_step=0.00050000000000000001 rate=0.0001 dt=0.050000000000000003 "
+             "dynamics=overdamped integrator=heun q=0 seed=1 skin=0.25 diameter_ratio=1.2 "
+             "relax=true relax_energy=9.9999999999999998e-13 relax_time_max=500 "
+             "rattlers=false stress=false read= jamming_point=false from=0");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=3 n=2048 phi_init=0.45000000000000001 seed=1 "
+             "dt=0.050000000000000003 dynamics=overdamped integrator=heun q=0 skin=0.25 "
+             "diameter_ratio=1.2 relax_energy=9.9999999999999998e-13 relax_time_max=500 read=");
+}
+
+BOOST_AUTO_TEST_CASE(parameters_outside_the_physics_do_not_count) {
+  // Output names, the wall-time checkpoint interval and the campaign a run belongs to never
+  // change a run's numbers.
+  SimConfig a, b;
+  b.out = std::string("x.h5");
+  b.checkpoint_interval = 5;
+  b.quiet = b.force = true;
+  b.campaign = std::string("campaign");
+  b.sample = 3;
+  b.write_lammps_data = std::string("w.data");
+  BOOST_TEST(jam::fingerprint(a) == jam::fingerprint(b));
+  BOOST_TEST(jam::relaxation_fingerprint(a) == jam::relaxation_fingerprint(b));
+}
+
+BOOST_AUTO_TEST_CASE(contact_law_is_a_suffix_only_when_not_harmonic) {
+  SimConfig c;
+  c.contact = "harmonic";  // the default: fingerprints as before the parameter existed
+  BOOST_TEST(jam::fingerprint(c) == jam::fingerprint(SimConfig{}));
+  c.contact = "hertzian";
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.0001 dt=0.10000000000000001 dynamics=overdamped "
+             "integrator=heun q=0 seed=1 " +
+                 kDefaultRelax + " read= jamming_point=false from=0 contact=hertzian");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=1 "
+             "dt=0.10000000000000001 dynamics=overdamped integrator=heun q=0 "
+             "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
+             "relax_energy=9.9999999999999998e-13 relax_time_max=10000 read= contact=hertzian");
+  c.threads = 2;  // both suffixes: threads first
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.0001 dt=0.10000000000000001 dynamics=overdamped "
+             "integrator=heun q=0 seed=1 " +
+                 kDefaultRelax + " read= jamming_point=false from=0 threads=2 contact=hertzian");
+  BOOST_TEST(jam::relaxation_fingerprint(c) ==
+             "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=1 "
+             "dt=0.10000000000000001 dynamics=overdamped integrator=heun q=0 "
+             "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
+             "relax_energy=9.9999999999999998e-13 relax_time_max=10000 read= threads=2 "
+             "contact=hertzian");
+}
