@@ -66,7 +66,7 @@ BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
   BOOST_TEST(rejection(kGood + "dt = -0.01\n") ==
              "c.toml:10: dt: -0.01: must be a finite number > 0");
   BOOST_TEST(rejection(kGood + "integrator = \"rk4\"\n") ==
-             "c.toml:10: integrator: rk4: overdamped dynamics takes euler or heun");
+             "c.toml:10: integrator: rk4: overdamped dynamics takes euler, heun or chebyshev");
   BOOST_TEST(rejection(kGood + "dt = nan\n") == "c.toml:10: dt: must be finite");
   BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 64]")) ==
              "c.toml:3: sizes: repeated value");

@@ -54,6 +54,7 @@ const std::map<std::string, Given> kOptions = {
     {"--skin", {"0.35", 0.35}},
     {"--diameter-ratio", {"1.5", 1.5}},
     {"--contact", {"hertzian", std::string("hertzian")}},
+    {"--tolerance", {"1e-7", 1e-7}},
     {"--relax", {"0", false}},
     {"--relax-energy", {"1e-9", std::string("1e-9")}},
     {"--relax-time-max", {"100", 100.0}},
@@ -82,6 +83,7 @@ const std::map<std::string, Given> kCampaignKeys = {
     {"skin", {"0.35", 0.35}},
     {"diameter_ratio", {"1.5", 1.5}},
     {"contact", {"\"hertzian\"", std::string("hertzian")}},
+    {"tolerance", {"1e-7", 1e-7}},
     {"relax", {"false", false}},
     {"relax_energy", {"\"1e-9\"", std::string("1e-9")}},
     {"relax_time_max", {"100.0", 100.0}},
@@ -239,9 +241,9 @@ BOOST_AUTO_TEST_CASE(integrators_come_from_the_list) {
   BOOST_TEST(validation_error(c) == "--integrator heun: inertial dynamics takes verlet");
   c.dynamics = "overdamped";
   c.integrator = "verlet";
-  BOOST_TEST(validation_error(c) == "--integrator verlet: overdamped dynamics takes euler or heun");
+  BOOST_TEST(validation_error(c) == "--integrator verlet: overdamped dynamics takes euler, heun or chebyshev");
   BOOST_TEST(jam::integrator_help() ==
-             "euler or heun (overdamped; default heun), verlet (inertial)");
+             "euler, heun or chebyshev (overdamped; default heun), verlet (inertial)");
   // The plan's cost counts force evaluations: Heun's step costs two of Euler's.
   const std::string base = kCampaignOnly + "dim = 2\nphi_stop = 0.86\n";
   const auto heun = jam::plan_runs(jam::parse_campaign(base + "integrator = \"heun\"\n", "c.toml"));

@@ -32,8 +32,12 @@ inline constexpr double kChebyshevDamping = 2.0 / 13.0;
 /// recursion grows (Verwer et al. keep s below ~ 300); the step is shortened instead.
 inline constexpr int kMaxChebyshevStages = 250;
 
-/// beta(s) = (1 + w0) / w1: where w0 + w1 z reaches -1, the edge of the interval on which the
-/// Chebyshev polynomial T_s is bounded by 1 (about (2/3)(s^2 - 1)(1 - (2/15) eps)).
+/// beta(s): the edge of the real stability interval of R(z) = a_s + b_s T_s(w0 + w1 z), the
+/// method's amplification factor (b_s = T_s''(w0) / T_s'(w0)^2, a_s = 1 - b_s T_s(w0)). Past
+/// w0 + w1 z = -1, T_s leaves [-1, 1] with the sign (-1)^s, and |R| = 1 where
+/// T_s(x) = (+-1 - a_s) / b_s: x = -w0 for even s (the symmetric point of T_s(w0)), and
+/// x = -cosh(acosh(2/b_s - T_s(w0)) / s) for odd s. About (2/3)(s^2 - 1)(1 - (2/15) eps);
+/// odd s reach somewhat further.
 inline double chebyshev_stability_interval(int s) {
   const double w0 = 1.0 + kChebyshevDamping / (s * s);
   double t0 = 1.0, t1 = w0, d0 = 0.0, d1 = 1.0, e0 = 0.0, e1 = 0.0;
@@ -42,7 +46,9 @@ inline double chebyshev_stability_interval(int s) {
                  e2 = 4.0 * d1 + 2.0 * w0 * e1 - e0;
     t0 = t1, t1 = t2, d0 = d1, d1 = d2, e0 = e1, e1 = e2;
   }
-  return (1.0 + w0) / (d1 / e1);
+  const double w1 = d1 / e1, b = e1 / (d1 * d1);
+  const double x = s % 2 == 0 ? -w0 : -std::cosh(std::acosh(2.0 / b - t1) / s);
+  return (w0 - x) / w1;
 }
 
 /// The fewest stages (>= 2) whose stability interval holds h rho with 5% to spare, at most
@@ -93,7 +99,7 @@ inline ChebyshevCoefficients chebyshev_coefficients(int s) {
     // Stage times from the scheme applied to y' = 1 (c_s = 1 up to round-off).
     k.c[j] = k.mu[j] * k.c[j - 1] + k.nu[j] * k.c[j - 2] + k.mu_tilde[j] + k.gamma_tilde[j];
   }
-  k.beta = (1.0 + w0) / w1;
+  k.beta = chebyshev_stability_interval(s);
   return k;
 }
 

@@ -26,6 +26,7 @@ class InertialVerlet {
   static constexpr const char* kName = "verlet";
   static constexpr int kOrder = 2;
 
+  InertialVerlet(std::size_t n, const StepperOptions& o) : InertialVerlet(n, o.quality_factor) {}
   InertialVerlet(std::size_t n, double quality_factor) : quality_factor_(quality_factor) {
     for (int d = 0; d < D; ++d) {
       velocity_[d].assign(n, 0.0);

@@ -41,6 +41,8 @@ class OverdampedChebyshev {
 
   /// `tolerance`: the largest local error of one particle's displacement per step (d_s);
   /// `first_step`: the first step tried (t0), after which the controller takes over.
+  OverdampedChebyshev(std::size_t n, const StepperOptions& o)
+      : OverdampedChebyshev(n, o.tolerance, o.first_step) {}
   OverdampedChebyshev(std::size_t n, double tolerance, double first_step)
       : tolerance_(tolerance), first_step_(first_step), h_next_(first_step) {
     for (int d = 0; d < D; ++d) {
@@ -94,6 +96,19 @@ class OverdampedChebyshev {
       for (int d = 0; d < D; ++d) std::copy(s0_[d].begin(), s0_[d].end(),
                                             sys.particles.s[d].begin());
     }
+  }
+
+  /// One step of size h with s stages and no control (tests: order, stability interval);
+  /// returns the error estimate err.
+  template <class Contact>
+  double fixed_step(System<D, Contact>& sys, double t, double h, int s) {
+    if (!have_f0_) slope(sys, t, f0_);
+    for (int d = 0; d < D; ++d)
+      std::copy(sys.particles.s[d].begin(), sys.particles.s[d].end(), s0_[d].begin());
+    const double err = try_step(sys, t, h, coefficients(s));
+    std::swap(f0_, f1_);
+    have_f0_ = true;
+    return err;
   }
 
   struct Stats {

@@ -20,6 +20,7 @@ class OverdampedEuler {
   static constexpr int kOrder = 1;
 
   explicit OverdampedEuler(std::size_t /*n*/) {}
+  OverdampedEuler(std::size_t n, const StepperOptions& /*o*/) : OverdampedEuler(n) {}
   void reset() {}
   StepperState save_state() const { return {}; }
   void load_state(const StepperState& /*state*/) {}

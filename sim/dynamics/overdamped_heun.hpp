@@ -19,6 +19,7 @@ class OverdampedHeun {
   static constexpr const char* kName = "heun";
   static constexpr int kOrder = 2;
 
+  OverdampedHeun(std::size_t n, const StepperOptions& /*o*/) : OverdampedHeun(n) {}
   explicit OverdampedHeun(std::size_t n) {
     for (int d = 0; d < D; ++d) {
       s0_[d].resize(n);

@@ -10,4 +10,11 @@ namespace jam {
 
 using StepperState = std::vector<std::pair<std::string, std::vector<double>>>;
 
+/// What constructs any integrator (integrators.hpp): each takes what it needs.
+struct StepperOptions {
+  double quality_factor = 0.0;  // inertial: Q
+  double tolerance = 0.0;       // adaptive: local error per step (d_s)
+  double first_step = 0.0;      // adaptive: the first step tried (t0)
+};
+
 }  // namespace jam

@@ -11,10 +11,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "sim/dynamics/inertial_verlet.hpp"
-#include "sim/dynamics/overdamped_chebyshev.hpp"
-#include "sim/dynamics/overdamped_euler.hpp"
-#include "sim/dynamics/overdamped_heun.hpp"
+#include "sim/dynamics/integrators.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
@@ -87,17 +84,6 @@ std::vector<double> output_times(const CompressingBox<D>& box, double phi_init, 
   return t;
 }
 
-/// Adaptive integrators choose their own steps (times accumulate in RunState); the others take
-/// fixed steps t_k = k dt.
-template <class Stepper>
-constexpr bool adaptive_stepper() {
-  if constexpr (requires { Stepper::kAdaptive; }) {
-    return Stepper::kAdaptive;
-  } else {
-    return false;
-  }
-}
-
 /// One compression run in named phases: resume (from the run's checkpoint), relax (at zero
 /// rate, or from the sample's cached relaxed start), compress (to phi_stop, recording output
 /// points), finish (jamming point, run file). The box is at rest during relaxation and starts
@@ -106,7 +92,9 @@ template <int D, class Contact, class Stepper>
 class CompressionRun {
  public:
   using Clock = std::chrono::steady_clock;
-  static constexpr bool kAdaptive = adaptive_stepper<Stepper>();
+  // Adaptive integrators choose their own steps (times accumulate in RunState); the others
+  // take fixed steps t_k = k dt.
+  static constexpr bool kAdaptive = is_adaptive<Stepper>();
 
   CompressionRun(const SimConfig& c, const RunControl& control, System<D, Contact>& sys,
                  Stepper& stepper, const CompressingBox<D>& compressing_box, RunMetadata meta)
@@ -358,26 +346,10 @@ RunSummary run_with(const SimConfig& c, const RunControl& control, ParticleData<
   at_rest.compression_rate = 0.0;
   System<D, Contact> sys(std::move(particles), species, at_rest, c.skin);
   sys.set_threads(c.threads);
-  const std::size_t n = sys.size();
-  auto run = [&](auto& stepper) {
-    return CompressionRun<D, Contact, std::remove_reference_t<decltype(stepper)>>(
-               c, control, sys, stepper, box, std::move(meta))
-        .run();
-  };
-  if (meta.integrator == "euler") {
-    OverdampedEuler<D> stepper(n);
-    return run(stepper);
-  }
-  if (meta.integrator == "heun") {
-    OverdampedHeun<D> stepper(n);
-    return run(stepper);
-  }
-  if (meta.integrator == "chebyshev") {
-    OverdampedChebyshev<D> stepper(n, c.tolerance, c.dt);
-    return run(stepper);
-  }
-  InertialVerlet<D> stepper(n, c.q);
-  return run(stepper);
+  const StepperOptions options{c.q, c.tolerance, c.dt};
+  return with_integrator<D>(meta.integrator, sys.size(), options, [&]<class Stepper>(Stepper& stepper) {
+    return CompressionRun<D, Contact, Stepper>(c, control, sys, stepper, box, std::move(meta)).run();
+  });
 }
 
 template <int D>
