@@ -83,8 +83,12 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
           SimConfig& s = r.config;
           s.out = (std::filesystem::path(dir) / (r.name + ".h5")).string();
           if (s.relax && s.relax_energy != "auto") {
+            // One relaxed start per sample and relaxing integrator (rates of one sample can
+            // default to different integrators; Heun's starts keep their old names).
+            const std::string integrator = s.resolved_integrator();
             s.start_cache = (std::filesystem::path(starts_directory(c)) /
-                             fmt::format("n{}_phi{:.4f}_s{:03d}.h5", n, phi, k))
+                             fmt::format("n{}_phi{:.4f}_s{:03d}{}.h5", n, phi, k,
+                                         integrator == "heun" ? std::string() : "_" + integrator))
                                 .string();
           }
           const double compression_time = std::log(s.phi_stop / phi) / (s.dim * s.compression_rate);

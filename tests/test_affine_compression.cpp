@@ -62,9 +62,13 @@ void check_affine() {
 
 }  // namespace
 
-BOOST_AUTO_TEST_CASE_TEMPLATE(affine_2d, Stepper, Integrators<2>) { check_affine<2, Stepper>(); }
+BOOST_AUTO_TEST_CASE_TEMPLATE(affine_2d, Stepper, Integrators<2>) {
+  check_affine<2, Stepper>();
+}
 
-BOOST_AUTO_TEST_CASE_TEMPLATE(affine_3d, Stepper, Integrators<3>) { check_affine<3, Stepper>(); }
+BOOST_AUTO_TEST_CASE_TEMPLATE(affine_3d, Stepper, Integrators<3>) {
+  check_affine<3, Stepper>();
+}
 
 BOOST_AUTO_TEST_CASE(box_never_accumulates) {
   // L(t) is computed from t at every step: after 1e7 steps of dt = 0.01 at rate 1e-8.5 the

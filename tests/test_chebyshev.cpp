@@ -19,8 +19,8 @@ BOOST_AUTO_TEST_CASE(coefficients) {
     // The scheme applied to y' = 1 reaches t + h: c_s = 1 (round-off of the recursion).
     BOOST_TEST(k.c[s] == 1.0, boost::test_tools::tolerance(1e-10));
     // beta(s) against the asymptotic law (2/3)(s^2 - 1)(1 - 2 eps / 15) of Verwer et al.:
-    // within 2.5% for even s (2.1% at s = 2, where beta = 2 exactly) (the law drops terms of relative order 1/s^2 and eps^2); odd s reach
-    // further (to 18% at s = 3, less as s grows).
+    // within 2.5% for even s (2.1% at s = 2, where beta = 2 exactly) (the law drops terms of
+    // relative order 1/s^2 and eps^2); odd s reach further (to 18% at s = 3, less as s grows).
     const double law = (2.0 / 3.0) * (s * s - 1.0) * (1.0 - (2.0 / 15.0) * kChebyshevDamping);
     if (s % 2 == 0) BOOST_TEST(k.beta == law, boost::test_tools::tolerance(0.025));
     BOOST_TEST(k.beta >= 0.98 * law);
@@ -118,7 +118,8 @@ BOOST_AUTO_TEST_CASE(controller_rejects_a_step_across_a_stiff_event) {
   // first step of 50 t0 tried there carries a local error far above the tolerance, so it is
   // rejected and retried shorter; the result still follows a fine Heun reference.
   auto reference = test::random_system<2>(64, 0.3, 5);
-  for (int d = 0; d < 2; ++d) reference.particles.s[d][1] = wrap_unit(reference.particles.s[d][0] + 0.01);
+  for (int d = 0; d < 2; ++d)
+    reference.particles.s[d][1] = wrap_unit(reference.particles.s[d][0] + 0.01);
   auto sys = reference;
   const double t_end = 60.0, tolerance = 1e-6;
   OverdampedChebyshev<2> stepper(sys.size(), tolerance, 50.0);
@@ -134,11 +135,10 @@ BOOST_AUTO_TEST_CASE(controller_rejects_a_step_across_a_stiff_event) {
   double worst = 0.0;
   for (int d = 0; d < 2; ++d)
     for (std::size_t i = 0; i < sys.size(); ++i)
-      worst = std::max(worst, L * std::abs(minimum_image(sys.particles.s[d][i] -
-                                                         reference.particles.s[d][i])));
-  BOOST_TEST_MESSAGE("largest difference from Heun at dt 1e-3: " << worst << " after "
-                                                                 << stepper.stats().attempts
-                                                                 << " attempts");
+      worst = std::max(
+          worst, L * std::abs(minimum_image(sys.particles.s[d][i] - reference.particles.s[d][i])));
+  BOOST_TEST_MESSAGE("largest difference from Heun at dt 1e-3: "
+                     << worst << " after " << stepper.stats().attempts << " attempts");
   // Local errors of 1e-6 per step over a few hundred steps, all decaying (the relaxation
   // contracts): well below 1e-4, while a step that skipped the event would be off by ~0.1.
   BOOST_TEST(worst < 1e-4);

@@ -84,6 +84,15 @@ BOOST_AUTO_TEST_CASE(heun_3d_killed) {
       SIGKILL, 2);
 }
 
+// The adaptive integrator carries its next step and the accumulated time through checkpoints
+// (relaxation and compression), with the Hertzian law.
+BOOST_AUTO_TEST_CASE(chebyshev_hertzian_2d_killed) {
+  check_resume(
+      "--dim 2 --n 4096 --phi-init 0.8 --phi-stop 0.86 --rate 1e-6 --integrator chebyshev "
+      "--contact hertzian --quiet",
+      3, SIGKILL, 4);
+}
+
 BOOST_AUTO_TEST_CASE(inertial_2d_killed_keeps_velocities) {
   check_resume(
       "--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 1e-3 --dynamics inertial "

@@ -243,7 +243,8 @@ BOOST_AUTO_TEST_CASE(integrators_come_from_the_list) {
   c.integrator = "verlet";
   BOOST_TEST(validation_error(c) == "--integrator verlet: overdamped dynamics takes euler, heun or chebyshev");
   BOOST_TEST(jam::integrator_help() ==
-             "euler, heun or chebyshev (overdamped; default heun), verlet (inertial)");
+             "euler, heun or chebyshev (overdamped; default heun, chebyshev at rates <= 10^-4.5), "
+             "verlet (inertial)");
   // The plan's cost counts force evaluations: Heun's step costs two of Euler's.
   const std::string base = kCampaignOnly + "dim = 2\nphi_stop = 0.86\n";
   const auto heun = jam::plan_runs(jam::parse_campaign(base + "integrator = \"heun\"\n", "c.toml"));

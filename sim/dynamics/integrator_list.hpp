@@ -18,17 +18,25 @@ struct IntegratorInfo {
   std::string_view dynamics;  // --dynamics it integrates
   int force_evaluations;      // per step: what a step costs (0: adaptive, see below)
   int order;                  // global error ~ dt^order
-  bool is_default;            // its dynamics' default (exactly one per dynamics)
+  bool is_default;            // a default of its dynamics ...
+  double default_max_rate;    // ... at compression rates up to this (the lowest bound wins)
 };
 
-// Heun is the overdamped default: at dt = 0.1 it is 2.5-4x cheaper than Euler at equal
-// accuracy (docs/performance.md, the defaults).
+inline constexpr double kAnyRate = 1e300;
+
+// Heun is the overdamped default at fast rates: at dt = 0.1 it is 2.5-4x cheaper than Euler at
+// equal accuracy (docs/performance.md, the defaults). At rates 10^-4.5 and below the Chebyshev
+// integrator (tolerance 1e-4) is: measured 2.9x faster than Heun at dt 0.1 at 1e-5, 6.4x at
+// 1e-6, with the ensemble-mean pressure within 2.3e-4 of a converged reference; at 1e-4 only
+// 1.3x and at 1e-3 0.8x, so Heun stays the default there (docs/performance.md, the Chebyshev
+// integrator).
 inline constexpr std::array<IntegratorInfo, 4> kIntegrators = {{
-    {"euler", "overdamped", 1, 1, false},
-    {"heun", "overdamped", 2, 2, true},
+    {"euler", "overdamped", 1, 1, false, 0.0},
+    {"heun", "overdamped", 2, 2, true, kAnyRate},
     // Runge-Kutta-Chebyshev with error control: its steps and stages adapt to the run.
-    {"chebyshev", "overdamped", 0, 2, false},
-    {"verlet", "inertial", 1, 2, true},  // forces at the new positions serve the next step too
+    {"chebyshev", "overdamped", 0, 2, true, 3.2e-5},
+    {"verlet", "inertial", 1, 2, true,
+     kAnyRate},  // forces at the new positions serve the next step too
 }};
 
 /// The dynamics, in the order of the list ("overdamped", "inertial").
@@ -41,11 +49,22 @@ inline const IntegratorInfo* find_integrator(std::string_view name) {
   return nullptr;
 }
 
-/// The default integrator of `dynamics` ("" for an unknown dynamics).
-inline std::string_view default_integrator(std::string_view dynamics) {
-  for (const auto& i : kIntegrators)
-    if (i.dynamics == dynamics && i.is_default) return i.name;
-  return {};
+/// The default integrator of `dynamics` at compression rate `rate` ("" for an unknown
+/// dynamics): of its defaults whose range holds the rate, the one of the narrowest range.
+inline std::string_view default_integrator(std::string_view dynamics, double rate = kAnyRate) {
+  const IntegratorInfo* best = nullptr;
+  for (const auto& i : kIntegrators) {
+    if (i.dynamics == dynamics && i.is_default && rate <= i.default_max_rate &&
+        (!best || i.default_max_rate < best->default_max_rate))
+      best = &i;
+  }
+  return best ? best->name : std::string_view{};
+}
+
+/// Whether the integrator chooses its own steps (--dt is then its first step).
+inline bool is_adaptive_integrator(std::string_view name) {
+  const IntegratorInfo* i = find_integrator(name);
+  return i && i->force_evaluations == 0;
 }
 
 /// Force evaluations per step of the integrator `name` (1 for an unknown name).
@@ -56,11 +75,12 @@ inline int force_evaluations_per_step(std::string_view name) {
 
 /// Force evaluations per unit time t0 of a compression at `rate`: dt-stepped integrators
 /// take force_evaluations / dt; the adaptive Chebyshev integrator's cost is a model of its
-/// measured cost (docs/performance.md, the Chebyshev integrator): about 20 evaluations per t0 at
-/// rate 1e-3 falling as rate^(1/2) to ~0.6 at 1e-6 at its default tolerance.
+/// measured cost in Heun-equivalent evaluations (docs/performance.md, the Chebyshev
+/// integrator): Heun at dt 0.1 (20 per t0) over the measured speed-ups 1.26x, 2.9x, 6.4x at rates
+/// 1e-4, 1e-5, 1e-6 (tolerance 1e-4), i.e. 3.1 (rate / 1e-6)^0.35 per t0.
 inline double force_evaluations_per_time(std::string_view name, double dt, double rate) {
   const IntegratorInfo* i = find_integrator(name);
-  if (i && i->force_evaluations == 0) return 20.0 * std::sqrt(rate / 1e-3);
+  if (i && i->force_evaluations == 0) return 3.1 * std::pow(rate / 1e-6, 0.35);
   return (i ? i->force_evaluations : 1) / dt;
 }
 
@@ -92,7 +112,12 @@ inline std::string integrator_help() {
     const auto names = integrators_of(dynamics);
     if (!out.empty()) out += ", ";
     out += or_list(names) + " (" + std::string(dynamics);
-    if (names.size() > 1) out += "; default " + std::string(default_integrator(dynamics));
+    if (names.size() > 1) {
+      out += "; default " + std::string(default_integrator(dynamics));
+      const auto slow = default_integrator(dynamics, 1e-300);
+      if (slow != default_integrator(dynamics))
+        out += ", " + std::string(slow) + " at rates <= 10^-4.5";
+    }
     out += ")";
   }
   return out;

@@ -3,10 +3,10 @@
 // (integrator_list.hpp): a run dispatches its --integrator name to a class here, once
 // (with_integrator), and the typed tests run over the list. A new integrator is its header,
 // an entry in kIntegrators and an entry here; the static_assert below keeps the two in step.
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <optional>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -28,8 +28,7 @@ namespace detail {
 template <class Tuple, std::size_t... K>
 constexpr bool names_match(std::index_sequence<K...>) {
   return std::tuple_size_v<Tuple> == kIntegrators.size() &&
-         ((std::string_view(std::tuple_element_t<K, Tuple>::kName) == kIntegrators[K].name) &&
-          ...);
+         ((std::string_view(std::tuple_element_t<K, Tuple>::kName) == kIntegrators[K].name) && ...);
 }
 }  // namespace detail
 static_assert(detail::names_match<Integrators<2>>(std::make_index_sequence<kIntegrators.size()>{}),
@@ -53,10 +52,12 @@ auto with_integrator(std::string_view name, std::size_t n, const StepperOptions&
   using Result = decltype(f(std::declval<First&>()));
   auto each = [&]<class... S>(std::type_identity<std::tuple<S...>>) {
     std::optional<Result> r;
-    (void)((name == S::kName ? ([&] {
-      S stepper(n, o);
-      r.emplace(f(stepper));
-    }(), true)
+    (void)((name == S::kName ? (
+                                   [&] {
+                                     S stepper(n, o);
+                                     r.emplace(f(stepper));
+                                   }(),
+                                   true)
                              : false) ||
            ...);
     if (!r) throw std::invalid_argument("unknown integrator " + std::string(name));

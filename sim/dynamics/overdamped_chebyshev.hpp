@@ -72,8 +72,8 @@ class OverdampedChebyshev {
   double step(System<D, Contact>& sys, double t, double h_max) {
     if (!have_f0_) slope(sys, t, f0_);
     const double rho = stiffest_mode_bound(sys, sys.box.length(t), sys.species.drag);
-    for (int d = 0; d < D; ++d) std::copy(sys.particles.s[d].begin(), sys.particles.s[d].end(),
-                                          s0_[d].begin());
+    for (int d = 0; d < D; ++d)
+      std::copy(sys.particles.s[d].begin(), sys.particles.s[d].end(), s0_[d].begin());
     double h = std::min(h_next_, h_max);
     while (true) {
       int s = chebyshev_stages(h * rho);
@@ -93,8 +93,8 @@ class OverdampedChebyshev {
       }
       ++stats_.rejections;
       h *= std::max(0.1, factor);
-      for (int d = 0; d < D; ++d) std::copy(s0_[d].begin(), s0_[d].end(),
-                                            sys.particles.s[d].begin());
+      for (int d = 0; d < D; ++d)
+        std::copy(s0_[d].begin(), s0_[d].end(), sys.particles.s[d].begin());
     }
   }
 
@@ -159,8 +159,7 @@ class OverdampedChebyshev {
       for_particle_chunks(n, sys.threads(), [&](std::size_t first, std::size_t last) {
         for (int d = 0; d < D; ++d)
           for (std::size_t i = first; i < last; ++i)
-            delta2_[d][i] =
-                mu * delta1_[d][i] + nu * delta2_[d][i] + a * f1_[d][i] + g * f0_[d][i];
+            delta2_[d][i] = mu * delta1_[d][i] + nu * delta2_[d][i] + a * f1_[d][i] + g * f0_[d][i];
       });
       std::swap(delta1_, delta2_);  // delta1 = Y_j - Y_0, delta2 = Y_{j-1} - Y_0
     }
@@ -170,7 +169,8 @@ class OverdampedChebyshev {
     double worst = 0.0;
     for (int d = 0; d < D; ++d)
       for (std::size_t i = 0; i < n; ++i)
-        worst = std::max(worst, std::abs(12.0 * -delta1_[d][i] + 6.0 * h * (f0_[d][i] + f1_[d][i])));
+        worst =
+            std::max(worst, std::abs(12.0 * -delta1_[d][i] + 6.0 * h * (f0_[d][i] + f1_[d][i])));
     return worst / 15.0 * sys.box.length(t + h) / tolerance_;
   }
 

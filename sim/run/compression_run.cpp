@@ -163,8 +163,7 @@ class CompressionRun {
         const auto obs = measure(sys_, 0.0, false);
         if (!std::isfinite(obs.energy_per_particle)) {
           throw std::runtime_error(fmt::format(
-              "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt",
-              c_.dt));
+              "relaxation became unstable (non-finite energy) with --dt {:g}; reduce --dt", c_.dt));
         }
         progress_.update_relaxation(obs.energy_per_particle, target_energy, t);
         if (obs.energy_per_particle <= target_energy) {
@@ -215,8 +214,8 @@ class CompressionRun {
         stability_.check(sys_, sys_.box.length(t), sys_.box.packing_fraction(t), "compression");
       }
       if (step > 0 && (step & 255) == 0) {
-        progress_.update(t / t_stop_, sys_.box.packing_fraction(t),
-                         static_cast<std::size_t>(step), sys_.size());
+        progress_.update(t / t_stop_, sys_.box.packing_fraction(t), static_cast<std::size_t>(step),
+                         sys_.size());
         if (pause_due()) return false;
       }
       const double t_after = advance(t, targets[st_.next_output]);
@@ -347,9 +346,11 @@ RunSummary run_with(const SimConfig& c, const RunControl& control, ParticleData<
   System<D, Contact> sys(std::move(particles), species, at_rest, c.skin);
   sys.set_threads(c.threads);
   const StepperOptions options{c.q, c.tolerance, c.dt};
-  return with_integrator<D>(meta.integrator, sys.size(), options, [&]<class Stepper>(Stepper& stepper) {
-    return CompressionRun<D, Contact, Stepper>(c, control, sys, stepper, box, std::move(meta)).run();
-  });
+  return with_integrator<D>(
+      meta.integrator, sys.size(), options, [&]<class Stepper>(Stepper& stepper) {
+        return CompressionRun<D, Contact, Stepper>(c, control, sys, stepper, box, std::move(meta))
+            .run();
+      });
 }
 
 template <int D>
