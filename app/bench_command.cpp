@@ -51,6 +51,8 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
   c->add_option("--seeds", o.seeds, "Starting configurations (errors are means over them)");
   c->add_option("--euler-dt", o.euler_dt, "Time steps of overdamped Euler");
   c->add_option("--heun-dt", o.heun_dt, "Time steps of overdamped Heun");
+  c->add_option("--chebyshev-tolerance", o.chebyshev_tolerance,
+                "Local error tolerances of the adaptive Chebyshev integrator (its first step 0.1)");
   c->add_option("--verlet-q", o.verlet_q, "Quality factors of the inertial runs (jam and LAMMPS)");
   c->add_option("--verlet-dt-fraction", o.verlet_fraction,
                 "Inertial time steps as fractions of the stability bound 4 Q^2 / D");

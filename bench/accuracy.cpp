@@ -189,6 +189,10 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       add("jam", "reference-h/4", 0, o.reference_dt / 4, true);
       for (double dt : o.euler_dt) add("jam", "euler", 0, dt, false);
       for (double dt : o.heun_dt) add("jam", "heun", 0, dt, false);
+      for (double tol : o.chebyshev_tolerance) {
+        add("jam", "chebyshev", 0, 0.1, false);
+        res.methods.back().tolerance = tol;
+      }
       for (double q : o.verlet_q) {
         for (double f : o.verlet_fraction) add("jam", "verlet", q, f * bound_unit * q * q, false);
         if (lammps)
@@ -217,7 +221,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       Method& m = res.methods[mi];
       const double t_end =
           std::log(accuracy_packings(m.dim)[2] / o.start_packing(m.dim)) / (m.dim * m.rate);
-      cost.push_back(t_end / m.dt * force_evaluations_per_step(m.integrator) *
+      cost.push_back(t_end * force_evaluations_per_time(m.integrator, m.dt, m.rate) *
                      (m.engine == "lammps" ? 3 : 1) * (m.dim == 3 ? 2 : 1));
       tasks.push_back([&, mi, s] {
         Method& m = res.methods[mi];
@@ -229,7 +233,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
               fmt::format("m{}_s{}.log", mi, s), m.dim, m.rate, m.dt, o.start_packing(m.dim), phi);
         } else {
           const std::string integrator = m.is_reference ? std::string("heun") : m.integrator;
-          r = run_jam(starts.at({m.dim, s}), m.rate, integrator, m.q, m.dt, phi);
+          r = run_jam(starts.at({m.dim, s}), m.rate, integrator, m.q, m.tolerance, m.dt, phi);
         }
         m.wall[s] = r.wall;
         m.pressure[s] = r.pressure;

@@ -9,6 +9,7 @@
 
 #include "bench/lammps_bench.hpp"
 #include "sim/dynamics/inertial_verlet.hpp"
+#include "sim/dynamics/integrators.hpp"
 #include "sim/dynamics/overdamped_euler.hpp"
 #include "sim/dynamics/overdamped_heun.hpp"
 #include "sim/initial_state.hpp"
@@ -66,6 +67,11 @@ RunResult compress(System<D>& sys, Stepper& stepper, double dt, const std::array
     // Fixed steps; the one that would pass the target is shortened to land on it (a sliver
     // shorter than 1e-6 dt is folded into the step before).
     while (t < target) {
+      if constexpr (is_adaptive<Stepper>()) {  // its own steps, landing on the target
+        const double h = stepper.step(sys, t, target - t);
+        t = h == target - t ? target : t + h;
+        continue;
+      }
       double h = dt;
       if (target - (t + h) < 1e-6 * dt) h = target - t;
       stepper.step(sys, t, h);
@@ -79,25 +85,13 @@ RunResult compress(System<D>& sys, Stepper& stepper, double dt, const std::array
 
 template <int D>
 RunResult jam_run(const Start& start, double rate, const std::string& integrator, double q,
-                  double dt, const std::array<double, 3>& phi) {
+                  double tolerance, double dt, const std::array<double, 3>& phi) {
   const Species<D> species;
   ParticleData<D> p = particles_of<D>(start);
   const double volume = total_particle_volume(p, species);
   System<D> sys(std::move(p), species, CompressingBox<D>{start.box_length, rate, volume}, 0.3);
-  const std::size_t n = sys.size();
-  if (integrator == "euler") {
-    OverdampedEuler<D> stepper(n);
-    return compress(sys, stepper, dt, phi);
-  }
-  if (integrator == "heun") {
-    OverdampedHeun<D> stepper(n);
-    return compress(sys, stepper, dt, phi);
-  }
-  if (integrator == "verlet") {
-    InertialVerlet<D> stepper(n, q);
-    return compress(sys, stepper, dt, phi);
-  }
-  throw std::runtime_error("unknown integrator " + integrator);
+  return with_integrator<D>(integrator, sys.size(), StepperOptions{q, tolerance, dt},
+                            [&](auto& stepper) { return compress(sys, stepper, dt, phi); });
 }
 
 /// Quadratic (three-point Lagrange) interpolation of y(x) at x0, x sorted ascending.
@@ -131,9 +125,9 @@ void write_start(const Start& start, double q, const std::string& path) {
 }
 
 RunResult run_jam(const Start& start, double rate, const std::string& integrator, double q,
-                  double dt, const std::array<double, 3>& phi) {
-  return start.dim == 2 ? jam_run<2>(start, rate, integrator, q, dt, phi)
-                        : jam_run<3>(start, rate, integrator, q, dt, phi);
+                  double tolerance, double dt, const std::array<double, 3>& phi) {
+  return start.dim == 2 ? jam_run<2>(start, rate, integrator, q, tolerance, dt, phi)
+                        : jam_run<3>(start, rate, integrator, q, tolerance, dt, phi);
 }
 
 RunResult run_lammps_compression(const std::filesystem::path& dir,

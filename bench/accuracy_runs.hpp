@@ -34,7 +34,7 @@ struct RunResult {
   double wall = 0.0;
 };
 RunResult run_jam(const Start& start, double rate, const std::string& integrator, double q,
-                  double dt, const std::array<double, 3>& phi);
+                  double tolerance, double dt, const std::array<double, 3>& phi);
 
 /// LAMMPS from the data file (in dir) at the rate and dt. pressure: the thermo as printed
 /// (step m at time m dt); pressure_shifted: read at (m-1) dt with the volume of that time.

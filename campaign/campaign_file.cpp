@@ -225,8 +225,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.first_sample = r.integer("first_sample", false, c.first_sample);
   const std::int64_t seed = r.integer("seed", true, 0);
   c.output = r.string("output", true, "");
-  c.margins = r.number_table("margins", {"finite_size", "sample_pairs", "phi_init", "regression",
-                                         "jamming_point", "lammps"});
+  c.margins = r.number_table("margins", checks::check_names());
   c.expected_failures = r.strings("expected_failures");
   for (const auto& e : c.expected_failures) {
     if (e.find(": ") == std::string::npos || e.find(": ") == 0) {

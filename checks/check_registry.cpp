@@ -29,6 +29,9 @@ template <class... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
+// Spelled out: clang before 17 has no deduction of aggregate template arguments (P1816).
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
 
 /// The kind of a check as the listing names it.
 std::string kind(const CheckEntry& e) {

@@ -71,6 +71,7 @@ inline constexpr std::string_view kLammps =
   X(sample_pairs, &sample_pairs_check, 0.10, relative, kPressure, true, "sample_pairs")          \
   X(phi_init, &phi_init_check, 0.10, relative, kPressure, true, "jamming_points")                \
   X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts") \
+  X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts")                              \
   X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                             \
   X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")
 

@@ -42,6 +42,8 @@ struct CheckOptions {
 std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o);
 std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& o);
 std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o);
+/// zeta = p / rate below phi_J at the two slowest rates (zeta_check.cpp).
+std::vector<Verdict> zeta_check(const StatsData& d, const CheckOptions& o);
 
 /// Runs one statistical check by name, or "all": the statistical members of `all` (the checks
 /// of other kinds: run_checks, checks/run_checks.hpp).

@@ -50,6 +50,7 @@ StatsData read_stats(const std::string& directory) {
   d.pooled = f.read_attribute_int("pooled_sizes") != 0;
   if (f.has_dataset("fit/representative")) {
     d.fit_window_min = f.read_attribute_double("phi_min", "fit/representative");
+    d.fit_phi_j = f.read_attribute_double("phi_j", "fit/representative");
   }
   for (const auto& name : f.list_group("ensembles")) {
     const std::string g = "ensembles/" + name;

@@ -29,6 +29,8 @@ struct StatsData {
   // The lower edge of the scaling fit's window (stats.h5 fit/representative phi_min), when
   // `jam stats` fitted: where the data the fit uses begin.
   std::optional<double> fit_window_min;
+  // ... and its phi_J (the zeta check compares below it).
+  std::optional<double> fit_phi_j;
   std::vector<EnsembleTables> ensembles;
 };
 
