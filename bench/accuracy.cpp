@@ -79,6 +79,9 @@ void validate(const AccuracyOptions& o) {
       if (!(dt > 0)) throw std::runtime_error(fmt::format("time step {:g}: must be positive", dt));
   for (double q : o.verlet_q)
     if (!(q > 0)) throw std::runtime_error(fmt::format("--verlet-q {:g}: must be positive", q));
+  for (double tol : o.chebyshev_tolerance)
+    if (!(tol > 0 && std::isfinite(tol)))
+      throw std::runtime_error(fmt::format("--chebyshev-tolerance {:g}: must be positive", tol));
   for (const auto* list : {&o.verlet_fraction, &o.lammps_fraction})
     for (double f : *list)
       if (!(f > 0 && f < 1))

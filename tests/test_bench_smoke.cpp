@@ -95,18 +95,23 @@ BOOST_AUTO_TEST_CASE(accuracy_table_is_complete_and_the_reference_converges) {
   const fs::path out = kDir / "accuracy";
   BOOST_REQUIRE_EQUAL(
       run_jam("bench accuracy --dims 2 --n 128 --rates 1e-2 --seeds 2 --euler-dt 0.02 0.05 "
-              "--heun-dt 0.05 --verlet-q 0.1 --reference-dt 0.02 --jobs 2 --out-dir " +
+              "--heun-dt 0.05 --chebyshev-tolerance 1e-3 --verlet-q 0.1 --reference-dt 0.02 "
+              "--jobs 2 --out-dir " +
               out.string()),
       0);
   const Csv csv = read_csv(out / "accuracy.csv");
-  // 3 reference levels, 2 Euler, 1 Heun, jam Verlet, and with lmp LAMMPS read two ways.
-  BOOST_REQUIRE_EQUAL(csv.rows.size(), have_lmp() ? 9u : 7u);
+  // 3 reference levels, 2 Euler, 1 Heun, 1 Chebyshev, jam Verlet, and with lmp LAMMPS read
+  // two ways.
+  BOOST_REQUIRE_EQUAL(csv.rows.size(), have_lmp() ? 10u : 8u);
   double euler_coarse = 0, euler_fine = 0;
   for (const auto& row : csv.rows) {
     const double wall = std::stod(row[csv.column("wall_median_s")]);
     const double err = std::stod(row[csv.column("max_error")]);
     BOOST_TEST((std::isfinite(wall) && wall > 0));
     BOOST_TEST((std::isfinite(err) && err >= 0 && err < 0.5));
+    if (row[csv.column("integrator")] == "chebyshev") {
+      BOOST_TEST(std::stod(row[csv.column("tolerance")]) == 1e-3);
+    }
     if (row[csv.column("integrator")] == "euler") {
       (std::stod(row[csv.column("dt")]) > 0.03 ? euler_coarse : euler_fine) = err;
     }
