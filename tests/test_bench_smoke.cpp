@@ -50,8 +50,12 @@ Csv read_csv(const fs::path& path) {
   return csv;
 }
 
+/// Runs `jam <args>`; a failure shows the command's output in the test log.
 int run_jam(const std::string& args) {
-  return jam::test::run_jam_logged(kDir / "out.txt", args).status;
+  const auto o = jam::test::run_jam_logged(kDir / "out.txt", args);
+  if (o.status != 0)
+    BOOST_TEST_MESSAGE("jam " << args << " exited " << o.status << ":\n" << o.output);
+  return o.status;
 }
 
 bool have_lmp() {
