@@ -70,10 +70,8 @@ class OverdampedChebyshev {
   /// the step taken. Particles end at y(t + h).
   template <class Contact>
   double step(System<D, Contact>& sys, double t, double h_max) {
-    if (!have_f0_) slope(sys, t, f0_);
+    begin_step(sys, t);
     const double rho = stiffest_mode_bound(sys, sys.box.length(t), sys.species.drag);
-    for (int d = 0; d < D; ++d)
-      std::copy(sys.particles.s[d].begin(), sys.particles.s[d].end(), s0_[d].begin());
     double h = std::min(h_next_, h_max);
     while (true) {
       int s = chebyshev_stages(h * rho);
@@ -102,9 +100,7 @@ class OverdampedChebyshev {
   /// returns the error estimate err.
   template <class Contact>
   double fixed_step(System<D, Contact>& sys, double t, double h, int s) {
-    if (!have_f0_) slope(sys, t, f0_);
-    for (int d = 0; d < D; ++d)
-      std::copy(sys.particles.s[d].begin(), sys.particles.s[d].end(), s0_[d].begin());
+    begin_step(sys, t);
     const double err = try_step(sys, t, h, coefficients(s));
     std::swap(f0_, f1_);
     have_f0_ = true;
@@ -117,6 +113,15 @@ class OverdampedChebyshev {
   const Stats& stats() const { return stats_; }
 
  private:
+  /// y_n and its slope: s0_ <- the positions, f0_ <- F(t, y_n) unless carried over from the
+  /// last accepted step (the same bits either way).
+  template <class Contact>
+  void begin_step(System<D, Contact>& sys, double t) {
+    if (!have_f0_) slope(sys, t, f0_);
+    for (int d = 0; d < D; ++d)
+      std::copy(sys.particles.s[d].begin(), sys.particles.s[d].end(), s0_[d].begin());
+  }
+
   /// out = F(t, current positions) = f^el / (gamma L(t)), scaled units.
   template <class Contact>
   void slope(System<D, Contact>& sys, double t, std::array<std::vector<double>, D>& out) {

@@ -7,7 +7,6 @@
 #include <string>
 #include <string_view>
 #include <tuple>
-#include <type_traits>
 #include <vector>
 
 #include "sim/model/harmonic_contact.hpp"
@@ -26,25 +25,17 @@ inline std::vector<std::string> contact_law_names() {
 /// Calls f.template operator()<Law>() for the law named `name` and returns its result;
 /// throws std::invalid_argument for a name not in the list.
 template <class F>
-decltype(auto) with_contact_law(std::string_view name, F&& f) {
+auto with_contact_law(std::string_view name, F&& f) {
   using Result = decltype(f.template operator()<std::tuple_element_t<0, ContactLaws>>());
   return std::apply(
-      [&](auto... law) -> Result {
-        if constexpr (std::is_void_v<Result>) {
-          const bool found =
-              ((name == decltype(law)::kName ? (f.template operator()<decltype(law)>(), true)
-                                             : false) ||
+      [&](auto... law) {
+        std::optional<Result> r;
+        (void)((name == decltype(law)::kName
+                    ? (r.emplace(f.template operator()<decltype(law)>()), true)
+                    : false) ||
                ...);
-          if (!found) throw std::invalid_argument("unknown contact law " + std::string(name));
-        } else {
-          std::optional<Result> r;
-          (void)((name == decltype(law)::kName
-                      ? (r.emplace(f.template operator()<decltype(law)>()), true)
-                      : false) ||
-                 ...);
-          if (!r) throw std::invalid_argument("unknown contact law " + std::string(name));
-          return std::move(*r);
-        }
+        if (!r) throw std::invalid_argument("unknown contact law " + std::string(name));
+        return std::move(*r);
       },
       ContactLaws{});
 }
