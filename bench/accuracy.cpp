@@ -224,7 +224,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       Method& m = res.methods[mi];
       const double t_end =
           std::log(accuracy_packings(m.dim)[2] / o.start_packing(m.dim)) / (m.dim * m.rate);
-      cost.push_back(t_end * force_evaluations_per_time(m.integrator, m.dt, m.rate) *
+      cost.push_back(t_end * force_evaluations_per_time(m.integrator, m.dt, m.rate, m.tolerance) *
                      (m.engine == "lammps" ? 3 : 1) * (m.dim == 3 ? 2 : 1));
       tasks.push_back([&, mi, s] {
         Method& m = res.methods[mi];

@@ -63,6 +63,13 @@ class Reader {
     return node->value<std::string>().value();
   }
 
+  /// A string, or a number as its text ("auto"-or-number keys: tolerance, relax_energy).
+  std::string text(const std::string& key, bool required, const std::string& fallback) {
+    const toml::node* node = find(key, required);
+    if (node && node->is_number()) return fmt::format("{:.17g}", node->value<double>().value());
+    return string(key, required, fallback);
+  }
+
   bool boolean(const std::string& key, bool fallback) {
     const toml::node* node = find(key, false);
     if (!node) return fallback;
@@ -174,7 +181,8 @@ void read_run_parameters(Reader& r, SimConfig& run) {
           } else if constexpr (std::is_same_v<T, bool>) {
             target = r.boolean(p.name, target);
           } else if constexpr (std::is_same_v<T, std::string>) {
-            target = r.string(p.name, required, target);
+            target = p.choices.empty() ? r.text(p.name, required, target)
+                                       : r.string(p.name, required, target);
           } else {
             target = integer_key<T>(r, p, target);
           }

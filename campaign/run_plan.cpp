@@ -95,9 +95,10 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
           const double relax_time = s.relax ? kRelaxTimeEstimate : 0.0;
           r.estimated_particle_steps =
               static_cast<double>(n) *
-              (force_evaluations_per_time(s.resolved_integrator(), s.dt, s.compression_rate) *
+              (force_evaluations_per_time(s.resolved_integrator(), s.dt, s.compression_rate,
+                                          s.resolved_tolerance()) *
                    compression_time +
-               force_evaluations_per_step(s.resolved_integrator()) * relax_time / s.dt);
+               relaxation_evaluations_per_time(s.resolved_integrator(), s.dt) * relax_time);
           runs.push_back(std::move(r));
         }
       }

@@ -116,7 +116,8 @@ BOOST_AUTO_TEST_CASE(unstable_run_fails_alone) {
   std::string text = kTiny;
   text.replace(text.find("phi_init = [0.70]"), 17, "phi_init = [0.30, 0.74]");
   text.replace(text.find("phi_stop = 0.86"), 15, "phi_stop = 0.75");
-  text.replace(text.find("dt = 0.02"), 9, "dt = 0.45");
+  // Heun, whose step is dt: the Chebyshev integrator is stable at any first step.
+  text.replace(text.find("dt = 0.02"), 9, "dt = 0.45\nintegrator = \"heun\"");
   text.replace(text.find("samples = 3"), 11, "samples = 1");
   // A step of dt 0.45 at rate 1e-2 compresses by 0.0068: output every 0.01, not 0.002.
   text.replace(text.find("phi_step = 0.002"), 16, "phi_step = 0.010");

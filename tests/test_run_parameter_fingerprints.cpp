@@ -16,10 +16,18 @@ const std::string kDefaultRelax =
     "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 relax=true "
     "relax_energy=9.9999999999999998e-13 relax_time_max=10000 rattlers=false stress=false";
 
+/// The defaults of the versions these literals come from: Heun was the overdamped default
+/// until the Chebyshev integrator became it (a new configuration, with a new identity: below).
+SimConfig heun_defaults() {
+  SimConfig c;
+  c.integrator = "heun";
+  return c;
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(defaults) {
-  const SimConfig c;
+  const SimConfig c = heun_defaults();
   BOOST_TEST(jam::fingerprint(c) ==
              "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
              "phi_step=0.001 rate=0.0001 dt=0.10000000000000001 dynamics=overdamped "
@@ -34,7 +42,7 @@ BOOST_AUTO_TEST_CASE(defaults) {
 
 BOOST_AUTO_TEST_CASE(read_from_lammps_data) {
   // n and phi_init come from the file: the fingerprints store 0 for them.
-  SimConfig c;
+  SimConfig c = heun_defaults();
   c.read_lammps_data = "start.data";
   c.n = 512;
   c.phi_init = 0.7;
@@ -70,7 +78,7 @@ BOOST_AUTO_TEST_CASE(inertial) {
 }
 
 BOOST_AUTO_TEST_CASE(two_threads_and_every_switch) {
-  SimConfig c;
+  SimConfig c = heun_defaults();
   c.threads = 2;
   c.integrator = "euler";
   c.compression_rate = 3.1622776601683794e-4;
@@ -92,7 +100,7 @@ BOOST_AUTO_TEST_CASE(two_threads_and_every_switch) {
 }
 
 BOOST_AUTO_TEST_CASE(three_dimensions) {
-  SimConfig c;
+  SimConfig c = heun_defaults();
   c.dim = 3;
   c.n = 2048;
   c.phi_init = 0.45;
@@ -129,9 +137,9 @@ BOOST_AUTO_TEST_CASE(parameters_outside_the_physics_do_not_count) {
 }
 
 BOOST_AUTO_TEST_CASE(contact_law_is_a_suffix_only_when_not_harmonic) {
-  SimConfig c;
+  SimConfig c = heun_defaults();
   c.contact = "harmonic";  // the default: fingerprints as before the parameter existed
-  BOOST_TEST(jam::fingerprint(c) == jam::fingerprint(SimConfig{}));
+  BOOST_TEST(jam::fingerprint(c) == jam::fingerprint(heun_defaults()));
   c.contact = "hertzian";
   BOOST_TEST(jam::fingerprint(c) ==
              "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
@@ -155,4 +163,60 @@ BOOST_AUTO_TEST_CASE(contact_law_is_a_suffix_only_when_not_harmonic) {
              "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
              "relax_energy=9.9999999999999998e-13 relax_time_max=10000 read= threads=2 "
              "contact=hertzian");
+}
+
+// The Chebyshev integrator's default tolerance follows the rate (auto_tolerance); a run at
+// 1e-4, the one tolerance before "auto", keeps the identity it had, and every other value is a
+// suffix. The relaxation is at 1e-4 whatever the rate: one relaxed start serves every rate.
+BOOST_AUTO_TEST_CASE(chebyshev_tolerance_is_a_suffix_only_when_not_1e_4) {
+  SimConfig c;  // today's defaults: chebyshev, tolerance auto, rate 1e-4 -> 1e-2
+  BOOST_TEST(c.resolved_integrator() == "chebyshev");
+  BOOST_TEST(jam::fingerprint(c) ==
+             "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
+             "phi_step=0.001 rate=0.0001 dt=0.10000000000000001 dynamics=overdamped "
+             "integrator=chebyshev q=0 seed=1 " +
+                 kDefaultRelax + " read= jamming_point=false from=0 tolerance=0.01");
+  const std::string relaxation =
+      "relaxation dim=2 n=1024 phi_init=0.59999999999999998 seed=1 "
+      "dt=0.10000000000000001 dynamics=overdamped integrator=chebyshev q=0 "
+      "skin=0.29999999999999999 diameter_ratio=1.3999999999999999 "
+      "relax_energy=1e-14 relax_time_max=10000 read=";
+  c.relax_energy = "1e-14";  // as campaigns fix it, so that it does not follow the rate either
+  BOOST_TEST(jam::relaxation_fingerprint(c) == relaxation);
+  for (double rate : {1e-3, 1e-5, 1e-6, 1e-8}) {
+    c.compression_rate = rate;
+    BOOST_TEST(jam::relaxation_fingerprint(c) == relaxation);
+  }
+  // At 1e-6 and below auto is 1e-4: the fingerprint of the version before "auto".
+  c.compression_rate = 1e-6;
+  BOOST_TEST(jam::fingerprint(c).find("tolerance") == std::string::npos);
+  c.compression_rate = 1e-5;
+  BOOST_TEST(jam::fingerprint(c).ends_with(" tolerance=0.001"));
+  // Given explicitly: the relaxation uses it too.
+  c.tolerance = "1e-4";
+  BOOST_TEST(jam::fingerprint(c).find("tolerance") == std::string::npos);
+  c.tolerance = "1e-5";
+  BOOST_TEST(jam::fingerprint(c).ends_with(" tolerance=1.0000000000000001e-05"));
+  BOOST_TEST(jam::relaxation_fingerprint(c) == relaxation + " tolerance=1.0000000000000001e-05");
+  // Integrators without error control ignore it: no suffix at auto.
+  c.tolerance = "auto";
+  c.integrator = "heun";
+  c.compression_rate = 1e-3;
+  BOOST_TEST(jam::fingerprint(c).find("tolerance") == std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(auto_tolerance_is_100_rate_within_1e_4_and_1e_2) {
+  BOOST_TEST(jam::auto_tolerance(1e-3) == 1e-2);
+  BOOST_TEST(jam::auto_tolerance(1e-4) == 1e-2);
+  BOOST_TEST(jam::auto_tolerance(1e-5) == 1e-3, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(jam::auto_tolerance(3e-6) == 3e-4, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(jam::auto_tolerance(1e-6) == 1e-4, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(jam::auto_tolerance(1e-9) == 1e-4);
+  SimConfig c;
+  c.tolerance = "tight";
+  BOOST_CHECK_EXCEPTION(c.resolved_tolerance(), jam::ConfigError, [](const jam::ConfigError& e) {
+    return std::string(e.what()) == "--tolerance tight: must be 'auto' or a number > 0";
+  });
+  c.tolerance = "0";
+  BOOST_CHECK_THROW(c.resolved_tolerance(), jam::ConfigError);
 }

@@ -54,7 +54,7 @@ const std::map<std::string, Given> kOptions = {
     {"--skin", {"0.35", 0.35}},
     {"--diameter-ratio", {"1.5", 1.5}},
     {"--contact", {"hertzian", std::string("hertzian")}},
-    {"--tolerance", {"1e-7", 1e-7}},
+    {"--tolerance", {"1e-7", std::string("1e-7")}},
     {"--relax", {"0", false}},
     {"--relax-energy", {"1e-9", std::string("1e-9")}},
     {"--relax-time-max", {"100", 100.0}},
@@ -83,7 +83,7 @@ const std::map<std::string, Given> kCampaignKeys = {
     {"skin", {"0.35", 0.35}},
     {"diameter_ratio", {"1.5", 1.5}},
     {"contact", {"\"hertzian\"", std::string("hertzian")}},
-    {"tolerance", {"1e-7", 1e-7}},
+    {"tolerance", {"\"1e-7\"", std::string("1e-7")}},
     {"relax", {"false", false}},
     {"relax_energy", {"\"1e-9\"", std::string("1e-9")}},
     {"relax_time_max", {"100.0", 100.0}},
@@ -214,6 +214,11 @@ BOOST_AUTO_TEST_CASE(unknown_keys_and_bad_contacts_are_refused) {
   BOOST_TEST(campaign_rejection(good + "contact = \"hertz\"\n") ==
              "c.toml:10: contact: hertz: must be harmonic or hertzian");
   BOOST_TEST(campaign_rejection(good + "contact = 1\n") == "c.toml:10: contact: must be a string");
+  // "auto"-or-number keys take a bare number too; a word that is neither is refused.
+  const auto bare = jam::plan_runs(jam::parse_campaign(good + "tolerance = 1e-5\n", "c.toml"));
+  BOOST_TEST(bare.front().config.resolved_tolerance() == 1e-5);
+  BOOST_TEST(campaign_rejection(good + "tolerance = \"tight\"\n") ==
+             "c.toml:10: tolerance: tight: must be 'auto' or a number > 0");
 
   SimConfig c;
   c.out = "x.h5";
@@ -233,7 +238,7 @@ BOOST_AUTO_TEST_CASE(unknown_keys_and_bad_contacts_are_refused) {
 BOOST_AUTO_TEST_CASE(integrators_come_from_the_list) {
   SimConfig c;
   c.out = "x.h5";
-  BOOST_TEST(c.resolved_integrator() == "heun");
+  BOOST_TEST(c.resolved_integrator() == "chebyshev");
   c.dynamics = "inertial";
   BOOST_TEST(c.resolved_integrator() == "verlet");
   c.dt = 1e-4;
@@ -241,10 +246,10 @@ BOOST_AUTO_TEST_CASE(integrators_come_from_the_list) {
   BOOST_TEST(validation_error(c) == "--integrator heun: inertial dynamics takes verlet");
   c.dynamics = "overdamped";
   c.integrator = "verlet";
-  BOOST_TEST(validation_error(c) == "--integrator verlet: overdamped dynamics takes euler, heun or chebyshev");
+  BOOST_TEST(validation_error(c) ==
+             "--integrator verlet: overdamped dynamics takes euler, heun or chebyshev");
   BOOST_TEST(jam::integrator_help() ==
-             "euler, heun or chebyshev (overdamped; default heun, chebyshev at rates <= 10^-4.5), "
-             "verlet (inertial)");
+             "euler, heun or chebyshev (overdamped; default chebyshev), verlet (inertial)");
   // The plan's cost counts force evaluations: Heun's step costs two of Euler's.
   const std::string base = kCampaignOnly + "dim = 2\nphi_stop = 0.86\n";
   const auto heun = jam::plan_runs(jam::parse_campaign(base + "integrator = \"heun\"\n", "c.toml"));
@@ -272,7 +277,8 @@ BOOST_AUTO_TEST_CASE(run_file_carries_every_parameter_attribute) {
     if (!p.attribute.empty()) BOOST_TEST(f.has_attribute(p.attribute), p.attribute);
   }
   BOOST_TEST(f.read_attribute_string("contact") == "hertzian");
-  BOOST_TEST(f.read_attribute_string("integrator") == "heun");
+  BOOST_TEST(f.read_attribute_string("integrator") == "chebyshev");
+  BOOST_TEST(f.read_attribute_double("tolerance") == 1e-2);  // auto at rate 1e-2
   BOOST_TEST(f.read_attribute_double("compression_rate") == 1e-2);
   BOOST_TEST(f.read_attribute_double("q") == 0.0);  // overdamped
   BOOST_TEST(f.read_attribute_int("relax") == 0);

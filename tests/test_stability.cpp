@@ -176,7 +176,8 @@ BOOST_AUTO_TEST_CASE(instability_that_appears_during_compression) {
       BOOST_REQUIRE(stiff > 1.08 * soft);
       const std::string dt = g(1.9 / std::sqrt(soft * stiff));
       const Outcome o = run_sim(d + " --read-lammps-data " + start.string() +
-                                    " --relax 0 --rate 1e-4 --dt " + dt + " --phi-stop " + phi_stop,
+                                    " --relax 0 --rate 1e-4 --integrator heun --dt " + dt +
+                                    " --phi-stop " + phi_stop,
                                 out);
       expect_refused(o, out, dt);
       BOOST_TEST(o.err.find("(compression at phi") != std::string::npos, o.err);

@@ -24,17 +24,17 @@ struct IntegratorInfo {
 
 inline constexpr double kAnyRate = 1e300;
 
-// Heun is the overdamped default at fast rates: at dt = 0.1 it is 2.5-4x cheaper than Euler at
-// equal accuracy (docs/performance.md, the defaults). At rates 10^-4.5 and below the Chebyshev
-// integrator (tolerance 1e-4) is: measured 2.9x faster than Heun at dt 0.1 at 1e-5, 6.4x at
-// 1e-6, with the ensemble-mean pressure within 2.3e-4 of a converged reference; at 1e-4 only
-// 1.3x and at 1e-3 0.8x, so Heun stays the default there (docs/performance.md, the Chebyshev
-// integrator).
+// The Chebyshev integrator, at its rate-dependent default tolerance (sim_config.hpp,
+// auto_tolerance), is the overdamped default at every rate: measured against Heun at dt 0.1
+// (docs/performance.md, the Chebyshev integrator) 3.2x faster at 1e-3 and 4.9x at 1e-4 (2D,
+// N = 4096, tolerance 1e-2), 6.0x at 1e-5 (1e-3), 6.4x at 1e-6 and 12.7x at 1e-7 (1e-4), the
+// ensemble-mean pressure within 2.3e-4 of a converged reference throughout. Heun at dt 0.1 was
+// the default before (2.5-4x cheaper than Euler at equal accuracy).
 inline constexpr std::array<IntegratorInfo, 4> kIntegrators = {{
     {"euler", "overdamped", 1, 1, false, 0.0},
-    {"heun", "overdamped", 2, 2, true, kAnyRate},
+    {"heun", "overdamped", 2, 2, false, 0.0},
     // Runge-Kutta-Chebyshev with error control: its steps and stages adapt to the run.
-    {"chebyshev", "overdamped", 0, 2, true, 3.2e-5},
+    {"chebyshev", "overdamped", 0, 2, true, kAnyRate},
     {"verlet", "inertial", 1, 2, true,
      kAnyRate},  // forces at the new positions serve the next step too
 }};
@@ -74,13 +74,27 @@ inline int force_evaluations_per_step(std::string_view name) {
 }
 
 /// Force evaluations per unit time t0 of a compression at `rate`: dt-stepped integrators
-/// take force_evaluations / dt; the adaptive Chebyshev integrator's cost is a model of its
-/// measured cost in Heun-equivalent evaluations (docs/performance.md, the Chebyshev
-/// integrator): Heun at dt 0.1 (20 per t0) over the measured speed-ups 1.26x, 2.9x, 6.4x at rates
-/// 1e-4, 1e-5, 1e-6 (tolerance 1e-4), i.e. 3.1 (rate / 1e-6)^0.35 per t0.
-inline double force_evaluations_per_time(std::string_view name, double dt, double rate) {
+/// take force_evaluations / dt; the adaptive Chebyshev integrator's cost at `tolerance` is a
+/// model of its measured cost in Heun-equivalent evaluations (docs/performance.md, the
+/// Chebyshev integrator): Heun at dt 0.1 (20 per t0) over the measured speed-ups, 1.26x, 2.9x,
+/// 6.4x at rates 1e-4, 1e-5, 1e-6 (tolerance 1e-4), and about 1.8x fewer evaluations per decade
+/// of tolerance (1e-6 ... 1e-2 at rates 1e-5 and 1e-6): 3.1 (rate / 1e-6)^0.35 (tolerance /
+/// 1e-4)^-0.25 per t0. It overestimates the fast rates (1e-3, tolerance 1e-2: 11 per t0, 6.3
+/// measured).
+inline double force_evaluations_per_time(std::string_view name, double dt, double rate,
+                                         double tolerance) {
   const IntegratorInfo* i = find_integrator(name);
-  if (i && i->force_evaluations == 0) return 3.1 * std::pow(rate / 1e-6, 0.35);
+  if (i && i->force_evaluations == 0)
+    return 3.1 * std::pow(rate / 1e-6, 0.35) * std::pow(tolerance / 1e-4, -0.25);
+  return (i ? i->force_evaluations : 1) / dt;
+}
+
+/// Force evaluations per unit time t0 of a relaxation at zero rate: force_evaluations / dt,
+/// or for the adaptive integrator 20 (Heun's at dt 0.1; its steps grow as the forces fade, so
+/// this is an upper bound).
+inline double relaxation_evaluations_per_time(std::string_view name, double dt) {
+  const IntegratorInfo* i = find_integrator(name);
+  if (i && i->force_evaluations == 0) return 20.0;
   return (i ? i->force_evaluations : 1) / dt;
 }
 
@@ -105,19 +119,15 @@ inline std::vector<std::string_view> integrators_of(std::string_view dynamics) {
   return names;
 }
 
-/// The help of --integrator: "euler or heun (overdamped; default heun), verlet (inertial)".
+/// The help of --integrator: "euler, heun or chebyshev (overdamped; default chebyshev), verlet
+/// (inertial)".
 inline std::string integrator_help() {
   std::string out;
   for (const auto dynamics : kDynamics) {
     const auto names = integrators_of(dynamics);
     if (!out.empty()) out += ", ";
     out += or_list(names) + " (" + std::string(dynamics);
-    if (names.size() > 1) {
-      out += "; default " + std::string(default_integrator(dynamics));
-      const auto slow = default_integrator(dynamics, 1e-300);
-      if (slow != default_integrator(dynamics))
-        out += ", " + std::string(slow) + " at rates <= 10^-4.5";
-    }
+    if (names.size() > 1) out += "; default " + std::string(default_integrator(dynamics));
     out += ")";
   }
   return out;

@@ -54,6 +54,9 @@ class OverdampedChebyshev {
     }
   }
 
+  /// The tolerance from here on (the compression's may differ from the relaxation's).
+  void set_tolerance(double tolerance) { tolerance_ = tolerance; }
+
   /// After relaxation: the next step starts from the first step again.
   void reset() {
     h_next_ = first_step_;

@@ -21,7 +21,10 @@ std::string write_failure(const std::string& path, int error) {
 }
 
 std::string AtomicFile::temporary_name(const std::string& path) {
-  return fmt::format("{}.{}.partial", path, ::getpid());
+  // The process and the thread: two runs of one campaign process may write the same file at
+  // once (the relaxed start two rates of a sample share); each writes its own temporary and
+  // the last rename wins, with identical contents.
+  return fmt::format("{}.{}-{}.partial", path, ::getpid(), ::gettid());
 }
 
 AtomicFile::AtomicFile(std::string path)

@@ -32,7 +32,8 @@ class AtomicFile {
   const std::string& temporary_path() const { return temporary_; }
   void commit();
 
-  /// Temporary name used for path (also for files written by other libraries, e.g. HDF5).
+  /// Temporary name used for path (also for files written by other libraries, e.g. HDF5), unique
+  /// to this process and thread; publish(path) must be called from the same thread.
   static std::string temporary_name(const std::string& path);
   /// Renames temporary_name(path) to path; throws naming the path on failure.
   static void publish(const std::string& path);

@@ -124,6 +124,8 @@ class CompressionRun {
     } else {
       sys_.box = compressing_box_;  // resumed in the compression phase
     }
+    // Error control at the compression's tolerance ("auto": rate-dependent, sim_config.hpp).
+    if constexpr (kAdaptive) stepper_.set_tolerance(c_.resolved_tolerance());
     if (!compress()) return interrupted();
     return finish();
   }
@@ -345,7 +347,7 @@ RunSummary run_with(const SimConfig& c, const RunControl& control, ParticleData<
   at_rest.compression_rate = 0.0;
   System<D, Contact> sys(std::move(particles), species, at_rest, c.skin);
   sys.set_threads(c.threads);
-  const StepperOptions options{c.q, c.tolerance, c.dt};
+  const StepperOptions options{c.q, c.relaxation_tolerance(), c.dt};
   return with_integrator<D>(
       meta.integrator, sys.size(), options, [&]<class Stepper>(Stepper& stepper) {
         return CompressionRun<D, Contact, Stepper>(c, control, sys, stepper, box, std::move(meta))

@@ -26,14 +26,19 @@ RunEstimate estimate_run(const SimConfig& c, std::int64_t n) {
   const std::string integrator = c.resolved_integrator();
   const bool adaptive = is_adaptive_integrator(integrator);
   const double per_time =
-      adaptive ? force_evaluations_per_time(integrator, c.dt, c.compression_rate) : 1.0 / c.dt;
+      adaptive
+          ? force_evaluations_per_time(integrator, c.dt, c.compression_rate, c.resolved_tolerance())
+          : 1.0 / c.dt;
   if (phi_init > 0) {
     e.compression_steps = std::log(c.phi_stop / phi_init) / (c.dim * c.compression_rate) * per_time;
     e.output_points = (c.phi_stop - phi_init) / c.phi_step + 2;
   } else {
     e.output_points = c.phi_stop / c.phi_step + 2;
   }
-  e.relaxation_steps = c.relax ? c.relax_time_max * (adaptive ? 20.0 : 1.0 / c.dt) : 0.0;
+  e.relaxation_steps =
+      c.relax ? c.relax_time_max *
+                    (adaptive ? relaxation_evaluations_per_time(integrator, c.dt) : 1.0 / c.dt)
+              : 0.0;
   e.packing_per_step = adaptive ? 0.0 : c.phi_stop * std::expm1(c.dim * c.compression_rate * c.dt);
   // Output points are kept in memory (and in the checkpoint) until the run file is written;
   // with --jamming-point each keeps a configuration too (an upper bound: all of them).

@@ -22,6 +22,14 @@ ParameterValue resolved_relax_energy(const SimConfig& c) {
   return c.resolved_relax_energy();
 }
 
+ParameterValue resolved_tolerance(const SimConfig& c) {
+  return c.resolved_tolerance();
+}
+
+ParameterValue relaxation_tolerance(const SimConfig& c) {
+  return c.relaxation_tolerance();
+}
+
 std::vector<std::string> dynamics_names() {
   return {kDynamics.begin(), kDynamics.end()};
 }
@@ -145,12 +153,17 @@ std::vector<RunParameter> make_table() {
       {.name = "tolerance",
        .field = &SimConfig::tolerance,
        .help = "chebyshev integrator: the largest local error of one particle's displacement in "
-               "one step (units of d_s); --dt is then its first step",
+               "one step (units of d_s); --dt is then its first step. auto = 100 rate within "
+               "[1e-4, 1e-2] while compressing, 1e-4 while relaxing",
        .campaign = C::optional,
        .identity = I::suffix_unless_default,
        .relaxation_position = 16,
        .attribute = "tolerance",
-       .unit = "d_s"},
+       .unit = "d_s",
+       .resolve = resolved_tolerance,
+       .resolve_relaxation = relaxation_tolerance,
+       // 1e-4 was the one default before "auto": runs at it keep their identity.
+       .unmarked = ParameterValue{kRelaxationTolerance}},
       {.name = "relax",
        .field = &SimConfig::relax,
        .help = "Relax the start at zero rate before compressing (the paper's protocol)",
@@ -270,6 +283,12 @@ ParameterValue zero_like(const ParameterValue& v) {
 
 ParameterValue stored_value(const SimConfig& c, const RunParameter& p) {
   const ParameterValue v = p.resolve ? p.resolve(c) : field_value(c, p);
+  return p.inertial_only && c.dynamics != "inertial" ? zero_like(v) : v;
+}
+
+ParameterValue stored_relaxation_value(const SimConfig& c, const RunParameter& p) {
+  if (!p.resolve_relaxation) return stored_value(c, p);
+  const ParameterValue v = p.resolve_relaxation(c);
   return p.inertial_only && c.dynamics != "inertial" ? zero_like(v) : v;
 }
 

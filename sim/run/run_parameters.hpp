@@ -7,6 +7,7 @@
 // walk this table; tests/test_run_parameters.cpp checks that reference/schema.md documents
 // every attribute it writes. A new parameter is a SimConfig member and a row here.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -50,6 +51,12 @@ struct RunParameter {
   // The value fingerprints and the run file store when it is not the member itself (a default
   // resolved, "auto" worked out).
   ParameterValue (*resolve)(const SimConfig&) = nullptr;
+  // ... and in relaxation_fingerprint() when the relaxation uses another value (nullptr: the
+  // same as resolve).
+  ParameterValue (*resolve_relaxation)(const SimConfig&) = nullptr;
+  // A suffix parameter leaves the fingerprints at this value (unset: at its value in a default
+  // SimConfig), for a default that is resolved per run but must keep older runs' identity.
+  std::optional<ParameterValue> unmarked = std::nullopt;
 
   std::string option() const;  // "--phi-init"
   std::string word() const;    // fingerprint key
@@ -68,6 +75,9 @@ ParameterValue field_value(const SimConfig& c, const RunParameter& p);
 /// What fingerprints and the run file store: the resolved value, 0 for inertial_only
 /// parameters of overdamped runs.
 ParameterValue stored_value(const SimConfig& c, const RunParameter& p);
+
+/// What relaxation_fingerprint() stores: stored_value() but for resolve_relaxation.
+ParameterValue stored_relaxation_value(const SimConfig& c, const RunParameter& p);
 
 /// The zero of a value's type (0, 0.0, false, "").
 ParameterValue zero_like(const ParameterValue& v);

@@ -63,6 +63,36 @@ double SimConfig::resolved_relax_energy() const {
   return v;
 }
 
+namespace {
+
+/// "auto" (nullopt) or the tolerance as a number; throws ConfigError naming --tolerance.
+std::optional<double> explicit_tolerance(const std::string& text) {
+  if (text == "auto") return std::nullopt;
+  double v = -1.0;
+  std::size_t used = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v) || v <= 0.0) {
+    reject("tolerance", text.empty() ? "''" : text, "must be 'auto' or a number > 0");
+  }
+  return v;
+}
+
+}  // namespace
+
+double SimConfig::resolved_tolerance() const {
+  if (const auto v = explicit_tolerance(tolerance)) return *v;
+  return is_adaptive_integrator(resolved_integrator()) ? auto_tolerance(compression_rate)
+                                                       : kRelaxationTolerance;
+}
+
+double SimConfig::relaxation_tolerance() const {
+  return explicit_tolerance(tolerance).value_or(kRelaxationTolerance);
+}
+
 std::uint64_t parse_seed(const std::string& option, const std::string& text) {
   const bool digits = !text.empty() && text.size() <= 19 &&
                       text.find_first_not_of("0123456789") == std::string::npos;
@@ -109,6 +139,7 @@ void validate(const SimConfig& c) {
     reject("diameter-ratio", str(c.diameter_ratio), "must be in [1, 2]");
   }
   c.resolved_relax_energy();
+  c.resolved_tolerance();
   if (!std::isfinite(c.relax_time_max) || c.relax_time_max < 0.0) {
     reject("relax-time-max", str(c.relax_time_max), "must be >= 0");
   }
@@ -140,18 +171,21 @@ void validate(const SimConfig& c) {
 namespace {
 
 /// The words of a fingerprint: " key=value" for each parameter in `words` (in that order),
-/// then the suffixes, in table order, of those that differ from their defaults.
-std::string identity_words(const SimConfig& c, const std::vector<const RunParameter*>& words) {
+/// then the suffixes, in table order, of those that differ from their unmarked values. The
+/// values are those of the run, or of its relaxation.
+enum class Phase { run, relaxation };
+std::string identity_words(const SimConfig& c, const std::vector<const RunParameter*>& words,
+                           Phase phase) {
   static const SimConfig defaults;
   std::string text, suffixes;
   for (const RunParameter* p : words) {
-    ParameterValue v = stored_value(c, *p);
+    ParameterValue v = phase == Phase::run ? stored_value(c, *p) : stored_relaxation_value(c, *p);
     // A data file gives N and the packing: its name identifies them.
     if (p->from_data_file && !c.read_lammps_data.empty()) v = zero_like(v);
     const std::string word = fmt::format(" {}={}", p->word(), fingerprint_text(v));
     if (p->identity == Identity::word) {
       text += word;
-    } else if (v != stored_value(defaults, *p)) {
+    } else if (v != p->unmarked.value_or(stored_value(defaults, *p))) {
       suffixes += word;
     }
   }
@@ -179,12 +213,12 @@ std::vector<const RunParameter*> relaxation_parameters() {
 
 std::string fingerprint(const SimConfig& c) {
   static const auto words = fingerprint_parameters();
-  return identity_words(c, words).substr(1);
+  return identity_words(c, words, Phase::run).substr(1);
 }
 
 std::string relaxation_fingerprint(const SimConfig& c) {
   static const auto words = relaxation_parameters();
-  return "relaxation" + identity_words(c, words);
+  return "relaxation" + identity_words(c, words, Phase::relaxation);
 }
 
 void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance) {

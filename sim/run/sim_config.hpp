@@ -1,6 +1,7 @@
 #pragma once
 // Parameters of one compression run (`jam sim`), their defaults and their validation. How each
 // is named, fingerprinted and stored: the table in run_parameters.hpp.
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -14,6 +15,19 @@ namespace jam {
 struct ConfigError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// The Chebyshev integrator's default tolerance at compression rate `rate`: 100 rate within
+/// [1e-4, 1e-2]. Below jamming the pressure a compression builds is zeta rate, so a
+/// displacement error that is harmless at fast rates is not at slow ones. Measured
+/// (docs/performance.md, the Chebyshev integrator): the ensemble-mean pressure within 5.5e-5
+/// of a converged reference at 1e-3 and 1e-4 (tolerance 1e-2), 2.4e-5 at 1e-5 (1e-3), 2.3e-4 at
+/// 1e-6 (1e-4); 1e-2 at 1e-6 left 5.6e-3.
+inline double auto_tolerance(double rate) {
+  return std::clamp(100.0 * rate, 1e-4, 1e-2);
+}
+/// ... and of the relaxation at zero rate, whatever the rate that follows, so that one relaxed
+/// start serves every rate of a sample: 1e-4, the tolerance of the slowest rates.
+inline constexpr double kRelaxationTolerance = 1e-4;
 
 struct SimConfig {
   int dim = 2;
@@ -30,10 +44,9 @@ struct SimConfig {
   std::string dynamics = "overdamped";  // overdamped | inertial
   std::string integrator;               // empty: the dynamics' default (integrator_list.hpp)
   // chebyshev: the largest local error of one particle's displacement in one step (d_s);
-  // --dt is then its first step.
-  // 1e-4: ensemble-mean pressure within 2.3e-4 of a converged reference at rates 1e-4 to 1e-6
-  // (docs/performance.md, the Chebyshev integrator).
-  double tolerance = 1e-4;
+  // --dt is then its first step. "auto": the compression at auto_tolerance(rate), the
+  // relaxation at kRelaxationTolerance (see below).
+  std::string tolerance = "auto";
   double q = 0.03;  // quality factor, inertial dynamics only
   std::uint64_t seed = 1;
   double skin = 0.3;
@@ -77,6 +90,12 @@ struct SimConfig {
 
   /// The relaxation target after resolving "auto" (throws ConfigError when malformed).
   double resolved_relax_energy() const;
+
+  /// The compression's tolerance after resolving "auto" (throws ConfigError when malformed);
+  /// for integrators without error control, which ignore it, kRelaxationTolerance.
+  double resolved_tolerance() const;
+  /// The relaxation's tolerance after resolving "auto".
+  double relaxation_tolerance() const;
 
   /// The integrator after applying the dynamics-dependent default.
   std::string resolved_integrator() const {
