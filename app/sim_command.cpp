@@ -6,6 +6,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "sim/io/chain_start.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/run/run_parameters.hpp"
 #include "sim/run/stop_signal.hpp"
@@ -72,7 +73,16 @@ extern "C" void request_stop(int) {
 }
 }  // namespace
 
-int run_sim_command(const SimConfig& c) {
+int run_sim_command(const SimConfig& given) {
+  SimConfig c = given;
+  if (!c.read_start.empty() && c.start_identity.empty()) {
+    // A chained start given by hand: its identity, stored in it, joins this run's.
+    try {
+      c.start_identity = stored_chain_start_identity(c.read_start);
+    } catch (const std::exception& e) {
+      throw ConfigError(fmt::format("--read-start {}: {}", c.read_start, e.what()));
+    }
+  }
   // Ctrl-C or SIGTERM: write a checkpoint and stop; the same command resumes.
   RunControl control;
   control.checkpoint_interval_seconds = c.checkpoint_interval;

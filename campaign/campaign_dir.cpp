@@ -58,7 +58,7 @@ const char* to_string(RunStatus s) {
 }
 
 void remove_stale_temporaries(const std::string& directory) {
-  for (const char* sub : {"", "runs", "starts"}) {
+  for (const char* sub : {"", "runs", "starts", "chain"}) {
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(fs::path(directory) / sub, ec)) {
       if (e.path().extension() == ".partial" && e.is_regular_file()) fs::remove(e.path(), ec);
@@ -93,6 +93,7 @@ void prepare_campaign_directory(const Campaign& c) {
   std::error_code ec;
   fs::create_directories(dir / "runs", ec);
   if (!ec) fs::create_directories(dir / "starts", ec);
+  if (!ec && !c.chain_phi_init.empty()) fs::create_directories(dir / "chain", ec);
   if (ec) {
     throw CampaignError(fmt::format("{}: output: cannot create '{}': {}", c.source_path,
                                     (dir / "runs").string(), ec.message()));

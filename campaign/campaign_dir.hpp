@@ -6,6 +6,8 @@
 //   <output>/runs/<name>.h5.checkpoint   state of an unfinished run
 //   <output>/runs/<name>.record   status of the last attempt (TOML: status, wall time, ...)
 //   <output>/starts/n<N>_phi<phi>_s<k>.h5   relaxed start shared by every rate of a sample
+//   <output>/chain/<name>.start.h5   chained start of run <name> (chain_phi_init), left by the
+//                                    next faster run of its sample
 // Every file is written atomically, so the directory is consistent after any interruption.
 #include <string>
 #include <vector>

@@ -123,6 +123,21 @@ class Reader {
     return out;
   }
 
+  /// An optional array of finite numbers (repeats allowed).
+  std::vector<double> optional_numbers(const std::string& key) {
+    std::vector<double> v;
+    const toml::node* node = find(key, false);
+    if (!node) return v;
+    const toml::array* array = node->as_array();
+    if (!array) fail(key, "must be an array of numbers");
+    for (const auto& element : *array) {
+      if (!element.is_number()) fail(key, "must be an array of numbers");
+      v.push_back(element.value<double>().value());
+      if (!std::isfinite(v.back())) fail(key, "values must be finite");
+    }
+    return v;
+  }
+
   /// An optional array of strings.
   std::vector<std::string> strings(const std::string& key) {
     std::vector<std::string> out;
@@ -191,7 +206,55 @@ void read_run_parameters(Reader& r, SimConfig& run) {
   }
 }
 
+/// chain_phi_init: one entry per rate; 0 starts that rate from its relaxed random start (the
+/// fastest rate must), a packing phi'_init takes the next faster rate's configuration there.
+/// A start lies above every phi_init and the faster rate's own start, below phi_stop, and on
+/// the output grid (the faster run leaves it at an output point).
+void validate_chain(Reader& r, const Campaign& c) {
+  if (c.chain_phi_init.empty()) return;
+  const std::string key = "chain_phi_init";
+  if (c.chain_phi_init.size() != c.log10_rates.size()) {
+    r.fail(key, fmt::format("{} values for {} log10_rates (one per rate)", c.chain_phi_init.size(),
+                            c.log10_rates.size()));
+  }
+  if (c.run.dynamics != "overdamped") r.fail(key, "chained starts are for overdamped dynamics");
+  if (!c.run.relax) r.fail(key, "needs relax = true (the fastest rate's start is relaxed)");
+  const double highest_phi_init = *std::max_element(c.phi_init.begin(), c.phi_init.end());
+  double faster_start = highest_phi_init;
+  const std::vector<std::size_t> order = rates_fastest_first(c);
+  for (const std::size_t k : order) {
+    const double phi = c.chain_phi_init[k];
+    if (phi == 0.0) {
+      faster_start = highest_phi_init;
+      continue;
+    }
+    const auto rate = fmt::format("{:g} at log10 rate {:g}", phi, c.log10_rates[k]);
+    if (k == order.front()) {
+      r.fail(key, rate + ": the fastest rate has no faster one to start from (give 0)");
+    }
+    if (!(phi > faster_start && phi < c.run.phi_stop)) {
+      r.fail(key, fmt::format("{}: must lie above every phi_init and the faster rate's start "
+                              "({:g}) and below phi_stop ({:g})",
+                              rate, faster_start, c.run.phi_stop));
+    }
+    const double steps = phi / c.run.phi_step;
+    if (std::abs(steps - std::round(steps)) > 1e-6) {
+      r.fail(key, fmt::format("{}: must be a multiple of phi_step ({:g})", rate, c.run.phi_step));
+    }
+    faster_start = phi;
+  }
+}
+
 }  // namespace
+
+std::vector<std::size_t> rates_fastest_first(const Campaign& c) {
+  std::vector<std::size_t> order(c.log10_rates.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&c](std::size_t a, std::size_t b) {
+    return c.log10_rates[a] > c.log10_rates[b];
+  });
+  return order;
+}
 
 SimConfig campaign_run_defaults() {
   SimConfig s;
@@ -229,6 +292,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.sizes = r.integers("sizes");
   c.phi_init = r.numbers("phi_init");
   c.log10_rates = r.numbers("log10_rates");
+  c.chain_phi_init = r.optional_numbers("chain_phi_init");
   c.samples = r.integer("samples", true, 0);
   c.first_sample = r.integer("first_sample", false, c.first_sample);
   const std::int64_t seed = r.integer("seed", true, 0);
@@ -269,6 +333,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.base_seed = static_cast<std::uint64_t>(seed);
   if (c.output.empty()) r.fail("output", "must name a directory");
   if (c.run.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
+  validate_chain(r, c);
 
   // Everything a single run checks, with the campaign's key names in the message.
   SimConfig probe = run_config(c, c.sizes.front(), c.phi_init.front(), c.log10_rates.front(), 0);

@@ -26,6 +26,10 @@ struct Campaign {
   std::vector<std::int64_t> sizes;
   std::vector<double> phi_init;
   std::vector<double> log10_rates;
+  // Chained starts (sim/io/chain_start.hpp), one per log10_rates entry: 0 starts the rate from
+  // the sample's relaxed random start; a packing phi'_init continues from the configuration the
+  // next faster rate of the same sample passed through there. Empty: no chains.
+  std::vector<double> chain_phi_init;
   std::int64_t samples = 0;
   // Samples are numbered first_sample ... first_sample + samples - 1: a rerun of part of a
   // campaign (first_sample inside it) or new samples of it (first_sample past its end).
@@ -45,6 +49,9 @@ struct Campaign {
   std::string source_path;  // the file it was read from
   std::string source_text;  // its text, stored with the results
 };
+
+/// Indices into log10_rates, fastest rate first.
+std::vector<std::size_t> rates_fastest_first(const Campaign& c);
 
 /// Reads and validates a campaign file.
 Campaign read_campaign(const std::string& path);

@@ -17,6 +17,7 @@
 
 #include "campaign/campaign_dir.hpp"
 #include "campaign/campaign_lock.hpp"
+#include "campaign/run_chains.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/run_queue.hpp"
 #include "campaign/throughput.hpp"
@@ -94,7 +95,8 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
 
   // Rank 0 decides what is pending and everybody works from that one list, so no run is done
   // twice even while other ranks already start writing checkpoints.
-  std::vector<std::int64_t> pending;
+  std::vector<std::int64_t> pending, flat_tasks;
+  std::vector<std::string> task_notes;
   std::size_t already_done = 0;
   if (ranks.rank == 0) {
     std::vector<std::size_t> scope(plan.size());
@@ -109,8 +111,21 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
         pending.push_back(static_cast<std::int64_t>(k));
       }
     }
+    RunTasks t = plan_tasks(plan, pending, options.retry_failed);
+    flat_tasks = flatten(t.tasks);
+    task_notes = std::move(t.notes);
   }
-  pending = broadcast_from_root(std::move(pending));
+  // Every rank learns the same tasks (a chained run with the run it continues from).
+  const std::vector<std::vector<std::size_t>> tasks =
+      unflatten(broadcast_from_root(std::move(flat_tasks)));
+  std::size_t to_run = 0;
+  std::vector<double> task_costs;
+  for (const auto& t : tasks) {
+    to_run += t.size();
+    double cost = 0.0;
+    for (const auto k : t) cost += plan[k].estimated_particle_steps;
+    task_costs.push_back(cost);
+  }
 
   const std::atomic<bool>& stop_requested = install_stop_handlers();
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
@@ -118,18 +133,19 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   const bool show = !options.quiet && ranks.rank == 0;
   const bool tty = show && isatty(STDERR_FILENO);
   if (show) {
+    for (const auto& note : task_notes) fmt::print("campaign {}: {}\n", c.name, note);
     fmt::print("campaign {}: {} runs, {} done, {} to run", c.name, plan.size(), already_done,
-               pending.size());
+               to_run);
     if (ranks.size > 1) fmt::print(" on {} ranks", ranks.size);
     if (options.shards > 1) fmt::print(" in share {} of {}", options.shard, options.shards);
     fmt::print(" ({} threads per process)\n", jobs);
     std::fflush(stdout);
   }
 
-  std::vector<double> costs;
-  for (const auto& run : plan) costs.push_back(run.estimated_particle_steps);
-  const int workers = std::min<int>(jobs, static_cast<int>(pending.size()));
-  RunQueue queue(pending, costs, ranks, workers, &stop_requested);
+  std::vector<std::int64_t> task_indices(tasks.size());
+  for (std::size_t k = 0; k < tasks.size(); ++k) task_indices[k] = static_cast<std::int64_t>(k);
+  const int workers = std::min<int>(jobs, static_cast<int>(tasks.size()));
+  RunQueue queue(task_indices, task_costs, ranks, workers, &stop_requested);
   const double remaining_estimate = queue.local_estimate();
   std::atomic<std::size_t> finished{0}, failed{0}, interrupted{0};
   std::atomic<int> active{0};
@@ -137,6 +153,56 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   std::atomic<bool> cannot_write{false};
   std::atomic<std::uint64_t> particle_steps{0};
   std::mutex print_mutex;
+  enum class Outcome { kDone, kFailed, kInterrupted, kCannotWrite };
+  auto run_one = [&](const PlannedRun& run) {
+    ++taken;
+    RunControl control;
+    control.checkpoint_interval_seconds = run.config.checkpoint_interval;
+    control.stop = &stop_requested;
+    control.particle_steps = &particle_steps;
+    RunRecord record;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      const RunSummary s = run_compression(run.config, control);
+      if (s.interrupted) {
+        ++interrupted;
+        return Outcome::kInterrupted;
+      }
+      record.status = "done";
+      record.steps = static_cast<std::int64_t>(s.steps);
+    } catch (const WriteError& e) {
+      // Not the run's fault: no record, so the run stays to be done (or resumed from its
+      // checkpoint) by the next `campaign run`; but no further runs in this directory.
+      std::lock_guard lock(print_mutex);
+      fmt::print(stderr,
+                 "{}jam: error: run {} could not write its output: {}; no further runs "
+                 "started\n",
+                 tty ? "\n" : "", run.name, e.what());
+      cannot_write = true;
+      ++failed;
+      return Outcome::kCannotWrite;
+    } catch (const std::exception& e) {
+      record.status = "failed";
+      record.error = e.what();
+      ++failed;
+      std::lock_guard lock(print_mutex);
+      fmt::print(stderr, "{}jam: run {} failed: {}\n", tty ? "\n" : "", run.name, e.what());
+    }
+    record.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    try {
+      write_run_record(run, record);
+    } catch (const std::exception& e) {
+      // The directory cannot take even a small record (full disk, gone unwritable): every
+      // further run would fail the same way after doing all its work, so take no more.
+      std::lock_guard lock(print_mutex);
+      fmt::print(stderr, "{}jam: error: {}; no further runs started\n", tty ? "\n" : "", e.what());
+      if (record.status == "done") ++failed;
+      cannot_write = true;
+    }
+    ++finished;
+    return record.status == "done" ? Outcome::kDone : Outcome::kFailed;
+  };
   auto worker = [&](int id) {
     struct Active {
       std::atomic<int>& count;
@@ -149,55 +215,22 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       }
       const std::optional<std::size_t> index = queue.next(id);
       if (!index) return;
-      ++taken;
-      const PlannedRun& run = plan[*index];
-      RunControl control;
-      control.checkpoint_interval_seconds = run.config.checkpoint_interval;
-      control.stop = &stop_requested;
-      control.particle_steps = &particle_steps;
-      RunRecord record;
-      const auto start = std::chrono::steady_clock::now();
-      try {
-        const RunSummary s = run_compression(run.config, control);
-        if (s.interrupted) {
-          ++interrupted;
-          continue;
+      const std::vector<std::size_t>& task = tasks[*index];
+      // A chained run starts only after the run it continues from is done.
+      for (std::size_t m = 0; m < task.size(); ++m) {
+        if (m > 0 && (stop_requested.load() || cannot_write.load())) break;
+        const Outcome outcome = run_one(plan[task[m]]);
+        if (outcome == Outcome::kCannotWrite) {
+          queue.quit(id);
+          return;
         }
-        record.status = "done";
-        record.steps = static_cast<std::int64_t>(s.steps);
-      } catch (const WriteError& e) {
-        // Not the run's fault: no record, so the run stays to be done (or resumed from its
-        // checkpoint) by the next `campaign run`; but no further runs in this directory.
-        std::lock_guard lock(print_mutex);
-        fmt::print(stderr,
-                   "{}jam: error: run {} could not write its output: {}; no further runs "
-                   "started\n",
-                   tty ? "\n" : "", run.name, e.what());
-        cannot_write = true;
-        ++failed;
-        queue.quit(id);
-        return;
-      } catch (const std::exception& e) {
-        record.status = "failed";
-        record.error = e.what();
-        ++failed;
-        std::lock_guard lock(print_mutex);
-        fmt::print(stderr, "{}jam: run {} failed: {}\n", tty ? "\n" : "", run.name, e.what());
+        if (outcome == Outcome::kFailed && m + 1 < task.size()) {
+          std::lock_guard lock(print_mutex);
+          fmt::print(stderr, "{}jam: not started, since {} failed: {}\n", tty ? "\n" : "",
+                     plan[task[m]].name, plan[task[m + 1]].name);
+        }
+        if (outcome != Outcome::kDone) break;
       }
-      record.wall_seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      try {
-        write_run_record(run, record);
-      } catch (const std::exception& e) {
-        // The directory cannot take even a small record (full disk, gone unwritable): every
-        // further run would fail the same way after doing all its work, so take no more.
-        std::lock_guard lock(print_mutex);
-        fmt::print(stderr, "{}jam: error: {}; no further runs started\n", tty ? "\n" : "",
-                   e.what());
-        if (record.status == "done") ++failed;
-        cannot_write = true;
-      }
-      ++finished;
     }
   };
 
@@ -326,6 +359,16 @@ int print_campaign_plan(const Campaign& c) {
              std::max(1u, std::thread::hardware_concurrency()));
   fmt::print("  longest run: {} ({:.3g} core-hours)\n", plan.front().name,
              plan.front().estimated_particle_steps / speed / 3600.0);
+  if (!c.chain_phi_init.empty()) {
+    Campaign unchained = c;
+    unchained.chain_phi_init.clear();
+    double unchained_total = 0.0;
+    for (const auto& run : plan_runs(unchained)) unchained_total += run.estimated_particle_steps;
+    fmt::print(
+        "  chained starts (chain_phi_init) save {:.0f}%: {:.3g} core-hours instead of {:.3g} "
+        "with every rate compressed from phi_init\n",
+        100.0 * (1.0 - total / unchained_total), core_hours, unchained_total / speed / 3600.0);
+  }
   // What the phi_init check found for this campaign's directory, if it ran there.
   const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
   if (std::filesystem::exists(checks)) {

@@ -9,6 +9,8 @@
 #include <set>
 #include <tuple>
 
+#include "sim/io/chain_start.hpp"
+
 namespace jam {
 namespace {
 
@@ -22,6 +24,49 @@ std::uint64_t splitmix64(std::uint64_t x) {
 // Relaxation of a random start at zero rate, measured at phi = 0.6 in 2D: about 365 t0 to
 // reach 1e-12 per particle. A rough, conservative allowance for the cost estimate.
 constexpr double kRelaxTimeEstimate = 400.0;
+
+/// Particle-steps of a run compressing from `phi_from` (relaxing first if its config says so).
+double estimated_particle_steps(const SimConfig& s, double phi_from) {
+  const std::string integrator = s.resolved_integrator();
+  const double compression_time = std::log(s.phi_stop / phi_from) / (s.dim * s.compression_rate);
+  const double relax_time = s.relax ? kRelaxTimeEstimate : 0.0;
+  return static_cast<double>(s.n) *
+         (force_evaluations_per_time(integrator, s.dt, s.compression_rate, s.resolved_tolerance()) *
+              compression_time +
+          relaxation_evaluations_per_time(integrator, s.dt) * relax_time);
+}
+
+/// Chained starts: each rate with a chain_phi_init continues from the next faster rate of the
+/// same sample (fastest first, so that a parent's fingerprint is final before its child's
+/// identity is taken from it). `runs` in plan order before sorting, rates innermost but one.
+void link_chains(const Campaign& c, std::vector<PlannedRun>& runs) {
+  if (c.chain_phi_init.empty()) return;
+  std::map<std::tuple<std::int64_t, double, double, std::int64_t>, std::size_t> at;
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    at[{runs[k].n, runs[k].phi_init, runs[k].log10_rate, runs[k].sample}] = k;
+  const std::vector<std::size_t> order = rates_fastest_first(c);
+  const std::string chain_dir = chain_directory(c);
+  std::set<std::tuple<std::int64_t, double, std::int64_t>> samples;
+  for (const auto& r : runs) samples.insert({r.n, r.phi_init, r.sample});
+  for (const auto& [n, phi, sample] : samples) {
+    for (std::size_t i = 1; i < order.size(); ++i) {
+      const double phi_start = c.chain_phi_init[order[i]];
+      if (phi_start == 0.0) continue;
+      PlannedRun& child = runs[at.at({n, phi, c.log10_rates[order[i]], sample})];
+      PlannedRun& parent = runs[at.at({n, phi, c.log10_rates[order[i - 1]], sample})];
+      const std::string path =
+          (std::filesystem::path(chain_dir) / (child.name + ".start.h5")).string();
+      parent.config.write_start = path;
+      parent.config.write_start_at = phi_start;
+      child.parent = parent.name;
+      child.config.relax = false;
+      child.config.start_cache.clear();
+      child.config.read_start = path;
+      child.config.start_identity = chain_start_identity(fingerprint(parent.config), phi_start);
+      child.estimated_particle_steps = estimated_particle_steps(child.config, phi_start);
+    }
+  }
+}
 
 }  // namespace
 
@@ -59,6 +104,10 @@ std::string starts_directory(const Campaign& campaign) {
   return (std::filesystem::path(campaign.output) / "starts").string();
 }
 
+std::string chain_directory(const Campaign& campaign) {
+  return (std::filesystem::path(campaign.output) / "chain").string();
+}
+
 std::vector<PlannedRun> plan_runs(const Campaign& c) {
   std::vector<PlannedRun> runs;
   std::set<std::string> names;
@@ -91,19 +140,13 @@ std::vector<PlannedRun> plan_runs(const Campaign& c) {
                                          integrator == "heun" ? std::string() : "_" + integrator))
                                 .string();
           }
-          const double compression_time = std::log(s.phi_stop / phi) / (s.dim * s.compression_rate);
-          const double relax_time = s.relax ? kRelaxTimeEstimate : 0.0;
-          r.estimated_particle_steps =
-              static_cast<double>(n) *
-              (force_evaluations_per_time(s.resolved_integrator(), s.dt, s.compression_rate,
-                                          s.resolved_tolerance()) *
-                   compression_time +
-               relaxation_evaluations_per_time(s.resolved_integrator(), s.dt) * relax_time);
+          r.estimated_particle_steps = estimated_particle_steps(s, phi);
           runs.push_back(std::move(r));
         }
       }
     }
   }
+  link_chains(c, runs);
   std::stable_sort(runs.begin(), runs.end(), [](const PlannedRun& a, const PlannedRun& b) {
     return a.estimated_particle_steps > b.estimated_particle_steps;
   });

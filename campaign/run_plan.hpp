@@ -22,6 +22,8 @@ struct PlannedRun {
   std::string name;  // file stem, e.g. n1024_phi0.8000_r-4.50_s003
   SimConfig config;  // config.out = <output>/runs/<name>.h5
   double estimated_particle_steps = 0.0;
+  // Chained starts: the run this one continues from ("" for none); it runs first.
+  std::string parent;
 };
 
 /// splitmix64 of the tuple, a documented, platform-independent mixing.
@@ -42,6 +44,9 @@ std::string runs_directory(const Campaign& campaign);
 
 /// Directory holding the relaxed starts shared by the rates of a sample.
 std::string starts_directory(const Campaign& campaign);
+
+/// Directory holding the chained starts (campaign_file.hpp, chain_phi_init).
+std::string chain_directory(const Campaign& campaign);
 
 }  // namespace jam
 

@@ -69,6 +69,9 @@ const std::map<std::string, Given> kOptions = {
     {"--quiet", {"", true}},
     {"--force", {"", true}},
     {"--checkpoint-interval", {"60", 60.0}},
+    {"--write-start", {"s.h5", std::string("s.h5")}},
+    {"--write-start-at", {"0.8", 0.8}},
+    {"--read-start", {"r.h5", std::string("r.h5")}},
 };
 
 // Each per-run key of a campaign file (TOML text), and what every run's config then holds.

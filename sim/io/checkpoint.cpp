@@ -8,6 +8,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/particle_datasets.hpp"
 #include "sim/io/sealed_file.hpp"
 
 namespace jam {
@@ -62,10 +63,7 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     f.write_attribute("next_output", state.next_output);
     f.write_attribute("time", state.time);
     f.write_attribute("relax_time", state.relax_time);
-    for (int d = 0; d < D; ++d) f.write_dataset(fmt::format("s_{}", d), particles.s[d]);
-    f.write_dataset("id", particles.id);
-    f.write_dataset("type",
-                    std::vector<std::uint32_t>(particles.type.begin(), particles.type.end()));
+    write_particles(f, particles);
     std::vector<double> column(state.points.size());
     for (int k = 0; k < 7; ++k) {
       for (std::size_t m = 0; m < state.points.size(); ++m) {
@@ -137,23 +135,7 @@ Checkpoint<D> read_checkpoint_data(const std::string& path) {
   // Times of adaptive steps (fixed-step runs compute theirs from the step count).
   if (f.has_attribute("time")) c.state.time = f.read_attribute_double("time");
   if (f.has_attribute("relax_time")) c.state.relax_time = f.read_attribute_double("relax_time");
-  c.particles.id = f.read_dataset_u32("id");
-  c.particles.resize(c.particles.id.size());
-  const auto type = f.read_dataset_u32("type");
-  for (std::size_t i = 0; i < type.size() && i < c.particles.size(); ++i) {
-    if (type[i] > 1) throw std::runtime_error(path + ": particle type out of range");
-    c.particles.type[i] = static_cast<std::uint8_t>(type[i]);
-  }
-  if (type.size() != c.particles.size()) throw std::runtime_error(path + ": type and id differ");
-  for (int d = 0; d < D; ++d) {
-    c.particles.s[d] = f.read_dataset(fmt::format("s_{}", d));
-    if (c.particles.s[d].size() != c.particles.size()) {
-      throw std::runtime_error(path + ": positions and id differ in length");
-    }
-    for (double x : c.particles.s[d]) {
-      if (!(x >= 0.0 && x < 1.0)) throw std::runtime_error(path + ": position outside the box");
-    }
-  }
+  c.particles = read_particles<D>(f, path);
   const auto time = f.read_dataset("points_time");
   c.state.points.resize(time.size());
   for (int k = 0; k < 7; ++k) {

@@ -14,6 +14,7 @@
 #include "sim/dynamics/integrators.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/chain_start.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/lammps_data.hpp"
 #include "sim/io/output_path.hpp"
@@ -54,7 +55,21 @@ struct Start {
 template <int D>
 Start<D> make_start(const SimConfig& c, const Species<D>& species) {
   Start<D> start;
-  if (!c.read_lammps_data.empty()) {
+  if (!c.read_start.empty()) {
+    ChainStart<D> chained;
+    try {
+      chained = read_chain_start<D>(c.read_start, c.start_identity);
+    } catch (const std::runtime_error& e) {
+      throw ConfigError(fmt::format("--read-start {}: {}", c.read_start, e.what()));
+    }
+    if (static_cast<std::int64_t>(chained.particles.size()) != c.n) {
+      throw ConfigError(fmt::format("--read-start {}: holds {} particles, not --n {}", c.read_start,
+                                    chained.particles.size(), c.n));
+    }
+    start.particles = std::move(chained.particles);
+    start.box_length = chained.box_length;
+    start.description = "chained start " + c.read_start;
+  } else if (!c.read_lammps_data.empty()) {
     LammpsData<D> data = read_lammps_data<D>(c.read_lammps_data);
     start.particles = std::move(data.particles);
     start.box_length = data.box_length;
@@ -228,7 +243,10 @@ class CompressionRun {
         due = true;
         ++st_.next_output;
       }
-      if (due) recorder_.record(sys_, st_, t_after);
+      if (due) {
+        recorder_.record(sys_, st_, t_after);
+        leave_chain_start(t_after);
+      }
     }
     count_steps(static_cast<std::size_t>(st_.steps % 256));
     if (!kAdaptive) {
@@ -237,6 +255,19 @@ class CompressionRun {
     }
     progress_.finish();
     return true;
+  }
+
+  /// At the first output point at or after --write-start-at (never again on resuming past it):
+  /// the configuration a slower run of the sample continues from (chain_start.hpp).
+  void leave_chain_start(double t) {
+    if (c_.write_start.empty() || st_.points.size() < 2) return;
+    const double target = c_.write_start_at * (1.0 - 1e-12);
+    const double before = st_.points[st_.points.size() - 2].packing_fraction;
+    const double now = st_.points.back().packing_fraction;
+    if (!(before < target && now >= target)) return;
+    ChainStart<D> start{sys_.particles, sys_.box.length(t), now,
+                        chain_start_identity(fingerprint(c_), c_.write_start_at)};
+    write_chain_start(c_.write_start, start);
   }
 
   /// One step of the compression from t towards the next output time; returns the time
@@ -373,6 +404,11 @@ RunSummary run_dimension(const SimConfig& c, const RunControl& control) {
   if (meta.phi_init >= c.phi_stop) {
     throw ConfigError(fmt::format("--phi-stop {:g}: must be above the packing of {} ({:.6g})",
                                   c.phi_stop, start.description, meta.phi_init));
+  }
+  if (!c.write_start.empty() && c.write_start_at <= meta.phi_init) {
+    throw ConfigError(
+        fmt::format("--write-start-at {:g}: must lie above the packing of {} ({:.6g})",
+                    c.write_start_at, start.description, meta.phi_init));
   }
   if (!c.read_lammps_data.empty()) validate_cost(c, meta.n, c.force);  // now that N is known
   SimConfig checked = c;

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "sim/dynamics/integrator_list.hpp"
+#include "sim/io/chain_start.hpp"
 #include "sim/model/contact_laws.hpp"
 
 namespace jam {
@@ -20,6 +21,11 @@ ParameterValue resolved_integrator(const SimConfig& c) {
 
 ParameterValue resolved_relax_energy(const SimConfig& c) {
   return c.resolved_relax_energy();
+}
+
+// The chained start's identity, shortened to the word a fingerprint carries.
+ParameterValue chained_start_key(const SimConfig& c) {
+  return c.read_start.empty() ? std::string() : chain_start_key(c.start_identity);
 }
 
 ParameterValue resolved_tolerance(const SimConfig& c) {
@@ -238,6 +244,22 @@ std::vector<RunParameter> make_table() {
        .help = "Seconds of wall time between checkpoints (<out>.checkpoint); 0 = none. An "
                "interrupted run resumes from its checkpoint when run again",
        .campaign = C::optional},
+      // Campaigns with chain_phi_init set these per run (run_plan.cpp).
+      {.name = "write_start",
+       .field = &SimConfig::write_start,
+       .help = "Write a chained start here: the configuration at --write-start-at, from which a "
+               "slower run continues (--read-start)"},
+      {.name = "write_start_at",
+       .field = &SimConfig::write_start_at,
+       .help = "Packing of the chained start (the first output point at or after it)"},
+      {.name = "read_start",
+       .field = &SimConfig::read_start,
+       .help = "Continue from a chained start written by a faster run (--write-start), without "
+               "relaxing (give --relax 0); its identity is part of this run's",
+       .identity = I::suffix_unless_default,
+       .fingerprint_key = "start",
+       .attribute = "chained_start",
+       .resolve = chained_start_key},
   };
 }
 

@@ -102,6 +102,35 @@ std::uint64_t parse_seed(const std::string& option, const std::string& text) {
   return std::stoull(text);
 }
 
+namespace {
+
+/// Chained starts: a continued compression of the overdamped dynamics (the stepper state of
+/// inertial runs, their velocities, is not carried), written strictly inside the run.
+void validate_chain(const SimConfig& c) {
+  if (!c.read_start.empty()) {
+    if (c.relax) reject("read-start", c.read_start, "continues a compression: give --relax 0");
+    if (!c.read_lammps_data.empty()) {
+      reject("read-start", c.read_start, "conflicts with --read-lammps-data");
+    }
+    if (c.dynamics != "overdamped") {
+      reject("read-start", c.read_start, "chained starts are for overdamped dynamics");
+    }
+  }
+  if (!c.write_start.empty()) {
+    if (c.dynamics != "overdamped") {
+      reject("write-start", c.write_start, "chained starts are for overdamped dynamics");
+    }
+    const bool inside = c.write_start_at > (c.read_lammps_data.empty() ? c.phi_init : 0.0) &&
+                        c.write_start_at < c.phi_stop;
+    if (!inside) {
+      reject("write-start-at", str(c.write_start_at),
+             fmt::format("must lie between --phi-init and --phi-stop ({:g})", c.phi_stop));
+    }
+  }
+}
+
+}  // namespace
+
 void validate(const SimConfig& c) {
   validate_choices(c);
   if (c.read_lammps_data.empty()) {
@@ -166,6 +195,7 @@ void validate(const SimConfig& c) {
     reject("checkpoint-interval", str(c.checkpoint_interval), "must be >= 0 seconds");
   }
   if (c.out.empty()) throw ConfigError("--out: a run file name is required");
+  validate_chain(c);
 }
 
 namespace {

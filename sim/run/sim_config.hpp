@@ -70,6 +70,14 @@ struct SimConfig {
       false;  // find phi_Ji (FIRE minimizations, see observables/jamming_point.hpp)
   double jamming_search_from = 0.0;  // lowest packing searched; 0: from the start
   std::string out;
+  // Chained starts (sim/io/chain_start.hpp): this run writes the configuration of its first
+  // output point at or after write_start_at to write_start; a run reads one with read_start
+  // and continues from it without relaxing. start_identity: the identity the start must carry
+  // (campaigns know it in advance; `jam sim` takes it from the file).
+  std::string write_start;
+  double write_start_at = 0.0;
+  std::string read_start;
+  std::string start_identity;
   std::string read_lammps_data;
   std::string write_lammps_data;
   std::string write_final_lammps_data;

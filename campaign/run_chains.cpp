@@ -1,0 +1,114 @@
+#include "campaign/run_chains.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <numeric>
+
+#include "campaign/campaign_dir.hpp"
+#include "sim/io/chain_start.hpp"
+#include "sim/io/checkpoint.hpp"
+
+namespace jam {
+namespace {
+
+/// Marks the parents that needed chained runs cannot do without; holds back the children of
+/// failed parents.
+void add_parents(const std::vector<PlannedRun>& plan, const std::map<std::string, std::size_t>& at,
+                 bool retry_failed, std::vector<bool>& needed, std::vector<std::string>& notes) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t k = 0; k < plan.size(); ++k) {
+      if (!needed[k] || plan[k].parent.empty()) continue;
+      const std::size_t p = at.at(plan[k].parent);
+      if (needed[p]) continue;  // it runs first and leaves the start again
+      const SimConfig& c = plan[k].config;
+      const std::string problem = chain_start_problem(c.read_start, c.start_identity);
+      if (problem.empty()) continue;
+      changed = true;
+      if (run_status(plan[p]) == RunStatus::kFailed && !retry_failed) {
+        needed[k] = false;
+        notes.push_back(fmt::format("{} waits for {}, which failed (--retry-failed redoes it)",
+                                    plan[k].name, plan[p].name));
+        continue;
+      }
+      needed[p] = true;
+      std::error_code ec;
+      std::filesystem::remove(checkpoint_path(plan[p].config.out), ec);
+      notes.push_back(fmt::format("{} is redone: the start of {} is not usable ({})", plan[p].name,
+                                  plan[k].name, problem));
+    }
+  }
+}
+
+}  // namespace
+
+RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::int64_t>& pending,
+                    bool retry_failed) {
+  std::map<std::string, std::size_t> at;
+  for (std::size_t k = 0; k < plan.size(); ++k) at[plan[k].name] = k;
+  std::vector<bool> needed(plan.size(), false);
+  for (const auto k : pending) needed[static_cast<std::size_t>(k)] = true;
+  RunTasks out;
+  add_parents(plan, at, retry_failed, needed, out.notes);
+
+  // A needed run belongs to the task of its oldest needed ancestor; depth orders the task.
+  std::map<std::size_t, std::vector<std::pair<int, std::size_t>>> by_root;
+  for (std::size_t k = 0; k < plan.size(); ++k) {
+    if (!needed[k]) continue;
+    std::size_t root = k;
+    int depth = 0;
+    while (!plan[root].parent.empty() && needed[at.at(plan[root].parent)]) {
+      root = at.at(plan[root].parent);
+      ++depth;
+    }
+    by_root[root].push_back({depth, k});
+  }
+  for (auto& [root, members] : by_root) {
+    std::sort(members.begin(), members.end());
+    std::vector<std::size_t> task;
+    double cost = 0.0;
+    for (const auto& [depth, k] : members) {
+      task.push_back(k);
+      cost += plan[k].estimated_particle_steps;
+    }
+    out.tasks.push_back(std::move(task));
+    out.costs.push_back(cost);
+  }
+  std::vector<std::size_t> order(out.tasks.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&out](std::size_t a, std::size_t b) { return out.costs[a] > out.costs[b]; });
+  RunTasks sorted{{}, {}, std::move(out.notes)};
+  for (const auto k : order) {
+    sorted.tasks.push_back(std::move(out.tasks[k]));
+    sorted.costs.push_back(out.costs[k]);
+  }
+  return sorted;
+}
+
+std::vector<std::int64_t> flatten(const std::vector<std::vector<std::size_t>>& tasks) {
+  std::vector<std::int64_t> flat;
+  for (const auto& t : tasks) {
+    for (const auto k : t) flat.push_back(static_cast<std::int64_t>(k));
+    flat.push_back(-1);
+  }
+  return flat;
+}
+
+std::vector<std::vector<std::size_t>> unflatten(const std::vector<std::int64_t>& flat) {
+  std::vector<std::vector<std::size_t>> tasks(1);
+  for (const auto k : flat) {
+    if (k < 0) {
+      tasks.emplace_back();
+    } else {
+      tasks.back().push_back(static_cast<std::size_t>(k));
+    }
+  }
+  tasks.pop_back();
+  return tasks;
+}
+
+}  // namespace jam

@@ -1,0 +1,32 @@
+#pragma once
+// What one worker of `jam campaign run` takes at a time: a task, the pending runs of one chain
+// in order (a chained run after the run it continues from, campaign_file.hpp chain_phi_init),
+// or a single run when the campaign has no chains. So a chained run always waits for its
+// parent, on one rank, whatever the sharding or the number of MPI ranks (shards and ranks
+// take whole tasks; shard_of keeps a sample's runs in one share).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "campaign/run_plan.hpp"
+
+namespace jam {
+
+struct RunTasks {
+  std::vector<std::vector<std::size_t>> tasks;  // plan indices, parents first; longest first
+  std::vector<double> costs;                    // estimated particle-steps of each task
+  std::vector<std::string> notes;               // what was added or held back, and why
+};
+
+/// Groups `pending` (plan indices) into tasks. A pending chained run whose start is missing or
+/// unsound needs its parent again: the parent joins the task (redone from its start, its
+/// checkpoint removed, since it passed the start's packing already), unless its last attempt
+/// failed and failed runs are not retried; then the child is held back.
+RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::int64_t>& pending,
+                    bool retry_failed);
+
+/// Tasks as one array for MPI broadcast (-1 ends each task), and back.
+std::vector<std::int64_t> flatten(const std::vector<std::vector<std::size_t>>& tasks);
+std::vector<std::vector<std::size_t>> unflatten(const std::vector<std::int64_t>& flat);
+
+}  // namespace jam

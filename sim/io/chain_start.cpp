@@ -1,0 +1,108 @@
+#include "sim/io/chain_start.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "sim/io/atomic_file.hpp"
+#include "sim/io/checkpoint.hpp"
+#include "sim/io/hdf5_file.hpp"
+#include "sim/io/particle_datasets.hpp"
+#include "sim/io/sealed_file.hpp"
+
+namespace jam {
+namespace {
+
+/// Opens a sealed start, checking the seal before HDF5 parses anything.
+h5::File open_sealed(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw CorruptCheckpoint(path + ": no such chained start");
+  if (const std::string why = sealed_file_problem(path); !why.empty()) throw CorruptCheckpoint(why);
+  try {
+    return h5::File::open_read(path);
+  } catch (const std::exception& e) {
+    throw CorruptCheckpoint(e.what());
+  }
+}
+
+}  // namespace
+
+std::string chain_start_identity(const std::string& parent_fingerprint, double packing) {
+  return fmt::format("{} at packing {:.17g}", parent_fingerprint, packing);
+}
+
+std::string chain_start_key(const std::string& identity) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a, 64 bit
+  for (const unsigned char c : identity) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+template <int D>
+void write_chain_start(const std::string& path, const ChainStart<D>& start) {
+  const std::string temporary = AtomicFile::temporary_name(path);
+  try {
+    h5::File f = h5::File::create(temporary, kSealBytes);
+    f.write_attribute("identity", start.identity);
+    f.write_attribute("box_length", start.box_length);
+    f.write_attribute("packing_fraction", start.packing_fraction);
+    f.write_attribute("dim", std::int64_t{D});
+    write_particles(f, start.particles);
+    f.close();
+    seal_file(temporary);
+    AtomicFile::publish(path);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
+}
+
+std::string stored_chain_start_identity(const std::string& path) {
+  try {
+    return open_sealed(path).read_attribute_string("identity");
+  } catch (const CorruptCheckpoint&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw CorruptCheckpoint(e.what());
+  }
+}
+
+template <int D>
+ChainStart<D> read_chain_start(const std::string& path, const std::string& identity) {
+  const std::string stored = stored_chain_start_identity(path);
+  if (!identity.empty() && stored != identity) {
+    throw ForeignCheckpoint(
+        fmt::format("chained start '{}' was taken from another run or packing", path));
+  }
+  try {
+    const h5::File f = open_sealed(path);
+    if (f.read_attribute_int("dim") != D) throw std::runtime_error(path + ": other dimension");
+    ChainStart<D> s;
+    s.identity = stored;
+    s.box_length = f.read_attribute_double("box_length");
+    s.packing_fraction = f.read_attribute_double("packing_fraction");
+    s.particles = read_particles<D>(f, path);
+    if (!(s.box_length > 0.0)) throw std::runtime_error(path + ": box length not positive");
+    return s;
+  } catch (const std::exception& e) {
+    throw CorruptCheckpoint(e.what());
+  }
+}
+
+std::string chain_start_problem(const std::string& path, const std::string& identity) {
+  try {
+    if (stored_chain_start_identity(path) != identity) return "taken from another run or packing";
+    return "";
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
+template void write_chain_start<2>(const std::string&, const ChainStart<2>&);
+template void write_chain_start<3>(const std::string&, const ChainStart<3>&);
+template ChainStart<2> read_chain_start<2>(const std::string&, const std::string&);
+template ChainStart<3> read_chain_start<3>(const std::string&, const std::string&);
+
+}  // namespace jam
