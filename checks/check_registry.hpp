@@ -73,7 +73,8 @@ inline constexpr std::string_view kLammps =
   X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts") \
   X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts")                              \
   X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                             \
-  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")
+  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")                 \
+  X(chain, &chain_check, 0.10, relative, kPressure, false, "verdicts")
 
 struct CheckEntry {
   std::string_view name;

@@ -45,6 +45,11 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o);
 /// zeta = p / rate below phi_J at the two slowest rates (zeta_check.cpp).
 std::vector<Verdict> zeta_check(const StatsData& d, const CheckOptions& o);
 
+struct RegressionOptions;
+/// Each chained rate against the same samples compressed without chaining (chain_check.cpp).
+std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& control,
+                                 const CheckOptions& o, const RegressionOptions&);
+
 /// Runs one statistical check by name, or "all": the statistical members of `all` (the checks
 /// of other kinds: run_checks, checks/run_checks.hpp).
 std::vector<Verdict> run_check(const std::string& name, const StatsData& d, const CheckOptions& o);

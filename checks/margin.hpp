@@ -42,4 +42,8 @@ double samples_to_decide(const std::vector<double>& delta, const std::vector<dou
 constexpr double kTransientFactor = 10.0;
 std::size_t first_compression_point(const std::vector<std::vector<double>>& samples);
 
+/// The same for a chained start, which carries the pressure of the faster rate it was taken
+/// from: the first point after the mean pressure stops falling (checks/margin.cpp says why).
+std::size_t first_chained_compression_point(const std::vector<std::vector<double>>& samples);
+
 }  // namespace jam::checks

@@ -26,7 +26,8 @@ std::vector<std::vector<double>> table(const h5::File& f, const std::string& nam
 }  // namespace
 
 void find_compressed_range(EnsembleTables& e, const std::vector<std::vector<double>>& z_at_phi) {
-  const std::size_t k = first_compression_point(e.pressure_at_phi);
+  const std::size_t k = e.chain_phi_init > 0 ? first_chained_compression_point(e.pressure_at_phi)
+                                             : first_compression_point(e.pressure_at_phi);
   const bool found = k < e.phi_grid.size();
   e.compressed_from_phi = found ? e.phi_grid[k] : HUGE_VAL;
   e.compressed_from_z = found ? 0.0 : HUGE_VAL;
@@ -59,6 +60,8 @@ StatsData read_stats(const std::string& directory) {
     e.n = f.read_attribute_int("n", g);
     e.phi_init = f.read_attribute_double("phi_init", g);
     e.log10_rate = f.read_attribute_double("log10_rate", g);
+    if (f.has_attribute("chain_phi_init", g))
+      e.chain_phi_init = f.read_attribute_double("chain_phi_init", g);
     e.phi_grid = f.read_dataset(g + "/constant_phi/packing_fraction");
     e.pressure_at_phi = table(f, g + "/constant_phi/pressure_samples", e.phi_grid.size());
     for (double id : f.read_dataset(g + "/constant_phi/sample_ids"))

@@ -20,6 +20,9 @@ struct EnsembleTables {
   // Where the compression, not the start, sets the pressure (margin.hpp,
   // first_compression_point): the packing, and the mean Z there. Comparisons start here.
   double compressed_from_phi = 0, compressed_from_z = 0;
+  // phi'_init of a chained rate (0: a relaxed start): the start carries the faster rate's
+  // pressure, and the transient is its decay (margin.hpp, first_chained_compression_point).
+  double chain_phi_init = 0;
 };
 
 struct StatsData {

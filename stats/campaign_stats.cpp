@@ -39,6 +39,9 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
   for (const auto& [key, runs] : groups) {
     EnsembleStats e;
     e.key = key;
+    if (const auto it = s.data.chain_phi_init.find(key.log10_rate);
+        it != s.data.chain_phi_init.end())
+      e.chain_phi_init = it->second;
     e.constant_phi = average_at_constant_phi(runs, s.data.phi_step);
     try {
       e.constant_z = average_at_constant_z(runs, o.z_step, o.no_rattlers);

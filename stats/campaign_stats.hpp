@@ -35,6 +35,9 @@ struct EnsembleStats {
   GridAverage constant_phi;
   std::optional<GridAverage> constant_z;
   std::optional<JammingStats> jamming;
+  // phi'_init of a chained rate (its runs start from the faster rate's configuration there);
+  // 0: started from the relaxed random start.
+  double chain_phi_init = 0.0;
 };
 
 struct ScanRow {

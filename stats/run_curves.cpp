@@ -14,6 +14,11 @@ CampaignData read_campaign_runs(const std::string& directory) {
   data.name = campaign.name;
   data.dim = campaign.run.dim;
   data.phi_step = campaign.run.phi_step;
+  for (std::size_t k = 0; k < campaign.chain_phi_init.size(); ++k) {
+    if (campaign.chain_phi_init[k] > 0.0) {
+      data.chain_phi_init[campaign.log10_rates[k]] = campaign.chain_phi_init[k];
+    }
+  }
   Campaign located = campaign;
   located.output = directory;  // the directory may have moved since it was run
   for (const PlannedRun& run : plan_runs(located)) {

@@ -33,6 +33,8 @@ struct CampaignData {
   std::string name;
   int dim = 2;
   double phi_step = 0.001;
+  // Chained starts (campaign key chain_phi_init): log10 rate -> phi'_init of the chained rates.
+  std::map<double, double> chain_phi_init;
   std::vector<RunCurves> runs;
   std::vector<std::string> skipped;  // runs not done (missing, partial, failed, corrupt)
 };

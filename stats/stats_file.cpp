@@ -189,6 +189,7 @@ void write_stats_file(const std::string& path, const CampaignStats& s, const Sta
       f.write_attribute("phi_init", e.key.phi_init, g);
       f.write_attribute("log10_rate", e.key.log10_rate, g);
       f.write_attribute("compression_rate", std::pow(10.0, e.key.log10_rate), g);
+      f.write_attribute("chain_phi_init", e.chain_phi_init, g);
       f.write_attribute("samples", static_cast<std::int64_t>(e.constant_phi.sample_ids.size()), g);
       write_average(f, g + "/constant_phi", e.constant_phi);
       if (e.constant_z) write_average(f, g + "/constant_z", *e.constant_z);

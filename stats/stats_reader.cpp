@@ -56,6 +56,8 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
       EnsembleStats e;
       e.key = {f.read_attribute_int("n", g), f.read_attribute_double("phi_init", g),
                f.read_attribute_double("log10_rate", g)};
+      if (f.has_attribute("chain_phi_init", g))
+        e.chain_phi_init = f.read_attribute_double("chain_phi_init", g);
       e.constant_phi = read_average(f, g + "/constant_phi", "packing_fraction");
       if (f.has_dataset(g + "/constant_z")) {
         const auto names = f.list_group(g + "/constant_z");

@@ -110,9 +110,23 @@ BOOST_AUTO_TEST_CASE(a_chain_is_the_same_two_steps_by_hand) {
   // The child starts at 0.80 and its start is part of its identity.
   const auto phi = dataset(runs / (child.name + ".h5"), "packing_fraction");
   BOOST_TEST(phi.front() == 0.8, boost::test_tools::tolerance(1e-12));
-  const auto f = jam::h5::File::open_read((runs / (child.name + ".h5")).string());
-  BOOST_TEST(f.read_attribute_string("fingerprint").find(" start=") != std::string::npos);
-  BOOST_TEST(f.read_attribute_int("relax") == 0);
+  {  // (one HDF5 file open at a time: the library is not thread-safe, hdf5_file.hpp)
+    const auto f = jam::h5::File::open_read((runs / (child.name + ".h5")).string());
+    BOOST_TEST(f.read_attribute_string("fingerprint").find(" start=") != std::string::npos);
+    BOOST_TEST(f.read_attribute_int("relax") == 0);
+  }
+
+  // The averages say which rates were chained, and from where (the checks' transient rule).
+  o = run_jam("stats --no-fit " + (kDir / "c").string());
+  BOOST_TEST_REQUIRE(o.status == 0, o.output);
+  const auto stats = jam::h5::File::open_read((kDir / "c" / "stats.h5").string());
+  std::map<double, double> chain;
+  for (const auto& g : stats.list_group("ensembles")) {
+    const std::string group = "ensembles/" + g;
+    chain[stats.read_attribute_double("log10_rate", group)] =
+        stats.read_attribute_double("chain_phi_init", group);
+  }
+  BOOST_TEST((chain == std::map<double, double>{{-4.5, 0.82}, {-4.0, 0.80}, {-3.0, 0.0}}));
 }
 
 BOOST_AUTO_TEST_CASE(a_damaged_start_reruns_its_parent_first) {

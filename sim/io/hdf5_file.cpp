@@ -183,8 +183,8 @@ void File::write_dataset(const std::string& name, const std::vector<std::uint32_
   write_array(id(), name, H5T_STD_U32LE, H5T_NATIVE_UINT32, data.data(), {data.size()});
 }
 
-bool File::has_attribute(const std::string& name) const {
-  return H5Aexists(id(), name.c_str()) > 0;
+bool File::has_attribute(const std::string& name, const std::string& object) const {
+  return H5Aexists_by_name(id(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
 }
 
 bool File::has_dataset(const std::string& name) const {

@@ -59,7 +59,7 @@ class File {
 
   void write_dataset(const std::string& name, const std::vector<std::uint32_t>& data);
 
-  bool has_attribute(const std::string& name) const;
+  bool has_attribute(const std::string& name, const std::string& object = ".") const;
   bool has_dataset(const std::string& name) const;
   double read_attribute_double(const std::string& name, const std::string& object = ".") const;
   std::int64_t read_attribute_int(const std::string& name, const std::string& object = ".") const;
