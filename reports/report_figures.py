@@ -14,6 +14,7 @@ import numpy as np
 
 from report_figures_checks import finite_size_figure, lammps_figure, sample_pairs_figure
 from report_figures_fit import collapse_figure, scan_figure
+from report_figures_jamming import jamming_width_figure
 from report_plot import (Figure, Plotted, decorate, rate_colors, rate_label, rate_text,
                          representative_phi_init, save, shade)
 
@@ -211,4 +212,4 @@ def jamming_figure(c, out_dir):
 
 
 ALL = [pressure_figure, finite_size_figure, sample_pairs_figure, relative_error_figure,
-       jamming_figure, scan_figure, collapse_figure, lammps_figure]
+       jamming_figure, jamming_width_figure, scan_figure, collapse_figure, lammps_figure]

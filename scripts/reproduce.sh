@@ -4,16 +4,16 @@
 #   scripts/reproduce.sh reduced-2d     # about 30 minutes on 2 cores
 #   scripts/reproduce.sh reduced-3d     # about 15 minutes
 #
-# 1. the phi_init check campaign (reference/campaigns/NAME-phi-init.toml) that chose the start,
+# 1. the phi_init check campaign (reference/campaigns/NAME-phi-init.toml), when there is one,
 # 2. the campaign (reference/campaigns/NAME.toml) in runs/NAME,
-# 3. stats, cubic ln f, three times: all three parameters free (kept as fit-free.json), the
-#    paper's q held (fit-q-fixed.json), and both exponents held (stats.h5, the result),
-# 4. all checks, the reports (reports/NAME/: exponents held; reports/NAME-q-fixed/: the
-#    collapse with the fitted 1/(z nu)),
-# 5. the stored result reference/results/NAME/: stats.h5, fit-free.json, fit-q-fixed.json,
-#    checks.json, phi-init-checks.json, campaign.toml and provenance.json (code version,
-#    machine, date, wall time of every stage), written to a temporary directory and renamed
-#    into place.
+# 3. stats, cubic ln f, three times: the paper's q held (fit-q-fixed.json), both exponents held
+#    (fit-held.json), and nothing held (stats.h5 and fit-free.json: the result),
+# 4. all checks; with reference/campaigns/NAME-chain-control.toml its campaign and the chain
+#    check; the reports (reports/NAME/: the free fit; reports/NAME-q-fixed/: q held),
+# 5. the stored result reference/results/NAME/: stats.h5, fit-*.json, checks.json,
+#    phi-init-checks.json or chain-checks.json, campaign.toml and provenance.json (code
+#    version, machine, date, wall time of every stage, core-seconds of every campaign),
+#    written to a temporary directory and renamed into place.
 #
 # Runs that are already done are not redone (a campaign resumes), so running it again after an
 # interruption finishes the work; the wall times then cover only this invocation.
@@ -54,16 +54,28 @@ verdicts() {
   fi
 }
 
-stage phi_init_campaign $jam campaign run "reference/campaigns/$name-phi-init.toml" $quiet
-stage phi_init_stats $jam stats "runs/$name-phi-init" --no-fit >/dev/null
-# The check fails where the start is remembered (fast rates): that is its finding.
-stage phi_init_check verdicts "runs/$name-phi-init/checks-phi_init.json" \
-  $jam check phi_init "runs/$name-phi-init"
+core_seconds() {  # core_seconds DIR: the sum of the runs' wall times in DIR's manifest
+  /usr/bin/python3 -c '
+import sys, tomllib
+runs = tomllib.load(open(sys.argv[1], "rb")).get("runs", {})
+print(sum(float(r.get("wall_seconds", 0)) for r in runs.values()))' "$1/manifest.toml"
+}
+declare -A cores
+
+# A separate phi_init campaign, for campaigns whose own phi_init values do not compare starts.
+if [ -f "reference/campaigns/$name-phi-init.toml" ]; then
+  stage phi_init_campaign $jam campaign run "reference/campaigns/$name-phi-init.toml" $quiet
+  cores[phi_init_campaign]=$(core_seconds "runs/$name-phi-init")
+  stage phi_init_stats $jam stats "runs/$name-phi-init" --no-fit >/dev/null
+  # The check fails where the start is remembered (fast rates): that is its finding.
+  stage phi_init_check verdicts "runs/$name-phi-init/checks-phi_init.json" \
+    $jam check phi_init "runs/$name-phi-init"
+fi
 
 stage campaign $jam campaign run "$campaign" $quiet
+cores[campaign]=$(core_seconds "runs/$name")
 fits=$(mktemp -d)
-stage stats_free_fit $jam stats "runs/$name" --order 3 >/dev/null
-scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-free.json" "jam stats --order 3"
+# The fits that hold the paper's values, kept beside the result for comparison ...
 stage stats_q_fixed $jam stats "runs/$name" --order 3 --fix-paper-q >/dev/null
 scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-q-fixed.json" \
   "jam stats --order 3 --fix-paper-q"
@@ -71,9 +83,24 @@ scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-q-fixed.json" \
 qfixed=runs/$name-q-fixed
 rm -rf "$qfixed" && mkdir -p "$qfixed"
 cp "runs/$name"/{campaign.toml,manifest.toml,stats.h5} "$qfixed/"
-stage stats $jam stats "runs/$name" --order 3 --fix-paper-exponents >/dev/null
+stage stats_held $jam stats "runs/$name" --order 3 --fix-paper-exponents >/dev/null
+scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-held.json" \
+  "jam stats --order 3 --fix-paper-exponents"
+# ... and the result: the free fit, nothing held (the checks use its phi_J).
+stage stats $jam stats "runs/$name" --order 3 >/dev/null
+scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-free.json" "jam stats --order 3"
 stage checks verdicts "runs/$name/checks.json" $jam check all "runs/$name"
 cp "runs/$name"/{checks.json,checks.h5} "$qfixed/"
+
+# Chained starts justified: each chained rate against the same samples unchained.
+if [ -f "reference/campaigns/$name-chain-control.toml" ]; then
+  stage chain_control_campaign $jam campaign run "reference/campaigns/$name-chain-control.toml" \
+    $quiet
+  cores[chain_control_campaign]=$(core_seconds "runs/$name-chain-control")
+  $jam stats "runs/$name-chain-control" --no-fit >/dev/null
+  stage chain_check verdicts "runs/$name/checks-chain.json" \
+    $jam check chain "runs/$name" --against "runs/$name-chain-control"
+fi
 stage report $jam report "runs/$name" --out "reports/$name" --quiet
 $jam report "$qfixed" --out "reports/$name-q-fixed" --quiet
 
@@ -82,12 +109,16 @@ tmp=$(mktemp -d "reference/results/.$name.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 cp "runs/$name/stats.h5" "runs/$name/checks.json" "$fits"/fit-*.json "$tmp/"
 rm -rf "$fits"
-cp "runs/$name-phi-init/checks-phi_init.json" "$tmp/phi-init-checks.json"
+[ -f "runs/$name-phi-init/checks-phi_init.json" ] &&
+  cp "runs/$name-phi-init/checks-phi_init.json" "$tmp/phi-init-checks.json"
+[ -f "runs/$name/checks-chain.json" ] && cp "runs/$name/checks-chain.json" "$tmp/chain-checks.json"
 cp "$campaign" "$tmp/campaign.toml"
-core_seconds=$(/usr/bin/python3 -c '
-import sys, tomllib
-runs = tomllib.load(open(sys.argv[1], "rb")).get("runs", {})
-print(sum(float(r.get("wall_seconds", 0)) for r in runs.values()))' "runs/$name/manifest.toml")
+total_cores=0
+core_fields=""
+for k in "${!cores[@]}"; do
+  core_fields+="\"${k}_core_seconds\": ${cores[$k]}, "
+  total_cores=$(awk -v a="$total_cores" -v b="${cores[$k]}" 'BEGIN { print a + b }')
+done
 walls=""
 for k in "${!wall[@]}"; do walls+="\"$k\": ${wall[$k]}, "; done
 cat >"$tmp/provenance.json" <<EOF
@@ -100,7 +131,8 @@ cat >"$tmp/provenance.json" <<EOF
   "machine": "$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB",
   "os": "$(. /etc/os-release && echo "$PRETTY_NAME")",
   "wall_seconds": {${walls%, }},
-  "campaign_run_core_seconds": $core_seconds,
+  "campaign_run_core_seconds": ${cores[campaign]},
+  ${core_fields}"total_core_seconds": $total_cores,
   "regression": {"campaign": "reference/campaigns/$name-regression.toml", "tolerance": 0.0,
                  "test": "tests/test_reduced_regression.cpp"}
 }

@@ -113,7 +113,7 @@ class Report(unittest.TestCase):
         # figure is absent; the collapse is drawn only when the fit found a representative row
         # (two fast rates rarely give one); every other section of the report must be there.
         expected = {"pressure.png", "finite_size.png", "relative_errors.png",
-                    "jamming_points.png", "fit_scan.png", "lammps.png"}
+                    "jamming_points.png", "jamming_width.png", "fit_scan.png", "lammps.png"}
         with h5py.File(os.path.join(self.work, "runs", "ci", "stats.h5"), "r") as f:
             if "fit/representative" in f:
                 expected.add("collapse.png")
@@ -126,6 +126,15 @@ class Report(unittest.TestCase):
             # An empty matplotlib canvas is all background; axes, labels and data cover well
             # over 2% of any of these figures (measured 5-20%).
             self.assertGreater(drawn_fraction(path), 0.02, src)
+
+    def test_jamming_width_is_stated_against_the_rate(self):
+        # The width of phi_Ji per size at the slowest rate, in numbers, and whether the slowest
+        # rate feels the finite size (when the campaign's fit gives 1/(z nu)).
+        self.assertIn("width Delta phi_J(N) (standard deviation of phi_Ji):", self.page)
+        with h5py.File(os.path.join(self.work, "runs", "ci", "stats.h5"), "r") as f:
+            fitted = "fit/representative" in f
+        self.assertIn("feel the finite size" if fitted else "the rate&#x27;s scale is not drawn",
+                      self.page)
 
     def test_verdict_table_has_every_verdict(self):
         with open(os.path.join(self.work, "runs", "ci", "checks.json")) as f:
