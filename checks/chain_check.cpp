@@ -67,11 +67,7 @@ std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& cont
     const Aligned al =
         align(e->phi_grid, e->pressure_at_phi, c->phi_grid, c->pressure_at_phi, phi_min);
     try {
-      const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, o.permutations, 3);
-      judge(v, r, alpha, margin, std::min(al.a.size(), al.b.size()));
-      std::vector<double> grid;
-      for (auto k : r.points) grid.push_back(al.grid[k]);
-      v.curves = {{"grid", grid}, {"delta", r.delta}, {"sigma", r.sigma}};
+      judge_curves(v, al, alpha, margin, o.permutations);
     } catch (const std::invalid_argument& ex) {
       v.status = "inconclusive";
       v.reason = ex.what();

@@ -89,14 +89,31 @@ void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std
 // output point after the start already has 860 (rate 10^-6.5) to 4100 (1e-3) times the start's
 // pressure, so the rule drops only t = 0 there; with "auto" it drops the points where the
 // residual still matters (tests/test_verdicts.cpp plants a difference at t = 0 alone).
+RelativeDifference judge_curves(Verdict& v, const Aligned& al, double alpha, double margin,
+                                int permutations) {
+  const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, permutations, 3);
+  judge(v, r, alpha, margin, std::min(al.a.size(), al.b.size()));
+  std::vector<double> grid;
+  for (auto k : r.points) grid.push_back(al.grid[k]);
+  v.curves = {{"grid", grid}, {"delta", r.delta}, {"sigma", r.sigma}};
+  return r;
+}
+
+namespace {
+
+/// The mean over samples of point k.
+double mean_at(const std::vector<std::vector<double>>& samples, std::size_t k) {
+  double s = 0.0;
+  for (const auto& r : samples) s += r[k];
+  return s / static_cast<double>(samples.size());
+}
+
+}  // namespace
+
 std::size_t first_compression_point(const std::vector<std::vector<double>>& samples) {
   if (samples.empty()) return 0;
   const std::size_t m = samples.front().size();
-  auto mean = [&samples](std::size_t k) {
-    double s = 0.0;
-    for (const auto& r : samples) s += r[k];
-    return s / static_cast<double>(samples.size());
-  };
+  auto mean = [&samples](std::size_t k) { return mean_at(samples, k); };
   if (m == 0) return 0;
   const double start = mean(0);
   for (std::size_t k = 1; k < m; ++k) {
@@ -115,11 +132,7 @@ std::size_t first_compression_point(const std::vector<std::vector<double>>& samp
 std::size_t first_chained_compression_point(const std::vector<std::vector<double>>& samples) {
   if (samples.empty()) return 0;
   const std::size_t m = samples.front().size();
-  auto mean = [&samples](std::size_t k) {
-    double s = 0.0;
-    for (const auto& r : samples) s += r[k];
-    return s / static_cast<double>(samples.size());
-  };
+  auto mean = [&samples](std::size_t k) { return mean_at(samples, k); };
   for (std::size_t k = 1; k < m; ++k) {
     if (std::isfinite(mean(k)) && mean(k) > mean(k - 1)) return k;
   }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "checks/relative_difference.hpp"
+#include "checks/stats_data.hpp"
 #include "checks/verdict.hpp"
 
 namespace jam::checks {
@@ -30,6 +31,12 @@ void judge(Verdict& v, const RelativeDifference& t, double alpha, double margin,
 
 /// Judges v on a difference of means (units of the values) with `samples` per set.
 void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std::size_t samples);
+
+/// Delta p/p of two run sets on one grid (stats_data.hpp, align) judged against the margin;
+/// the verdict keeps the curves compared (grid, delta, sigma). Throws std::invalid_argument
+/// as compare_run_sets does.
+RelativeDifference judge_curves(Verdict& v, const Aligned& al, double alpha, double margin,
+                                int permutations);
 
 /// The samples-per-set estimate above for per-point differences and errors.
 double samples_to_decide(const std::vector<double>& delta, const std::vector<double>& sigma,

@@ -61,11 +61,7 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
       const Aligned al =
           align(e->phi_grid, e->pressure_at_phi, low->phi_grid, low->pressure_at_phi, phi_min);
       try {
-        const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, o.permutations, 3);
-        judge(v, r, alpha, margin, std::min(al.a.size(), al.b.size()));
-        std::vector<double> grid;
-        for (auto k : r.points) grid.push_back(al.grid[k]);
-        v.curves = {{"grid", grid}, {"delta", r.delta}, {"sigma", r.sigma}};
+        const RelativeDifference r = judge_curves(v, al, alpha, margin, o.permutations);
         const double largest_delta =
             *std::max_element(r.delta.begin(), r.delta.end(),
                               [](double x, double y) { return std::abs(x) < std::abs(y); });

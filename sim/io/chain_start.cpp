@@ -42,21 +42,13 @@ std::string chain_start_key(const std::string& identity) {
 
 template <int D>
 void write_chain_start(const std::string& path, const ChainStart<D>& start) {
-  const std::string temporary = AtomicFile::temporary_name(path);
-  try {
-    h5::File f = h5::File::create(temporary, kSealBytes);
+  write_sealed(path, [&](h5::File& f) {
     f.write_attribute("identity", start.identity);
     f.write_attribute("box_length", start.box_length);
     f.write_attribute("packing_fraction", start.packing_fraction);
     f.write_attribute("dim", std::int64_t{D});
     write_particles(f, start.particles);
-    f.close();
-    seal_file(temporary);
-    AtomicFile::publish(path);
-  } catch (...) {
-    std::remove(temporary.c_str());
-    throw;
-  }
+  });
 }
 
 std::string stored_chain_start_identity(const std::string& path) {

@@ -52,9 +52,7 @@ template <int D>
 void write_checkpoint(const std::string& path, const std::string& fingerprint,
                       const RunState<D>& state, const ParticleData<D>& particles,
                       const StepperState& stepper) {
-  const std::string temporary = AtomicFile::temporary_name(path);
-  try {
-    h5::File f = h5::File::create(temporary, kSealBytes);
+  write_sealed(path, [&](h5::File& f) {
     f.write_attribute("fingerprint", fingerprint);
     f.write_attribute("phase", state.phase);
     f.write_attribute("relax_steps", state.relax_steps);
@@ -87,13 +85,7 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     for (std::size_t k = 0; k < stepper.size(); ++k) {
       f.write_attribute(fmt::format("stepper_field_{}", k), stepper[k].first);
     }
-    f.close();
-    seal_file(temporary);
-    AtomicFile::publish(path);
-  } catch (...) {
-    std::remove(temporary.c_str());
-    throw;
-  }
+  });
 }
 
 template <int D>

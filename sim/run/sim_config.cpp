@@ -48,40 +48,36 @@ void validate_integrator(const SimConfig& c) {
 
 }  // namespace
 
-double SimConfig::resolved_relax_energy() const {
-  if (relax_energy == "auto") return 1e-4 * compression_rate * compression_rate;
-  double v = -1.0;
-  std::size_t used = 0;
-  try {
-    v = std::stod(relax_energy, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != relax_energy.size() || !std::isfinite(v) || v < 0.0) {
-    reject("relax-energy", relax_energy, "must be 'auto' or a number >= 0");
-  }
-  return v;
-}
-
 namespace {
+
+/// The whole text as a finite number, or NaN (then the caller names the option).
+double whole_number(const std::string& text) {
+  std::size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return NAN;
+  }
+  return used == text.size() && std::isfinite(v) ? v : NAN;
+}
 
 /// "auto" (nullopt) or the tolerance as a number; throws ConfigError naming --tolerance.
 std::optional<double> explicit_tolerance(const std::string& text) {
   if (text == "auto") return std::nullopt;
-  double v = -1.0;
-  std::size_t used = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(v) || v <= 0.0) {
-    reject("tolerance", text.empty() ? "''" : text, "must be 'auto' or a number > 0");
-  }
+  const double v = whole_number(text);
+  if (!(v > 0.0)) reject("tolerance", text.empty() ? "''" : text, "must be 'auto' or a number > 0");
   return v;
 }
 
 }  // namespace
+
+double SimConfig::resolved_relax_energy() const {
+  if (relax_energy == "auto") return 1e-4 * compression_rate * compression_rate;
+  const double v = whole_number(relax_energy);
+  if (!(v >= 0.0)) reject("relax-energy", relax_energy, "must be 'auto' or a number >= 0");
+  return v;
+}
 
 double SimConfig::resolved_tolerance() const {
   if (const auto v = explicit_tolerance(tolerance)) return *v;
