@@ -14,6 +14,7 @@
 #include "campaign/run_plan.hpp"
 #include "process.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/process.hpp"
 
 namespace fs = std::filesystem;
 using jam::test::Outcome;
@@ -211,6 +212,34 @@ BOOST_AUTO_TEST_CASE(bad_chains_are_refused_naming_the_key) {
   BOOST_TEST(campaign_rejection(with("[0, 0.801, 0.82]")) ==
              "c.toml:6: chain_phi_init: 0.801 at log10 rate -4: must be a multiple of phi_step "
              "(0.002)");
+}
+
+// Under MPI the chains are shared among the ranks whole: the same run files as one process.
+BOOST_AUTO_TEST_CASE(mpi_chains_equal_local) {
+  if (jam::find_program("mpirun").empty()) {
+    BOOST_TEST_MESSAGE("mpirun not installed: skipped");
+    return;
+  }
+  const fs::path local = write_campaign("local", kChain);
+  BOOST_TEST_REQUIRE(run_jam("campaign run --quiet --jobs 1 " + local.string()).status == 0);
+  const fs::path distributed = write_campaign("mpi", kChain);
+  const fs::path log = kDir / "mpi.txt";
+  const std::vector<std::string> argv = {"env",
+                                         "OMPI_ALLOW_RUN_AS_ROOT=1",
+                                         "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1",
+                                         "mpirun",
+                                         "-n",
+                                         "2",
+                                         "--oversubscribe",
+                                         JAM_EXECUTABLE,
+                                         "campaign",
+                                         "run",
+                                         "--jobs",
+                                         "1",
+                                         distributed.string()};
+  BOOST_TEST_REQUIRE(jam::test::run_logged(log, argv).status == 0, slurp(log));
+  BOOST_TEST(slurp(log).find("on 2 ranks") != std::string::npos, slurp(log));
+  BOOST_TEST((run_files(kDir / "mpi") == run_files(kDir / "local")));
 }
 
 BOOST_AUTO_TEST_SUITE_END()

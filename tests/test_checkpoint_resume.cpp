@@ -93,6 +93,22 @@ BOOST_AUTO_TEST_CASE(chebyshev_hertzian_2d_killed) {
       3, SIGKILL, 4);
 }
 
+// A chained start (--read-start, written by a faster run at 0.80) resumes like any start.
+BOOST_AUTO_TEST_CASE(chained_start_killed) {
+  fs::create_directories(kDir);
+  const fs::path start = kDir / "chain.start.h5";
+  BOOST_TEST_REQUIRE(
+      wait_for(spawn_jam("sim --dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.81 --rate 1e-3 "
+                         "--write-start " +
+                         start.string() +
+                         " --write-start-at 0.8 --quiet "
+                         "--out " +
+                         (kDir / "parent.h5").string())) == 0);
+  check_resume("--dim 2 --n 4096 --phi-stop 0.86 --rate 2e-6 --relax 0 --read-start " +
+                   start.string() + " --quiet",
+               3, SIGKILL, 5);
+}
+
 BOOST_AUTO_TEST_CASE(inertial_2d_killed_keeps_velocities) {
   check_resume(
       "--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 1e-3 --dynamics inertial "

@@ -68,7 +68,9 @@ Start<D> make_start(const SimConfig& c, const Species<D>& species) {
     }
     start.particles = std::move(chained.particles);
     start.box_length = chained.box_length;
-    start.description = "chained start " + c.read_start;
+    // Named by its identity, not its path: a campaign's run files do not depend on where the
+    // directory is.
+    start.description = "chained start " + chain_start_key(chained.identity);
   } else if (!c.read_lammps_data.empty()) {
     LammpsData<D> data = read_lammps_data<D>(c.read_lammps_data);
     start.particles = std::move(data.particles);
