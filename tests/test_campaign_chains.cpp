@@ -214,6 +214,22 @@ BOOST_AUTO_TEST_CASE(bad_chains_are_refused_naming_the_key) {
              "(0.002)");
 }
 
+// Slurm array shares (--shard K/N) keep a sample's runs, so each chain, in one share.
+BOOST_AUTO_TEST_CASE(a_chain_stays_in_one_share) {
+  const auto plan = jam::plan_runs(jam::parse_campaign(kChain + "output = \"x\"\n", "c.toml"));
+  std::map<std::string, int> share_of;
+  for (int k = 1; k <= 2; ++k)
+    for (const auto i : jam::shard_of(plan, k, 2)) share_of[plan[i].name] = k;
+  BOOST_TEST(share_of.size() == plan.size());
+  int chained = 0;
+  for (const auto& r : plan) {
+    if (r.parent.empty()) continue;
+    ++chained;
+    BOOST_TEST(share_of.at(r.name) == share_of.at(r.parent), r.name);
+  }
+  BOOST_TEST(chained == 4);
+}
+
 // Under MPI the chains are shared among the ranks whole: the same run files as one process.
 BOOST_AUTO_TEST_CASE(mpi_chains_equal_local) {
   if (jam::find_program("mpirun").empty()) {
