@@ -242,14 +242,15 @@ BOOST_AUTO_TEST_CASE(mpi_campaign_equals_local) {
 }
 
 BOOST_AUTO_TEST_CASE(shipped_campaigns_parse_and_cost) {
-  for (const char* name :
-       {"ci", "default", "paper-2d", "paper-3d", "reduced-2d", "reduced-2d-phi-init", "reduced-3d",
-        "reduced-3d-phi-init", "reduced-2d-regression", "reduced-3d-regression"}) {
-    const std::string file = std::string(JAM_SOURCE_DIR) + "/reference/campaigns/" + name + ".toml";
-    const Outcome o = run_jam("campaign plan " + file);
-    BOOST_TEST(o.status == 0, name << ": " << o.output);
+  int shipped = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(JAM_SOURCE_DIR) / "reference/campaigns")) {
+    if (e.path().extension() != ".toml") continue;
+    ++shipped;
+    const Outcome o = run_jam("campaign plan " + e.path().string());
+    BOOST_TEST(o.status == 0, e.path() << ": " << o.output);
     BOOST_TEST(o.output.find("core-hours") != std::string::npos, o.output);
   }
+  BOOST_TEST(shipped >= 10);
 }
 
 BOOST_AUTO_TEST_SUITE_END()
