@@ -131,6 +131,7 @@ cat >"$tmp/provenance.json" <<EOF
   "machine": "$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB",
   "os": "$(. /etc/os-release && echo "$PRETTY_NAME")",
   "wall_seconds": {${walls%, }},
+  "wall_seconds_note": "wall times of this invocation's stages; runs an earlier invocation (or a separate jam campaign run) already did take none here and count only in the *_core_seconds (the sum of the runs' own wall times)",
   "campaign_run_core_seconds": ${cores[campaign]},
   ${core_fields}"total_core_seconds": $total_cores,
   "regression": {"campaign": "reference/campaigns/$name-regression.toml", "tolerance": 0.0,
