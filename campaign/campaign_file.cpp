@@ -77,16 +77,10 @@ class Reader {
     return node->value<bool>().value();
   }
 
+  /// A required non-empty array of distinct finite numbers.
   std::vector<double> numbers(const std::string& key) {
-    const toml::node* node = find(key, true);
-    const toml::array* array = node->as_array();
-    if (!array || array->empty()) fail(key, "must be a non-empty array of numbers");
-    std::vector<double> v;
-    for (const auto& element : *array) {
-      if (!element.is_number()) fail(key, "must be a non-empty array of numbers");
-      v.push_back(element.value<double>().value());
-      if (!std::isfinite(v.back())) fail(key, "values must be finite");
-    }
+    const std::vector<double> v = number_array(key, true, "must be a non-empty array of numbers");
+    if (v.empty()) fail(key, "must be a non-empty array of numbers");
     if (std::set<double>(v.begin(), v.end()).size() != v.size()) fail(key, "repeated value");
     return v;
   }
@@ -125,13 +119,19 @@ class Reader {
 
   /// An optional array of finite numbers (repeats allowed).
   std::vector<double> optional_numbers(const std::string& key) {
+    return number_array(key, false, "must be an array of numbers");
+  }
+
+  /// The array of finite numbers at key (empty when absent and not required); `shape` says
+  /// what it must be when it is not an array of numbers.
+  std::vector<double> number_array(const std::string& key, bool required, const char* shape) {
     std::vector<double> v;
-    const toml::node* node = find(key, false);
+    const toml::node* node = find(key, required);
     if (!node) return v;
     const toml::array* array = node->as_array();
-    if (!array) fail(key, "must be an array of numbers");
+    if (!array) fail(key, shape);
     for (const auto& element : *array) {
-      if (!element.is_number()) fail(key, "must be an array of numbers");
+      if (!element.is_number()) fail(key, shape);
       v.push_back(element.value<double>().value());
       if (!std::isfinite(v.back())) fail(key, "values must be finite");
     }

@@ -122,9 +122,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   std::vector<double> task_costs;
   for (const auto& t : tasks) {
     to_run += t.size();
-    double cost = 0.0;
-    for (const auto k : t) cost += plan[k].estimated_particle_steps;
-    task_costs.push_back(cost);
+    task_costs.push_back(task_cost(plan, t));
   }
 
   const std::atomic<bool>& stop_requested = install_stop_handlers();

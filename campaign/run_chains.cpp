@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
-#include <numeric>
 
 #include "campaign/campaign_dir.hpp"
 #include "sim/io/chain_start.hpp"
@@ -69,24 +68,20 @@ RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::
   for (auto& [root, members] : by_root) {
     std::sort(members.begin(), members.end());
     std::vector<std::size_t> task;
-    double cost = 0.0;
-    for (const auto& [depth, k] : members) {
-      task.push_back(k);
-      cost += plan[k].estimated_particle_steps;
-    }
+    for (const auto& [depth, k] : members) task.push_back(k);
     out.tasks.push_back(std::move(task));
-    out.costs.push_back(cost);
   }
-  std::vector<std::size_t> order(out.tasks.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&out](std::size_t a, std::size_t b) { return out.costs[a] > out.costs[b]; });
-  RunTasks sorted{{}, {}, std::move(out.notes)};
-  for (const auto k : order) {
-    sorted.tasks.push_back(std::move(out.tasks[k]));
-    sorted.costs.push_back(out.costs[k]);
-  }
-  return sorted;
+  // Longest first, by the same estimate the queue balances with.
+  std::stable_sort(out.tasks.begin(), out.tasks.end(), [&plan](const auto& a, const auto& b) {
+    return task_cost(plan, a) > task_cost(plan, b);
+  });
+  return out;
+}
+
+double task_cost(const std::vector<PlannedRun>& plan, const std::vector<std::size_t>& task) {
+  double cost = 0.0;
+  for (const auto k : task) cost += plan[k].estimated_particle_steps;
+  return cost;
 }
 
 std::vector<std::int64_t> flatten(const std::vector<std::vector<std::size_t>>& tasks) {

@@ -14,7 +14,6 @@ namespace jam {
 
 struct RunTasks {
   std::vector<std::vector<std::size_t>> tasks;  // plan indices, parents first; longest first
-  std::vector<double> costs;                    // estimated particle-steps of each task
   std::vector<std::string> notes;               // what was added or held back, and why
 };
 
@@ -24,6 +23,9 @@ struct RunTasks {
 /// failed and failed runs are not retried; then the child is held back.
 RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::int64_t>& pending,
                     bool retry_failed);
+
+/// The estimated particle-steps of a task (its runs' together).
+double task_cost(const std::vector<PlannedRun>& plan, const std::vector<std::size_t>& task);
 
 /// Tasks as one array for MPI broadcast (-1 ends each task), and back.
 std::vector<std::int64_t> flatten(const std::vector<std::vector<std::size_t>>& tasks);

@@ -52,10 +52,9 @@ void write_chain_start(const std::string& path, const ChainStart<D>& start) {
 }
 
 std::string stored_chain_start_identity(const std::string& path) {
+  const h5::File f = open_sealed(path);
   try {
-    return open_sealed(path).read_attribute_string("identity");
-  } catch (const CorruptCheckpoint&) {
-    throw;
+    return f.read_attribute_string("identity");
   } catch (const std::exception& e) {
     throw CorruptCheckpoint(e.what());
   }
@@ -63,16 +62,19 @@ std::string stored_chain_start_identity(const std::string& path) {
 
 template <int D>
 ChainStart<D> read_chain_start(const std::string& path, const std::string& identity) {
-  const std::string stored = stored_chain_start_identity(path);
-  if (!identity.empty() && stored != identity) {
+  const h5::File f = open_sealed(path);  // the seal once, before anything is read
+  ChainStart<D> s;
+  try {
+    s.identity = f.read_attribute_string("identity");
+  } catch (const std::exception& e) {
+    throw CorruptCheckpoint(e.what());
+  }
+  if (!identity.empty() && s.identity != identity) {
     throw ForeignCheckpoint(
         fmt::format("chained start '{}' was taken from another run or packing", path));
   }
   try {
-    const h5::File f = open_sealed(path);
     if (f.read_attribute_int("dim") != D) throw std::runtime_error(path + ": other dimension");
-    ChainStart<D> s;
-    s.identity = stored;
     s.box_length = f.read_attribute_double("box_length");
     s.packing_fraction = f.read_attribute_double("packing_fraction");
     s.particles = read_particles<D>(f, path);

@@ -303,15 +303,21 @@ ParameterValue zero_like(const ParameterValue& v) {
   return std::visit([](const auto& x) -> ParameterValue { return std::decay_t<decltype(x)>{}; }, v);
 }
 
-ParameterValue stored_value(const SimConfig& c, const RunParameter& p) {
-  const ParameterValue v = p.resolve ? p.resolve(c) : field_value(c, p);
+namespace {
+
+/// A value as stored: 0 for an inertial-only parameter of an overdamped run.
+ParameterValue as_stored(const SimConfig& c, const RunParameter& p, ParameterValue v) {
   return p.inertial_only && c.dynamics != "inertial" ? zero_like(v) : v;
 }
 
+}  // namespace
+
+ParameterValue stored_value(const SimConfig& c, const RunParameter& p) {
+  return as_stored(c, p, p.resolve ? p.resolve(c) : field_value(c, p));
+}
+
 ParameterValue stored_relaxation_value(const SimConfig& c, const RunParameter& p) {
-  if (!p.resolve_relaxation) return stored_value(c, p);
-  const ParameterValue v = p.resolve_relaxation(c);
-  return p.inertial_only && c.dynamics != "inertial" ? zero_like(v) : v;
+  return p.resolve_relaxation ? as_stored(c, p, p.resolve_relaxation(c)) : stored_value(c, p);
 }
 
 std::string fingerprint_text(const ParameterValue& v) {
