@@ -51,6 +51,11 @@ inline constexpr std::string_view kPressure =
     "what the checks can decide at this machine's scale (N <= 2048, 10 samples, 7-13% sample "
     "scatter exclude effects down to 4-8% at the fast rates); the paper's 1-2% would leave "
     "every verdict inconclusive";
+// The chain check judges the fit window's inverse-variance weighted mean (chain_check.cpp).
+inline constexpr std::string_view kChain =
+    "the weighted mean Delta p/p over the fit's window, as a fit weighs the points; 40 samples "
+    "at N = 256 exclude 4.5-9.6% at every chained rate of the stored results, and a 15% shift "
+    "planted in them fails every rate";
 inline constexpr std::string_view kJammingPoint =
     "about the sample spread of phi_Ji at N ~ 10^3; a larger shift of <phi_Ji> would move "
     "phi_J by more than the fit's window steps";
@@ -74,7 +79,7 @@ inline constexpr std::string_view kLammps =
   X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts")                              \
   X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                             \
   X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")                 \
-  X(chain, &chain_check, 0.10, relative, kPressure, false, "verdicts")
+  X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts")
 
 struct CheckEntry {
   std::string_view name;

@@ -63,6 +63,25 @@ void judge(Verdict& v, const RelativeDifference& t, double alpha, double margin,
   }
 }
 
+void judge(Verdict& v, const WeightedDifference& t, double alpha, double margin,
+           std::size_t samples) {
+  v.statistic = std::abs(t.difference);
+  v.threshold = t.critical;
+  v.detectable = t.critical;
+  decide(v, t.p_value <= alpha, t.excluded_above, margin);
+  v.reason += fmt::format(
+      " (weighted mean Delta p/p {:+.3g} over {} points, permutation p = {:.3g}, alpha {:.3g}, {} "
+      "permutations of whole runs)",
+      t.difference, t.points.size(), t.p_value, alpha, t.permutations);
+  if (v.status == "inconclusive") {
+    v.samples_needed = samples_to_decide({t.difference}, {t.critical}, 1.0, margin, samples);
+    if (std::isfinite(v.samples_needed)) {
+      v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
+                              v.samples_needed);
+    }
+  }
+}
+
 void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std::size_t samples) {
   v.statistic = t.statistic;
   v.threshold = t.critical;

@@ -29,6 +29,11 @@ void decide(Verdict& v, bool detected, double excluded_above, double margin);
 void judge(Verdict& v, const RelativeDifference& t, double alpha, double margin,
            std::size_t samples);
 
+/// Judges v on the weighted mean relative difference of two run sets (statistic |D|,
+/// threshold c) with `samples` per set.
+void judge(Verdict& v, const WeightedDifference& t, double alpha, double margin,
+           std::size_t samples);
+
 /// Judges v on a difference of means (units of the values) with `samples` per set.
 void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std::size_t samples);
 

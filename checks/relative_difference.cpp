@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -49,59 +50,118 @@ double statistic(const std::vector<const std::vector<double>*>& a,
   return t;
 }
 
-}  // namespace
-
-RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
-                                    const std::vector<std::vector<double>>& b, double alpha,
-                                    int permutations, std::uint64_t seed) {
+/// Grid points finite and positive in every run of both sets; throws when fewer than two runs
+/// per set or no point is left.
+std::vector<std::size_t> common_points(const std::vector<std::vector<double>>& a,
+                                       const std::vector<std::vector<double>>& b) {
   if (a.size() < 2 || b.size() < 2) {
     throw std::invalid_argument("compare: each run set needs at least 2 samples");
   }
-  const std::size_t m = a.front().size();
   std::vector<std::size_t> points;
-  for (std::size_t k = 0; k < m; ++k) {
+  for (std::size_t k = 0; k < a.front().size(); ++k) {
     bool ok = true;
     for (const auto& r : a) ok = ok && std::isfinite(r[k]) && r[k] > 0;
     for (const auto& r : b) ok = ok && std::isfinite(r[k]) && r[k] > 0;
     if (ok) points.push_back(k);
   }
   if (points.empty()) throw std::invalid_argument("compare: no common grid points");
-  std::vector<const std::vector<double>*> ra, rb, all;
-  for (const auto& r : a) ra.push_back(&r);
-  for (const auto& r : b) rb.push_back(&r);
-  all = ra;
-  all.insert(all.end(), rb.begin(), rb.end());
+  return points;
+}
 
-  RelativeDifference r;
-  r.points = points;
-  r.statistic = statistic(ra, rb, points, &r.delta, &r.sigma);
-  // Permutations of whole runs between the two sets.
+using Rows = std::vector<const std::vector<double>*>;
+
+/// The permutation distribution of a statistic of two run sets: `stat(A, B)` on every shuffle
+/// of whole runs (A keeps a's size). Returns the sorted null values and sets p (the fraction at
+/// least `observed`, counting the observation) and c (the 1 - alpha quantile).
+template <class Stat>
+void permutation_null(const Rows& ra, const Rows& rb, Stat stat, double observed, double alpha,
+                      int permutations, std::uint64_t seed, double* p, double* c) {
+  Rows all = ra;
+  all.insert(all.end(), rb.begin(), rb.end());
   std::mt19937_64 rng(seed);
   std::vector<std::size_t> order(all.size());
   std::iota(order.begin(), order.end(), 0);
   std::vector<double> null;
   null.reserve(static_cast<std::size_t>(permutations));
   int at_least = 0;
-  for (int p = 0; p < permutations; ++p) {
+  for (int n = 0; n < permutations; ++n) {
     std::shuffle(order.begin(), order.end(), rng);
-    std::vector<const std::vector<double>*> pa, pb;
-    for (std::size_t i = 0; i < all.size(); ++i) (i < a.size() ? pa : pb).push_back(all[order[i]]);
-    const double t = statistic(pa, pb, points, nullptr, nullptr);
+    Rows pa, pb;
+    for (std::size_t i = 0; i < all.size(); ++i) (i < ra.size() ? pa : pb).push_back(all[order[i]]);
+    const double t = stat(pa, pb);
     null.push_back(t);
-    at_least += t >= r.statistic;
+    at_least += t >= observed;
   }
-  r.permutations = permutations;
-  r.p_value = (1.0 + at_least) / (1.0 + permutations);
+  *p = (1.0 + at_least) / (1.0 + permutations);
   std::sort(null.begin(), null.end());
-  r.critical = null[std::min(null.size() - 1,
-                             static_cast<std::size_t>(std::ceil((1.0 - alpha) * null.size())) - 1)];
-  std::vector<double> sigmas = r.sigma;
+  *c = null[std::min(null.size() - 1,
+                     static_cast<std::size_t>(std::ceil((1.0 - alpha) * null.size())) - 1)];
+}
+
+Rows rows_of(const std::vector<std::vector<double>>& a) {
+  Rows r;
+  for (const auto& x : a) r.push_back(&x);
+  return r;
+}
+
+}  // namespace
+
+RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
+                                    const std::vector<std::vector<double>>& b, double alpha,
+                                    int permutations, std::uint64_t seed) {
+  RelativeDifference r;
+  r.points = common_points(a, b);
+  const Rows ra = rows_of(a), rb = rows_of(b);
+  r.statistic = statistic(ra, rb, r.points, &r.delta, &r.sigma);
+  auto stat = [&](const Rows& pa, const Rows& pb) {
+    return statistic(pa, pb, r.points, nullptr, nullptr);
+  };
+  permutation_null(ra, rb, stat, r.statistic, alpha, permutations, seed, &r.p_value, &r.critical);
+  r.permutations = permutations;
   for (std::size_t k = 0; k < r.delta.size(); ++k) {
     r.excluded_above = std::max(r.excluded_above, std::abs(r.delta[k]) + r.critical * r.sigma[k]);
   }
+  std::vector<double> sigmas = r.sigma;
   std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<long>(sigmas.size() / 2),
                    sigmas.end());
   r.detectable = r.critical * sigmas[sigmas.size() / 2];
+  return r;
+}
+
+WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
+                                    const std::vector<std::vector<double>>& b, double alpha,
+                                    int permutations, std::uint64_t seed) {
+  WeightedDifference r;
+  r.points = common_points(a, b);
+  const Rows ra = rows_of(a), rb = rows_of(b);
+  // Inverse-variance weights from the set's own sigma_k (within-set scatter, so a real
+  // difference does not lower the weight of the points where it lies), recomputed for every
+  // permutation: D is then one function of labelled runs and the permutation test exact (with
+  // the observed weights held fixed, 10 samples per set gave 7% false alarms at alpha 0.05).
+  auto weighted = [&](const Rows& pa, const Rows& pb, std::vector<double>* weight) {
+    std::vector<double> dk, sk;
+    statistic(pa, pb, r.points, &dk, &sk);
+    double floor = std::numeric_limits<double>::infinity();
+    for (double s : sk)
+      if (s > 0) floor = std::min(floor, s);
+    double total = 0.0, d = 0.0;
+    for (std::size_t k = 0; k < sk.size(); ++k) {
+      const double s = std::max(sk[k], std::isfinite(floor) ? floor : 1.0), w = 1.0 / (s * s);
+      total += w;
+      d += w * dk[k];
+      if (weight) weight->push_back(w);
+    }
+    if (weight)
+      for (double& w : *weight) w /= total;
+    return d / total;
+  };
+  auto shift = [&](const Rows& pa, const Rows& pb) { return weighted(pa, pb, nullptr); };
+  r.difference = weighted(ra, rb, &r.weight);
+  auto magnitude = [&](const Rows& pa, const Rows& pb) { return std::abs(shift(pa, pb)); };
+  permutation_null(ra, rb, magnitude, std::abs(r.difference), alpha, permutations, seed, &r.p_value,
+                   &r.critical);
+  r.permutations = permutations;
+  r.excluded_above = std::abs(r.difference) + r.critical;
   return r;
 }
 

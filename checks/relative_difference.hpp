@@ -35,6 +35,28 @@ RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
                                     const std::vector<std::vector<double>>& b, double alpha,
                                     int permutations = 2000, std::uint64_t seed = 1);
 
+/// The same two run sets judged on one number, the window's weighted mean relative difference
+///   D = sum_k w_k Delta_k,  w_k proportional to 1 / sigma_k^2
+/// (sigma_k as above: within-set scatter, so a real difference does not lower the weight of
+/// the points where it lies; recomputed on every permutation). These are the weights a
+/// least-squares fit gives the points, so D is the shift of the pressure that a fit over the
+/// window sees. Its null distribution again comes from permuting whole runs: c is the
+/// (1 - alpha) quantile of |D| there, the data exclude any shift beyond |D| + c and could have
+/// detected one of c. A difference confined to the noisiest points weighs little in D, as it
+/// does in a fit; the pointwise bound of compare_run_sets is kept alongside.
+struct WeightedDifference {
+  std::vector<std::size_t> points;
+  std::vector<double> weight;  // w_k, summing to 1
+  double difference = 0;       // D
+  double p_value = 1;          // permutation p-value of |D|
+  double critical = 0;         // c
+  double excluded_above = 0;   // |D| + c
+  int permutations = 0;
+};
+WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
+                                    const std::vector<std::vector<double>>& b, double alpha,
+                                    int permutations = 2000, std::uint64_t seed = 1);
+
 /// Two sets of scalars (e.g. phi_Ji per run): T = |mean_a - mean_b| / sqrt(v_a/n_a + v_b/n_b),
 /// p-value and critical value from permuting the values between the sets. NaNs are dropped.
 struct MeanDifference {
