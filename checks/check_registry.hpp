@@ -54,7 +54,7 @@ inline constexpr std::string_view kPressure =
 // The chain check judges the fit window's inverse-variance weighted mean (chain_check.cpp).
 inline constexpr std::string_view kChain =
     "the weighted mean Delta p/p over the fit's window, as a fit weighs the points; 40 samples "
-    "at N = 256 exclude 4.5-9.6% at every chained rate of the stored results, and a 15% shift "
+    "at N = 256 exclude 4.5-9.7% at every chained rate of the stored results, and a 15% shift "
     "planted in them fails every rate";
 inline constexpr std::string_view kJammingPoint =
     "about the sample spread of phi_Ji at N ~ 10^3; a larger shift of <phi_Ji> would move "

@@ -9,7 +9,7 @@
 # 3. stats, cubic ln f, three times: the paper's q held (fit-q-fixed.json), both exponents held
 #    (fit-held.json), and nothing held (stats.h5 and fit-free.json: the result),
 # 4. all checks; with reference/campaigns/NAME-chain-control.toml its campaign and the chain
-#    check; the reports (reports/NAME/: the free fit; reports/NAME-q-fixed/: q held),
+#    check (of NAME-chain-test.toml's chained samples when there is one); the reports (reports/NAME/: the free fit; reports/NAME-q-fixed/: q held),
 # 5. the stored result reference/results/NAME/: stats.h5, fit-*.json, checks.json,
 #    phi-init-checks.json or chain-checks.json, campaign.toml and provenance.json (code
 #    version, machine, date, wall time of every stage, core-seconds of every campaign),
@@ -92,14 +92,28 @@ scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-free.json" "jam stats --
 stage checks verdicts "runs/$name/checks.json" $jam check all "runs/$name"
 cp "runs/$name"/{checks.json,checks.h5} "$qfixed/"
 
-# Chained starts justified: each chained rate against the same samples unchained.
+chain_json=""
+# Chained starts justified: each chained rate against the same samples unchained. With
+# NAME-chain-test.toml (the campaign's chains on more samples of its smallest size) that set is
+# judged, over the campaign's own scaling window; else the campaign's own chained samples.
 if [ -f "reference/campaigns/$name-chain-control.toml" ]; then
   stage chain_control_campaign $jam campaign run "reference/campaigns/$name-chain-control.toml" \
     $quiet
   cores[chain_control_campaign]=$(core_seconds "runs/$name-chain-control")
   $jam stats "runs/$name-chain-control" --no-fit >/dev/null
-  stage chain_check verdicts "runs/$name/checks-chain.json" \
-    $jam check chain "runs/$name" --against "runs/$name-chain-control"
+  chained="runs/$name"
+  window=()
+  if [ -f "reference/campaigns/$name-chain-test.toml" ]; then
+    stage chain_test_campaign $jam campaign run "reference/campaigns/$name-chain-test.toml" $quiet
+    cores[chain_test_campaign]=$(core_seconds "runs/$name-chain-test")
+    $jam stats "runs/$name-chain-test" --no-fit >/dev/null
+    chained="runs/$name-chain-test"
+    window=(--phi-min "$(/usr/bin/python3 -c 'import h5py, sys
+print(h5py.File(sys.argv[1], "r")["fit/representative"].attrs["phi_min"])' "runs/$name/stats.h5")")
+  fi
+  stage chain_check verdicts "$chained/checks-chain.json" \
+    $jam check chain "$chained" --against "runs/$name-chain-control" "${window[@]}"
+  chain_json="$chained/checks-chain.json"
 fi
 stage report $jam report "runs/$name" --out "reports/$name" --quiet
 $jam report "$qfixed" --out "reports/$name-q-fixed" --quiet
@@ -111,7 +125,7 @@ cp "runs/$name/stats.h5" "runs/$name/checks.json" "$fits"/fit-*.json "$tmp/"
 rm -rf "$fits"
 [ -f "runs/$name-phi-init/checks-phi_init.json" ] &&
   cp "runs/$name-phi-init/checks-phi_init.json" "$tmp/phi-init-checks.json"
-[ -f "runs/$name/checks-chain.json" ] && cp "runs/$name/checks-chain.json" "$tmp/chain-checks.json"
+[ -n "$chain_json" ] && cp "$chain_json" "$tmp/chain-checks.json"
 cp "$campaign" "$tmp/campaign.toml"
 total_cores=0
 core_fields=""
