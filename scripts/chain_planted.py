@@ -44,6 +44,9 @@ def main():
     p.add_argument("--phi-min", type=float, required=True)
     p.add_argument("--jam", default="build/jam")
     a = p.parse_args()
+    for d in (a.chained, a.control):
+        if not (d / "stats.h5").is_file():
+            sys.exit(f"chain_planted: {d}: no stats.h5 (run jam stats there first)")
     for kind in ("none", "shift", "edge-0.6", "edge-0.3"):
         with tempfile.TemporaryDirectory() as tmp:
             for name in ("stats.h5", "campaign.toml", "manifest.toml"):
@@ -52,7 +55,10 @@ def main():
                 plant(Path(tmp) / "stats.h5", kind, a.phi_min)
             command = [a.jam, "check", "chain", tmp, "--against", str(a.control),
                        "--phi-min", repr(a.phi_min)]
-            done = subprocess.run(command, capture_output=True, text=True)
+            try:
+                done = subprocess.run(command, capture_output=True, text=True)
+            except OSError as e:
+                sys.exit(f"chain_planted: --jam {a.jam}: {e.strerror}")
             if done.returncode not in (0, 1, 3):
                 sys.exit(f"chain_planted: {' '.join(command)}: {done.stderr.strip()}")
             verdicts = json.loads((Path(tmp) / "checks-chain.json").read_text())["verdicts"]
