@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <exception>
 
 #include "app/bench_command.hpp"
@@ -72,6 +73,11 @@ int main(int argc, char** argv) {
     // disk): exit status 2 in every subcommand, apart from the results a command reports
     // itself (a failed verdict, a failed run: 1).
     fmt::print(stderr, "jam: error: {}\n", e.what());
+    // Under MPI the other ranks may be waiting for this one in a collective: end them all,
+    // with the status a single process would have had.
+    std::fflush(stdout);
+    std::fflush(stderr);
+    jam::abort_ranks(2);
     return 2;
   }
   return 0;

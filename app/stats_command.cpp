@@ -54,8 +54,10 @@ int run_stats_command(const StatsArgs& a) {
   if (o.order < 0 || o.order > 9) {
     throw std::runtime_error(fmt::format("--order {}: must be in 0..9", o.order));
   }
-  if (!(o.z_step > 0))
-    throw std::runtime_error(fmt::format("--z-step {:g}: must be > 0", o.z_step));
+  // Z lies in [0, 2D]; a step below 1e-4 resolves nothing the samples hold, and each grid point
+  // costs memory in every run's curve.
+  if (!(o.z_step >= 1e-4 && o.z_step <= 1))
+    throw std::runtime_error(fmt::format("--z-step {:g}: must be in [1e-4, 1]", o.z_step));
   if (a.fix_paper_exponents || a.fix_paper_q) {
     // Needs the dimension: read it with the data.
     stats::StatsOptions averages_only;

@@ -6,11 +6,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/version.hpp"
 
@@ -26,6 +28,7 @@ std::string record_path(const PlannedRun& run) {
 /// Writes path atomically, and not at all when it already holds text: its time then says when
 /// its content last changed (jam pipeline redoes later stages by such times).
 void write_text(const std::string& path, const std::string& text) {
+  check_input_file("campaign directory file", path);
   {
     std::ifstream in(path, std::ios::binary);
     if (in) {
@@ -57,11 +60,22 @@ const char* to_string(RunStatus s) {
   return "?";
 }
 
+namespace {
+/// Whether `name` is one of jam's own temporaries, "<name>.<pid>-<tid>.partial"
+/// (AtomicFile::temporary_name): only those are removed, never a user's "x.partial".
+bool is_jam_temporary(const std::string& name) {
+  static const std::regex pattern(R"(.+\.[0-9]+-[0-9]+\.partial)");
+  return std::regex_match(name, pattern);
+}
+}  // namespace
+
 void remove_stale_temporaries(const std::string& directory) {
   for (const char* sub : {"", "runs", "starts", "chain"}) {
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(fs::path(directory) / sub, ec)) {
-      if (e.path().extension() == ".partial" && e.is_regular_file()) fs::remove(e.path(), ec);
+      if (is_jam_temporary(e.path().filename().string()) && e.is_regular_file()) {
+        fs::remove(e.path(), ec);
+      }
     }
   }
 }
@@ -121,6 +135,7 @@ RunStatus run_status(const PlannedRun& run, std::string* detail) {
   if (fs::exists(checkpoint_path(file))) return RunStatus::kPartial;
   const std::string record = record_path(run);
   if (fs::exists(record)) {
+    check_input_file("run record", record);
     try {
       const toml::table t = toml::parse_file(record);
       if (t["status"].value_or(std::string()) == "failed") {
@@ -155,6 +170,7 @@ void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
     toml::table entry{{"status", to_string(s)}};
     const std::string record = record_path(run);
     if (fs::exists(record)) {
+      check_input_file("run record", record);
       try {
         const toml::table t = toml::parse_file(record);
         if (auto w = t["wall_seconds"].value<double>()) entry.insert("wall_seconds", *w);

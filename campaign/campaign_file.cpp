@@ -16,6 +16,8 @@
 
 #include "campaign/run_plan.hpp"
 #include "checks/check_registry.hpp"
+#include "sim/run/compression_run.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/run/run_parameters.hpp"
 #include "sim/run/sim_config.hpp"
 
@@ -60,7 +62,24 @@ class Reader {
     const toml::node* node = find(key, required);
     if (!node) return fallback;
     if (!node->is_string()) fail(key, "must be a string");
-    return node->value<std::string>().value();
+    return printable(key, node->value<std::string>().value());
+  }
+
+  /// A string value as decoded: the file is plain ASCII, but TOML escapes ("\u0000",
+  /// "\u001b[31m", "\u00e9") can still put any character into it. Values name directories,
+  /// checks and reports and reach terminals and file names: printable ASCII only, and at most
+  /// 4096 characters (a path's limit).
+  std::string printable(const std::string& key, const std::string& v) const {
+    for (const char ch : v) {
+      const auto byte = static_cast<unsigned char>(ch);
+      if (byte < 0x20 || byte >= 0x7f) {
+        fail(key, fmt::format("a string with the character 0x{:02x} (escapes must give printable "
+                              "ASCII)",
+                              byte));
+      }
+    }
+    if (v.size() > 4096) fail(key, fmt::format("a string of {} characters (at most 4096)", v.size()));
+    return v;
   }
 
   /// A string, or a number as its text ("auto"-or-number keys: tolerance, relax_energy).
@@ -147,7 +166,7 @@ class Reader {
     if (!array) fail(key, "must be an array of strings");
     for (const auto& element : *array) {
       if (!element.is_string()) fail(key, "must be an array of strings");
-      out.push_back(element.value<std::string>().value());
+      out.push_back(printable(key, element.value<std::string>().value()));
     }
     return out;
   }
@@ -237,9 +256,13 @@ void validate_chain(Reader& r, const Campaign& c) {
                               "({:g}) and below phi_stop ({:g})",
                               rate, faster_start, c.run.phi_stop));
     }
-    const double steps = phi / c.run.phi_step;
-    if (std::abs(steps - std::round(steps)) > 1e-6) {
-      r.fail(key, fmt::format("{}: must be a multiple of phi_step ({:g})", rate, c.run.phi_step));
+    // On the grid to rounding only: a start a hair off a grid point (0.8000000001) would be
+    // left at the next point instead, silently.
+    const double grid = std::round(phi / c.run.phi_step) * c.run.phi_step;
+    if (std::abs(phi - grid) > 1e-13 * phi) {  // within the 1e-12 margin of leave_chain_start
+      r.fail(key, fmt::format("{:.15g} at log10 rate {:g}: must be a multiple of phi_step ({:g}), "
+                              "such as {:.10g}",
+                              phi, c.log10_rates[k], c.run.phi_step, grid));
     }
     faster_start = phi;
   }
@@ -306,8 +329,10 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   }
   r.reject_unknown_keys();
 
-  if (c.name.empty() || c.name.find_first_of("/ \t") != std::string::npos) {
-    r.fail("name", "must be a non-empty word (it names the report)");
+  if (c.name.empty() || c.name.find_first_of("/ \t") != std::string::npos || c.name == "." ||
+      c.name == "..") {
+    r.fail("name", fmt::format("'{}': must be a non-empty word, not . or .. (it names the report)",
+                               c.name));
   }
   for (auto n : c.sizes) {
     if (n < 2 || n % 2 != 0) r.fail("sizes", fmt::format("{} (each must be even and >= 2)", n));
@@ -330,18 +355,37 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
     r.fail("first_sample", fmt::format("{} (must be in [0, 10^6])", c.first_sample));
   }
   if (seed < 0) r.fail("seed", fmt::format("{} (must be >= 0)", seed));
+  // A plan holds every run in memory (about 1 kB each): a bound checked before planning.
+  const double runs = static_cast<double>(c.samples) * static_cast<double>(c.sizes.size()) *
+                      static_cast<double>(c.phi_init.size()) *
+                      static_cast<double>(c.log10_rates.size());
+  if (runs > static_cast<double>(kMaxCampaignRuns)) {
+    r.fail("samples", fmt::format("{} x {} sizes x {} phi_init x {} rates = {:.3g} runs (at most "
+                                  "{} per campaign file; split it with first_sample)",
+                                  c.samples, c.sizes.size(), c.phi_init.size(),
+                                  c.log10_rates.size(), runs, kMaxCampaignRuns));
+  }
   c.base_seed = static_cast<std::uint64_t>(seed);
   if (c.output.empty()) r.fail("output", "must name a directory");
   if (c.run.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
   validate_chain(r, c);
 
-  // Everything a single run checks, with the campaign's key names in the message.
-  SimConfig probe = run_config(c, c.sizes.front(), c.phi_init.front(), c.log10_rates.front(), 0);
-  probe.out = "probe";
+  // Everything a single run checks, with the campaign's key names in the message: every size
+  // and start (a size too small for its box, say), and every rate.
   try {
-    validate(probe);
+    for (const std::int64_t n : c.sizes) {
+      for (const double phi : c.phi_init) {
+        for (const double lr : c.log10_rates) {
+          SimConfig probe = run_config(c, n, phi, lr, 0);
+          probe.out = "probe";
+          validate(probe);
+          validate_generated_box(probe);
+        }
+      }
+    }
   } catch (const ConfigError& e) {
     const std::string message = e.what();
+    if (message.rfind("--n ", 0) == 0) r.fail("sizes", message.substr(4));
     for (const RunParameter& p : run_parameters()) {
       const std::string option = p.option() + " ";
       if (p.campaign != CampaignKey::none && message.rfind(option, 0) == 0) {
@@ -354,6 +398,11 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
 }
 
 Campaign read_campaign(const std::string& path) {
+  try {
+    check_input_file("campaign file", path);
+  } catch (const std::runtime_error& e) {
+    throw CampaignError(e.what());
+  }
   std::ifstream in(path);
   if (!in) throw CampaignError(fmt::format("{}: cannot read campaign file", path));
   std::stringstream text;

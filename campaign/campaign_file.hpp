@@ -16,6 +16,10 @@ struct CampaignError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Runs in one campaign file at most (samples x sizes x phi_init x rates): a plan keeps every
+/// run in memory, about 1 kB each. Larger studies are several files (first_sample).
+inline constexpr std::int64_t kMaxCampaignRuns = 100000;
+
 /// The per-run defaults of a campaign: SimConfig's, except a fixed relaxation target (not
 /// "auto", which depends on the rate) so that every rate of a sample shares one relaxed start,
 /// cached in <output>/starts/, and no progress display.

@@ -49,12 +49,10 @@ void validate_costs(const Campaign& c, const std::vector<PlannedRun>& plan, bool
 }
 
 /// A run file that is not the planned run's result (damaged, or written with other
-/// parameters) is moved aside to <name>.h5.rejected, never deleted: it may be someone's result.
+/// parameters) is moved aside to <name>.h5.rejected (.rejected.1, .2, ... when that name is
+/// taken), never deleted nor overwritten: it may be someone's result.
 void set_aside(const PlannedRun& run) {
-  const std::string aside = run.config.out + ".rejected";
-  std::error_code ec;
-  std::filesystem::rename(run.config.out, aside, ec);
-  if (ec) throw WriteError(fmt::format("cannot move {} aside: {}", run.config.out, ec.message()));
+  move_aside(run.config.out, ".rejected");
 }
 
 }  // namespace
@@ -371,6 +369,7 @@ int print_campaign_plan(const Campaign& c) {
   const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
   if (std::filesystem::exists(checks)) {
     try {
+      check_input_file("checks", checks.string());
       std::ifstream in(checks);
       const auto verdicts = checks::verdict_array(nlohmann::json::parse(in));
       for (const auto& v : verdicts) {

@@ -45,6 +45,14 @@ void stop_ranks() {
 #endif
 }
 
+void abort_ranks([[maybe_unused]] int code) {
+#ifdef JAM_HAVE_MPI
+  int size = 1;
+  if (mpi_active) MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size > 1) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+}
+
 std::vector<std::int64_t> broadcast_from_root(std::vector<std::int64_t> values) {
 #ifdef JAM_HAVE_MPI
   if (mpi_active) {

@@ -15,6 +15,10 @@ struct Ranks {
 /// Starts MPI when launched under an MPI launcher; returns this process's rank and the size.
 Ranks start_ranks(int* argc, char*** argv);
 void stop_ranks();
+/// Ends every rank with exit status `code` after an error on this one (MPI_Abort), so that no
+/// rank waits for ever in a collective the failed rank will never reach; returns (does
+/// nothing) without MPI or with one rank.
+void abort_ranks(int code);
 
 /// Rank 0's values on every rank (identity with one rank).
 std::vector<std::int64_t> broadcast_from_root(std::vector<std::int64_t> values);

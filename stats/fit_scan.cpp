@@ -8,6 +8,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "sim/io/output_path.hpp"
+
 namespace jam::stats {
 namespace {
 
@@ -44,6 +46,7 @@ RateClearance read_clearance(const std::string& directory, std::int64_t n, doubl
   for (const char* name : {"checks.json", "checks-phi_init.json"}) {
     const fs::path file = fs::path(directory) / name;
     if (!fs::exists(file)) continue;
+    check_input_file("phi_init verdicts", file.string());
     std::ifstream in(file);
     const auto parsed = nlohmann::json::parse(in, nullptr, false);
     // Schema 2: an object holding "verdicts"; schema 1: the bare array.

@@ -211,7 +211,7 @@ BOOST_AUTO_TEST_CASE(bad_chains_are_refused_naming_the_key) {
              std::string::npos);
   BOOST_TEST(campaign_rejection(with("[0, 0.801, 0.82]")) ==
              "c.toml:6: chain_phi_init: 0.801 at log10 rate -4: must be a multiple of phi_step "
-             "(0.002)");
+             "(0.002), such as 0.802");
 }
 
 // Slurm array shares (--shard K/N) keep a sample's runs, so each chain, in one share.

@@ -1,6 +1,8 @@
 // Campaign files: every kind of bad input is rejected with the file, line and key; seeds
 // derive from (base seed, size, phi_init, sample) only; the plan is complete and ordered.
 #define BOOST_TEST_MODULE campaign_file
+#include <fmt/format.h>
+
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <set>
@@ -178,4 +180,64 @@ BOOST_AUTO_TEST_CASE(plan_is_complete_and_longest_first) {
   const double compression = 2 * 128 * std::log(0.86 / 0.7) / (2 * std::pow(10.0, -3.5) * 0.1);
   BOOST_TEST(plan.front().estimated_particle_steps > compression);
   BOOST_TEST(plan.front().config.out == "out/runs/n128_phi0.7000_r-3.50_s000.h5");
+}
+
+// Values that used to become failed runs, or to pass through silently, are refused up front
+// with the file, line and key.
+BOOST_AUTO_TEST_CASE(sizes_64_and_2_refused_not_failed_runs) {
+  // N = 2 at phi_stop 0.86: a box of 1.6 against an interaction range of 2 x 1.7.
+  const std::string e = rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64, 2]"));
+  BOOST_TEST(e.rfind("c.toml:3: sizes: 2: box length", 0) == 0u, e);
+}
+
+BOOST_AUTO_TEST_CASE(skin_1e300_refused) {
+  BOOST_TEST(rejection(kGood + "skin = 1e300\n") == "c.toml:10: skin: 1e+300: must be in (0, 10]");
+}
+
+BOOST_AUTO_TEST_CASE(chain_phi_init_off_the_grid_by_1e_minus_10_refused) {
+  const std::string chained =
+      replace(kGood, "log10_rates = [-3, -3.5]", "log10_rates = [-3, -3.5]\nphi_step = 0.002");
+  BOOST_TEST(rejection(chained + "chain_phi_init = [0, 0.82]\n") == "accepted");
+  const std::string e = rejection(chained + "chain_phi_init = [0, 0.8200000001]\n");
+  BOOST_TEST(e.rfind("c.toml:11: chain_phi_init: 0.8200000001", 0) == 0u, e);
+  BOOST_TEST(e.find("at log10 rate -3.5: must be a multiple of phi_step (0.002), such as 0.82") !=
+                 std::string::npos,
+             e);
+}
+
+BOOST_AUTO_TEST_CASE(toml_escapes_of_control_characters_refused) {
+  // The file itself is plain ASCII; the escapes decode to NUL, ESC and a non-ASCII letter.
+  BOOST_TEST(rejection(replace(kGood, "name = \"t\"", R"(name = "a\u0000b")")) ==
+             "c.toml:1: name: a string with the character 0x00 (escapes must give printable "
+             "ASCII)");
+  BOOST_TEST(rejection(replace(kGood, "name = \"t\"", R"(name = "x\u001b[31m")")) ==
+             "c.toml:1: name: a string with the character 0x1b (escapes must give printable "
+             "ASCII)");
+  BOOST_TEST(rejection(replace(kGood, "output = \"out\"", R"(output = "ou\u0000t")")) ==
+             "c.toml:9: output: a string with the character 0x00 (escapes must give printable "
+             "ASCII)");
+  BOOST_TEST(rejection(replace(kGood, "output = \"out\"", R"(output = "caf\u00e9")")) ==
+             "c.toml:9: output: a string with the character 0xc3 (escapes must give printable "
+             "ASCII)");
+  BOOST_TEST(rejection(kGood + R"(expected_failures = ["phi_init: \u001b[2J"])" + "\n") ==
+             "c.toml:10: expected_failures: a string with the character 0x1b (escapes must give "
+             "printable ASCII)");
+}
+
+BOOST_AUTO_TEST_CASE(dot_and_dot_dot_are_never_campaign_names) {
+  for (const char* name : {".", ".."}) {
+    BOOST_TEST(rejection(replace(kGood, "name = \"t\"", fmt::format("name = \"{}\"", name))) ==
+               fmt::format("c.toml:1: name: '{}': must be a non-empty word, not . or .. (it names "
+                           "the report)",
+                           name));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(a_million_samples_of_ten_sizes_refused_before_planning) {
+  std::string big = replace(kGood, "samples = 3", "samples = 1000000");
+  big = replace(big, "sizes = [64, 128]",
+                "sizes = [64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768]");
+  BOOST_TEST(rejection(big) ==
+             "c.toml:6: samples: 1000000 x 10 sizes x 2 phi_init x 2 rates = 4e+07 runs (at most "
+             "100000 per campaign file; split it with first_sample)");
 }

@@ -1,10 +1,12 @@
 #include "sim/io/atomic_file.hpp"
 
 #include <fmt/format.h>
+#include <fcntl.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -18,6 +20,31 @@ std::string write_failure(const std::string& path, int error) {
     if (::statvfs(parent.c_str(), &fs) == 0 && fs.f_bavail == 0) error = ENOSPC;
   }
   return error != 0 ? std::strerror(error) : "I/O error";
+}
+
+namespace {
+/// Renames without replacing: 0, or the errno (EEXIST when `to` exists).
+int rename_no_replace(const std::string& from, const std::string& to) {
+  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) return 0;
+  if (errno != EINVAL && errno != ENOSYS) return errno;
+  // A file system without RENAME_NOREPLACE: link() fails with EEXIST instead of replacing.
+  if (::link(from.c_str(), to.c_str()) != 0) return errno;
+  return ::unlink(from.c_str()) == 0 ? 0 : errno;
+}
+}  // namespace
+
+std::string move_aside(const std::string& path, const std::string& suffix) {
+  // A bounded search: ten thousand set-aside copies of one run mean something else is wrong.
+  for (int k = 0; k < 10000; ++k) {
+    const std::string aside = k == 0 ? path + suffix : fmt::format("{}{}.{}", path, suffix, k);
+    const int error = rename_no_replace(path, aside);
+    if (error == 0) return aside;
+    if (error != EEXIST && error != ENOTEMPTY) {
+      throw WriteError(fmt::format("cannot move '{}' aside: {}", path, std::strerror(error)));
+    }
+  }
+  throw WriteError(fmt::format("cannot move '{}' aside: 10000 names '{}{}.*' already taken", path,
+                               path, suffix));
 }
 
 std::string AtomicFile::temporary_name(const std::string& path) {

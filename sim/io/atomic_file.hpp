@@ -21,6 +21,12 @@ struct WriteError : std::runtime_error {
 /// what it is, "No space left on device".
 std::string write_failure(const std::string& path, int error);
 
+/// Moves `path` aside to the first free name of `path + suffix`, `path + suffix + ".1"`, ".2", ...
+/// and returns it. Never replaces an existing file (renameat2 with RENAME_NOREPLACE, or link and
+/// unlink where the file system lacks it), so a file set aside earlier is never lost, even when
+/// two processes set aside at once.
+std::string move_aside(const std::string& path, const std::string& suffix);
+
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path);

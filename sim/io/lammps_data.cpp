@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/output_path.hpp"
 
 namespace jam {
 
@@ -91,6 +92,7 @@ std::vector<std::string> tokens(const std::string& line) {
 
 template <int D>
 LammpsData<D> read_lammps_data(const std::string& path) {
+  check_input_file("--read-lammps-data", path);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("--read-lammps-data {}: cannot open file", path));
   return read_lammps_data<D>(in, path);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -10,6 +11,7 @@
 
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 
 namespace jam {
@@ -22,9 +24,46 @@ std::vector<std::string> words(const std::string& line) {
   return w;
 }
 
+/// The whole of `text` as a finite number; otherwise one line naming the file, line, field
+/// and value (std::stod would take "1.5abc" as 1.5 and say only "stod" of "abc").
+double number(const std::string& text, const std::string& where, const std::string& field) {
+  double v = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [at, error] = std::from_chars(text.data(), end, v);
+  if (error != std::errc() || at != end) {
+    throw std::runtime_error(fmt::format("{}: {} '{}' is not a number", where, field, text));
+  }
+  if (!std::isfinite(v)) {
+    throw std::runtime_error(fmt::format("{}: {} {} is not finite", where, field, text));
+  }
+  return v;
+}
+
+/// The thermo must describe one compression forward in time: increasing finite times and steps,
+/// non-negative energies and contact numbers. Anything else would make a run file that jam's
+/// own checks call corrupt.
+void check_thermo(const LammpsThermo& d, const std::string& path) {
+  for (std::size_t k = 1; k < d.time.size(); ++k) {
+    if (!(d.time[k] > d.time[k - 1]) || !(d.step[k] > d.step[k - 1])) {
+      throw std::runtime_error(fmt::format(
+          "{}: thermo line {}: Time {} (Step {}) does not follow Time {} (Step {}): times must "
+          "increase",
+          path, k + 1, d.time[k], d.step[k], d.time[k - 1], d.step[k - 1]));
+    }
+  }
+  for (std::size_t k = 0; k < d.time.size(); ++k) {
+    if (d.energy[k] < 0 || d.contacts[k] < 0) {
+      throw std::runtime_error(
+          fmt::format("{}: thermo line {}: PotEng {} or v_Z {} is negative", path, k + 1,
+                      d.energy[k], d.contacts[k]));
+    }
+  }
+}
+
 }  // namespace
 
 LammpsThermo read_lammps_thermo(const std::string& path) {
+  check_input_file("LAMMPS log", path);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot read LAMMPS log", path));
   LammpsThermo d;
@@ -37,11 +76,29 @@ LammpsThermo read_lammps_thermo(const std::string& path) {
     ++line_no;
     const auto w = words(line);
     if (w.empty()) continue;
-    if (w[0] == "dimension" && w.size() == 2 && w[1] != "${dim}") d.dim = std::stoi(w[1]);
-    if (w[0] == "timestep" && w.size() == 2 && w[1][0] != '$') d.dt = std::stod(w[1]);
+    const std::string where = fmt::format("{}:{}", path, line_no);
+    if (w[0] == "dimension" && w.size() == 2 && w[1] != "${dim}") {
+      const double dim = number(w[1], where, "dimension");
+      if (dim != 2 && dim != 3) {
+        throw std::runtime_error(fmt::format("{}: dimension {} (must be 2 or 3)", where, w[1]));
+      }
+      d.dim = static_cast<int>(dim);
+    }
+    if (w[0] == "timestep" && w.size() == 2 && w[1][0] != '$') {
+      d.dt = number(w[1], where, "timestep");
+      if (!(d.dt > 0)) throw std::runtime_error(fmt::format("{}: timestep {} (must be > 0)", where, w[1]));
+    }
     if (w[0] == "fix" && w.size() > 5 && w[3] == "deform") {
       for (std::size_t k = 4; k + 2 < w.size(); ++k) {
-        if (w[k + 1] == "trate" && w[k + 2][0] != '$') d.rate = -std::stod(w[k + 2]);
+        if (w[k + 1] == "trate" && w[k + 2][0] != '$') {
+          d.rate = -number(w[k + 2], where, "trate");
+          // The rates jam simulates (campaign log10_rates in [-12, 0]); a compression, so the
+          // strain rate is negative.
+          if (!(d.rate >= 1e-12 && d.rate <= 1.0)) {
+            throw std::runtime_error(fmt::format(
+                "{}: trate {} (must be a compression, -1 <= trate <= -1e-12)", where, w[k + 2]));
+          }
+        }
       }
     }
     if (w[0] == "Step") {
@@ -59,7 +116,7 @@ LammpsThermo read_lammps_thermo(const std::string& path) {
     }
     auto column = [&](const std::string& name) {
       for (std::size_t k = 0; k < header.size(); ++k)
-        if (header[k] == name) return std::stod(w[k]);
+        if (header[k] == name) return number(w[k], where, name);
       throw std::runtime_error(
           fmt::format("{}:{}: thermo has no column {} (use reference/lammps/compress_inertial.in)",
                       path, line_no, name));
@@ -77,12 +134,14 @@ LammpsThermo read_lammps_thermo(const std::string& path) {
     throw std::runtime_error(fmt::format("{}: no 'fix ... deform ... trate -rate' line", path));
   if (d.time.size() < 2)
     throw std::runtime_error(fmt::format("{}: fewer than 2 thermo lines", path));
+  check_thermo(d, path);
   return d;
 }
 
 namespace {
 
 double small_mass(const std::string& path) {
+  check_input_file("--data", path);
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line)) {
@@ -90,7 +149,11 @@ double small_mass(const std::string& path) {
     if (w0.size() == 1 && w0[0] == "Masses") {
       while (std::getline(in, line)) {
         const auto w = words(line);
-        if (w.size() >= 2 && w[0] == "1") return std::stod(w[1]);
+        if (w.size() >= 2 && w[0] == "1") {
+          const double m = number(w[1], path + ": Masses", "mass of type 1");
+          if (!(m > 0)) throw std::runtime_error(fmt::format("{}: Masses: mass of type 1 {} (must be > 0)", path, w[1]));
+          return m;
+        }
       }
     }
   }
@@ -119,6 +182,12 @@ void import_dimension(const LammpsImport& r, const LammpsThermo& log) {
     Observables<D> o;
     o.time = log.time[k];
     o.packing_fraction = phi0 * std::exp(D * log.rate * log.time[k]);
+    if (!(log.time[k] >= 0) || !(o.packing_fraction < 1.0)) {
+      throw std::runtime_error(fmt::format(
+          "{}: thermo line {}: Time {} gives packing fraction {:g} from {:g} at trate -{:g} (times "
+          "must be >= 0 and the packing below 1)",
+          r.log, k + 1, log.time[k], o.packing_fraction, phi0, log.rate));
+    }
     o.pressure = log.pressure[k];
     o.contacts_per_particle = log.contacts[k];
     o.energy_per_particle = log.energy[k];

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <stdexcept>
 
 #include "sim/run/sim_config.hpp"
 
@@ -67,6 +68,17 @@ void check_output_directory(const std::string& option, const std::string& path) 
   if (target.type() != fs::file_type::directory) {
     refuse(option, path, fmt::format("is {}, not a directory", kind(target.type())));
   }
+}
+
+void check_input_file(const std::string& what, const std::string& path) {
+  std::error_code ec;
+  const fs::file_status target = fs::status(path, ec);
+  if (target.type() == fs::file_type::not_found || target.type() == fs::file_type::regular) return;
+  if (ec && target.type() == fs::file_type::none) {
+    throw std::runtime_error(fmt::format("{} {}: cannot read: {}", what, path, ec.message()));
+  }
+  throw std::runtime_error(fmt::format("{} {}: is {}; only a regular file can be read", what, path,
+                                       kind(target.type())));
 }
 
 }  // namespace jam

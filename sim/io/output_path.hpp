@@ -8,6 +8,8 @@
 // Symbolic links are written through: a link to a regular file (or to a directory, for a
 // directory output) stands for its target, the result replaces the target, and the link stays
 // as it was. A link that points nowhere, or at anything else, is refused.
+//
+// Inputs are checked too (check_input_file): only a regular file is ever opened for reading.
 #include <string>
 
 namespace jam {
@@ -18,5 +20,11 @@ std::string checked_output_file(const std::string& option, const std::string& pa
 
 /// Checks a directory output (absent or a directory, links followed); throws ConfigError.
 void check_output_directory(const std::string& option, const std::string& path);
+
+/// Checks an input file before it is opened: absent (the caller says so in its own words) or a
+/// regular file, links followed. A FIFO, device, socket or directory is refused with
+/// std::runtime_error "<what> <path>: is a FIFO; only a regular file can be read", because
+/// opening a FIFO waits for a writer that may never come. stat() itself never waits.
+void check_input_file(const std::string& what, const std::string& path);
 
 }  // namespace jam

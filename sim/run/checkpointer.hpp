@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "sim/io/checkpoint.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/run/compression_run.hpp"
 
 namespace jam {
@@ -25,6 +26,8 @@ template <int D>
 std::optional<Checkpoint<D>> read_checkpoint_or_warn(const std::string& path,
                                                      const std::string& fingerprint, std::size_t n,
                                                      bool replace_foreign = false) {
+  // Not a regular file (a FIFO would block the open for ever): refused, and left alone.
+  check_input_file("checkpoint", path);
   std::string problem;
   try {
     auto saved = read_checkpoint<D>(path, fingerprint);

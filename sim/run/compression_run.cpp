@@ -1,6 +1,7 @@
 #include "sim/run/compression_run.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -34,6 +35,20 @@ namespace {
 /// (output_path.hpp) or cannot be written; returns the path to write (a link's target).
 std::string checked_writable(const std::string& option, const std::string& path) {
   const std::string target = checked_output_file(option, path);
+  // The longest name written beside it: "<name>.checkpoint.<pid>-<tid>.partial" (pid and tid
+  // of at most 10 digits). A name the file system cannot hold would otherwise fail only at the
+  // first checkpoint, after the work.
+  constexpr std::size_t kLongestSuffix = sizeof(".checkpoint.4294967295-4294967295.partial") - 1;
+  const std::filesystem::path p(target);
+  const std::string directory = p.has_parent_path() ? p.parent_path().string() : ".";
+  const long name_max = ::pathconf(directory.c_str(), _PC_NAME_MAX);
+  const std::size_t length = p.filename().string().size();
+  if (name_max > 0 && length + kLongestSuffix > static_cast<std::size_t>(name_max)) {
+    throw ConfigError(fmt::format(
+        "--{} {}: a file name of {} characters is too long (at most {} here, leaving room for "
+        "the names of its checkpoint and temporaries)",
+        option, path, length, static_cast<std::size_t>(name_max) - kLongestSuffix));
+  }
   const std::string probe = AtomicFile::temporary_name(target);
   std::FILE* f = std::fopen(probe.c_str(), "w");
   if (!f) {
@@ -195,6 +210,7 @@ class CompressionRun {
         stability_.check(sys_, sys_.box.length(t), sys_.box.packing_fraction(t), "relaxation");
       }
       if (k > 0 && (k & 255) == 0 && pause_due()) return false;
+      if (stop_now()) return pause_at_once(k & 255);
       if constexpr (kAdaptive) {
         st_.relax_time += stepper_.step(sys_, t, std::numeric_limits<double>::infinity());
       } else {
@@ -237,6 +253,7 @@ class CompressionRun {
                          sys_.size());
         if (pause_due()) return false;
       }
+      if (stop_now()) return pause_at_once(static_cast<std::size_t>(step & 255));
       const double t_after = advance(t, targets[st_.next_output]);
       ++st_.steps;
       ++steps_here_;
@@ -337,6 +354,20 @@ class CompressionRun {
     return checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
   }
 
+  /// A stop asked for between the checks every 256 steps: a large run takes seconds for 256
+  /// steps, and SIGTERM must end it within a second (a checkpoint holds the state). One atomic
+  /// load per step.
+  bool stop_now() const {
+    return control_.stop && control_.stop->load(std::memory_order_relaxed);
+  }
+
+  /// Stops now, with a checkpoint; `steps` since the last count. Always false (stopped).
+  bool pause_at_once(std::size_t steps) {
+    count_steps(steps);
+    checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
+    return false;
+  }
+
   void count_steps(std::size_t steps) {
     if (control_.particle_steps) control_.particle_steps->fetch_add(steps * sys_.size());
   }
@@ -425,6 +456,25 @@ RunSummary run_dimension(const SimConfig& c, const RunControl& control) {
 
 }  // namespace
 
+namespace {
+template <int D>
+void validate_generated_box_in(const SimConfig& c) {
+  const Species<D> species(c.diameter_ratio);
+  const double half = static_cast<double>(c.n / 2);
+  const double volume = half * (species.volume[0] + species.volume[1]);
+  validate_box(c, CompressingBox<D>::length_for_packing(volume, c.phi_stop),
+               species.max_contact_distance);
+}
+}  // namespace
+
+void validate_generated_box(const SimConfig& c) {
+  if (c.dim == 2) {
+    validate_generated_box_in<2>(c);
+  } else {
+    validate_generated_box_in<3>(c);
+  }
+}
+
 RunSummary run_compression(const SimConfig& config, const RunControl& control) {
   validate(config);
   // Before anything is allocated: a typo such as --n 2000000000 is refused, not attempted.
@@ -438,6 +488,7 @@ RunSummary run_compression(const SimConfig& config, const RunControl& control) {
     c.write_final_lammps_data =
         checked_writable("write-final-lammps-data", c.write_final_lammps_data);
   }
+  if (!c.write_start.empty()) c.write_start = checked_writable("write-start", c.write_start);
   return c.dim == 2 ? run_dimension<2>(c, control) : run_dimension<3>(c, control);
 }
 

@@ -48,4 +48,9 @@ struct RunControl {
 /// identical to an uninterrupted run.
 RunSummary run_compression(const SimConfig& config, const RunControl& control = {});
 
+/// For a generated start (N/2 small and N/2 big): whether its box at phi_stop holds twice the
+/// interaction range (validate_box), known before any particle exists. A campaign checks each
+/// of its sizes so, and a bad combination is refused at once instead of becoming failed runs.
+void validate_generated_box(const SimConfig& config);
+
 }  // namespace jam

@@ -1,18 +1,30 @@
 #include "sim/run/stop_signal.hpp"
 
+#include <unistd.h>
+
 #include <csignal>
 
 namespace jam {
 namespace {
 std::atomic<bool> stop_requested{false};
+
+/// The first SIGINT or SIGTERM asks for a clean stop (a checkpoint, then exit 130); a second one
+/// ends the process at once, as the default action would, for a user or a batch system that
+/// will not wait.
 extern "C" void jam_request_stop(int) {
-  stop_requested.store(true);
+  if (stop_requested.exchange(true)) ::_exit(130);
 }
 }  // namespace
 
 const std::atomic<bool>& install_stop_handlers() {
-  std::signal(SIGINT, jam_request_stop);
-  std::signal(SIGTERM, jam_request_stop);
+  // sigaction without SA_RESTART (std::signal restarts on glibc): a system call that waits,
+  // such as an open() of something that never answers, returns EINTR instead of waiting on.
+  struct sigaction action {};
+  action.sa_handler = jam_request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;
+  ::sigaction(SIGINT, &action, nullptr);
+  ::sigaction(SIGTERM, &action, nullptr);
   return stop_requested;
 }
 
