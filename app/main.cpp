@@ -2,8 +2,11 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cstdio>
 #include <exception>
+#include <string>
+#include <system_error>
 
 #include "app/bench_command.hpp"
 #include "app/campaign_command.hpp"
@@ -59,7 +62,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "jam: error: {}\n", e.what());
     return 2;
   }
-  try {
+  auto run_subcommand = [&]() {
     if (app.got_subcommand("sim")) return jam::run_sim_command(sim_config);
     if (app.got_subcommand("campaign")) return jam::run_campaign_command(app, campaign_args, ranks);
     if (app.got_subcommand("stats")) return jam::run_stats_command(stats_args);
@@ -68,6 +71,25 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("report")) return jam::run_report_command(report_args);
     if (app.got_subcommand("bench")) return jam::run_bench_command(app, bench_args, argc, argv);
     if (app.got_subcommand("pipeline")) return jam::run_pipeline_command(pipeline_args, ranks);
+    return 0;
+  };
+  try {
+    const int status = run_subcommand();
+    // Standard output is buffered: a full disk under `jam ... > file` shows only when it is
+    // flushed, and a summary silently cut short must not exit 0.
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      throw std::system_error(errno, std::generic_category(), "cannot write to file");
+    }
+    return status;
+  } catch (const std::system_error& e) {
+    // fmt's own words for a failed print, "cannot write to file: ...", name no file: the file
+    // is standard output (redirected to a full disk, say).
+    const std::string what = e.what();
+    const bool print_failed = what.rfind("cannot write to file", 0) == 0;
+    fmt::print(stderr, "jam: error: {}\n",
+               print_failed ? "cannot write to standard output: " + e.code().message() : what);
+    jam::abort_ranks(2);
+    return 2;
   } catch (const std::exception& e) {
     // The tool could not do what was asked (bad input, a missing or unreadable file, a full
     // disk): exit status 2 in every subcommand, apart from the results a command reports

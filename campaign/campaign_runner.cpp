@@ -143,7 +143,9 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   const int workers = std::min<int>(jobs, static_cast<int>(tasks.size()));
   RunQueue queue(task_indices, task_costs, ranks, workers, &stop_requested);
   const double remaining_estimate = queue.local_estimate();
-  std::atomic<std::size_t> finished{0}, failed{0}, interrupted{0};
+  // unwritten: runs that could not write their output (a full disk): not failed, since nothing
+  // records them so and `campaign status` shows them missing; the next run redoes them.
+  std::atomic<std::size_t> finished{0}, failed{0}, interrupted{0}, unwritten{0};
   std::atomic<int> active{0};
   std::atomic<std::size_t> taken{0};  // runs this process took from the queue
   std::atomic<bool> cannot_write{false};
@@ -175,7 +177,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
                  "started\n",
                  tty ? "\n" : "", run.name, e.what());
       cannot_write = true;
-      ++failed;
+      ++unwritten;
       return Outcome::kCannotWrite;
     } catch (const std::exception& e) {
       record.status = "failed";
@@ -193,7 +195,10 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       // further run would fail the same way after doing all its work, so take no more.
       std::lock_guard lock(print_mutex);
       fmt::print(stderr, "{}jam: error: {}; no further runs started\n", tty ? "\n" : "", e.what());
-      if (record.status == "done") ++failed;
+      if (record.status == "failed") {  // not recorded: status shows it missing
+        --failed;
+        ++unwritten;
+      }
       cannot_write = true;
     }
     ++finished;
@@ -256,7 +261,10 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
                queue.dynamic() ? "handed out as workers became free" : "split in advance");
     std::fflush(stdout);
   }
-  int status = interrupted.load() > 0 || stop_requested.load() ? 130 : (failed.load() > 0 ? 1 : 0);
+  // 2 as for any error that kept jam from doing what was asked (a full disk), 1 for failed runs.
+  int status = interrupted.load() > 0 || stop_requested.load()
+                   ? 130
+                   : (unwritten.load() > 0 ? 2 : (failed.load() > 0 ? 1 : 0));
   status = max_over_ranks(status);
   barrier();
   if (ranks.rank == 0) write_manifest(c, plan);
@@ -264,9 +272,13 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     fmt::print(
-        "campaign {}: {} runs finished by this process in {}, {} failed{}; manifest "
+        "campaign {}: {} runs finished by this process in {}, {} failed{}{}; manifest "
         "{}/manifest.toml\n",
         c.name, finished.load(), duration(wall), failed.load(),
+        unwritten.load() > 0
+            ? fmt::format(", {} could not write their output (run again to redo them)",
+                          unwritten.load())
+            : std::string(),
         status == 130 ? ", interrupted (run again to resume)" : "", c.output);
   }
   return status;

@@ -12,6 +12,7 @@
 
 #include "checks/lammps_runner.hpp"
 #include "sim/dynamics/system.hpp"
+#include "sim/io/atomic_file.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
 #include "sim/model/contact_laws.hpp"
@@ -106,7 +107,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
     write_relaxed_start({D, D == 2 ? 0.80 : 0.60, kQ, kDt, "inertial", "1e-6", 17},
                         dir / "start.data");
   } else {
-    fs::copy_file(stored / "start.data", dir / "start.data", fs::copy_options::overwrite_existing);
+    copy_file_atomically((stored / "start.data").string(), (dir / "start.data").string());
   }
   if (live) {
     run_lammps(dir, ref, D, kRate, kDt, kSteps, kSteps / 8, "start.data", "lammps.log",
@@ -117,7 +118,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   if (o.regenerate && live) {
     fs::create_directories(stored);
     for (const char* f : {"start.data", "lammps.log", "lammps_end.data"}) {
-      fs::copy_file(dir / f, stored / f, fs::copy_options::overwrite_existing);
+      copy_file_atomically((dir / f).string(), (stored / f).string());
     }
     std::ofstream(stored / "provenance.toml")
         << fmt::format("# Stored LAMMPS result for `jam check lammps` ({}D)\n", D) << "lammps = \""

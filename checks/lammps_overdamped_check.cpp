@@ -19,6 +19,7 @@
 #include "checks/lammps_check.hpp"
 #include "checks/lammps_runner.hpp"
 #include "checks/margin.hpp"
+#include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_import.hpp"
 #include "sim/run/compression_run.hpp"
@@ -63,7 +64,7 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
           {D, phi0, kQ, 0.01, "overdamped", "1e-12", static_cast<std::uint64_t>(100 + k)},
           dir / start);
     } else {
-      fs::copy_file(stored / start, dir / start, fs::copy_options::overwrite_existing);
+      copy_file_atomically((stored / start).string(), (dir / start).string());
     }
     if (live)
       run_lammps(dir, ref, D, kRate, dt_lammps, steps, steps / 60, start, log,
@@ -103,7 +104,7 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
     fs::create_directories(stored);
     for (int k = 0; k < kSamples; ++k) {
       for (const auto& f : {fmt::format("start_{}.data", k), fmt::format("lammps_{}.log", k)}) {
-        fs::copy_file(dir / f, stored / f, fs::copy_options::overwrite_existing);
+        copy_file_atomically((dir / f).string(), (stored / f).string());
       }
     }
     std::ofstream(stored / "provenance.toml")

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sim/io/atomic_file.hpp"
 #include "sim/io/lammps_data.hpp"
 #include "sim/io/lammps_table.hpp"
 #include "sim/io/process.hpp"
@@ -31,8 +32,7 @@ std::string lammps_version(const fs::path& log) {
 void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double rate, double dt,
                 long steps, long every, const std::string& data, const std::string& log,
                 const std::string& end, const std::string& contact) {
-  fs::copy_file(reference / "compress_inertial.in", dir / "compress_inertial.in",
-                fs::copy_options::overwrite_existing);
+  copy_file_atomically((reference / "compress_inertial.in").string(), (dir / "compress_inertial.in").string());
   // The law's own table (sim/io/lammps_table.hpp): LAMMPS runs the law jam runs.
   const LammpsTableFile table = write_lammps_table(dir, contact, kPaperDiameterRatio);
   auto g = [](double v) { return fmt::format("{:.17g}", v); };

@@ -47,6 +47,19 @@ std::string move_aside(const std::string& path, const std::string& suffix) {
                                path, suffix));
 }
 
+void copy_file_atomically(const std::string& from, const std::string& to) {
+  const std::string temporary = AtomicFile::temporary_name(to);
+  std::error_code ec;
+  std::filesystem::copy_file(from, temporary, std::filesystem::copy_options::overwrite_existing,
+                             ec);
+  if (ec) {
+    std::filesystem::remove(temporary);
+    throw WriteError(
+        fmt::format("cannot copy '{}' to '{}': {}", from, to, write_failure(to, ec.value())));
+  }
+  AtomicFile::publish(to);
+}
+
 std::string AtomicFile::temporary_name(const std::string& path) {
   // The process and the thread: two runs of one campaign process may write the same file at
   // once (the relaxed start two rates of a sample share); each writes its own temporary and

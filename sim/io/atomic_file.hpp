@@ -27,6 +27,10 @@ std::string write_failure(const std::string& path, int error);
 /// two processes set aside at once.
 std::string move_aside(const std::string& path, const std::string& suffix);
 
+/// Copies `from` to `to` through a temporary renamed when complete: a full disk leaves no
+/// truncated copy under the final name. Throws WriteError naming `to` and the cause.
+void copy_file_atomically(const std::string& from, const std::string& to);
+
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path);
