@@ -164,6 +164,22 @@ BOOST_AUTO_TEST_CASE(sigterm_ends_a_large_run_with_its_checkpoint) {
   BOOST_TEST(!fs::exists(out));
 }
 
+BOOST_AUTO_TEST_CASE(sigterm_during_the_jamming_point_search_stops_and_resumes_bitwise) {
+  // N = 1024 from 0.82 at rate 1e-2: the compression takes 0.3 s, the search for phi_Ji about
+  // 5 s of FIRE minimizations, which used to run to the end whatever the signal said.
+  const std::string run =
+      "sim --quiet --n 1024 --phi-init 0.82 --phi-stop 0.86 --rate 1e-2 --jamming-point --out ";
+  const fs::path whole = kDir / "whole.h5", stopped = kDir / "stopped.h5";
+  BOOST_REQUIRE(jam_within(300, run + whole.string()).status == 0);
+  const pid_t pid = jam::test::spawn_jam(run + stopped.string());
+  ::sleep(2);
+  ::kill(pid, SIGTERM);
+  BOOST_TEST(jam::test::wait_for(pid) == 130);
+  BOOST_TEST(fs::exists(stopped.string() + ".checkpoint"));
+  BOOST_REQUIRE(jam_within(300, run + stopped.string()).status == 0);
+  BOOST_TEST((jam::test::slurp(whole) == jam::test::slurp(stopped)));
+}
+
 BOOST_AUTO_TEST_CASE(write_start_fifo_device_symlink_dangling_directory_refused_before_work) {
   const std::string chain = "--write-start-at 0.71 --out " + (kDir / "w.h5").string();
   const fs::path fifo = kDir / "fifo", dangling = kDir / "dangling", link = kDir / "link";

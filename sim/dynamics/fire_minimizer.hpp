@@ -5,6 +5,7 @@
 // jamming that is reached when every overlap is gone (all forces exactly zero).
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -15,6 +16,7 @@ namespace jam {
 
 struct FireResult {
   bool converged = false;
+  bool stopped = false;  // FireOptions::stop became true: the minimization was abandoned
   std::size_t iterations = 0;
   double max_force = 0.0;
 };
@@ -23,6 +25,8 @@ struct FireOptions {
   double force_tolerance = 1e-10;
   std::size_t max_iterations = 200000;
   double dt_start = 0.05, dt_max = 0.5;
+  /// When set and true, the minimization returns at once (a run asked to stop by SIGTERM).
+  const std::atomic<bool>* stop = nullptr;
 };
 
 template <int D, class Contact>
@@ -48,6 +52,10 @@ FireResult minimize_fire(System<D, Contact>& sys, double box_length, const FireO
     r.max_force = fmax;
     if (fmax < o.force_tolerance) {
       r.converged = true;
+      return r;
+    }
+    if (o.stop && o.stop->load(std::memory_order_relaxed)) {
+      r.stopped = true;
       return r;
     }
     if (power > 0.0) {

@@ -33,17 +33,24 @@ struct JammingPoint {
   double packing_fraction = std::numeric_limits<double>::quiet_NaN();
   int minimizations = 0;
   bool bracketed = false;  // false: not jammed by the last saved point, or jammed at the first
+  bool stopped = false;    // abandoned on request (`stop`): packing_fraction means nothing
 };
 
+/// Thrown out of a minimization abandoned on request; caught by find_jamming_point.
+struct JammingSearchStopped {};
+
 template <int D, class Contact>
-bool jammed_after_minimization(System<D, Contact>& sys, const std::vector<double>& s, double phi) {
+bool jammed_after_minimization(System<D, Contact>& sys, const std::vector<double>& s, double phi,
+                               const std::atomic<bool>* stop = nullptr) {
   const std::size_t n = sys.size();
   for (int d = 0; d < D; ++d)
     std::copy(s.begin() + static_cast<long>(d * n), s.begin() + static_cast<long>((d + 1) * n),
               sys.particles.s[d].begin());
   sys.neighbors.invalidate();
   const double length = CompressingBox<D>::length_for_packing(sys.box.particle_volume, phi);
-  minimize_fire(sys, length);
+  FireOptions options;
+  options.stop = stop;
+  if (minimize_fire(sys, length, options).stopped) throw JammingSearchStopped{};
   CompressingBox<D> fixed = sys.box;
   sys.box.initial_length = length;
   sys.box.compression_rate = 0.0;
@@ -53,15 +60,17 @@ bool jammed_after_minimization(System<D, Contact>& sys, const std::vector<double
 }
 
 /// Bisection over the saved configurations (in increasing packing), then refinement.
-/// sys is used as scratch: its particles are overwritten.
+/// sys is used as scratch: its particles are overwritten. Throws JammingSearchStopped when
+/// `stop` becomes true during a minimization.
 template <int D, class Contact>
-JammingPoint find_jamming_point(System<D, Contact>& sys,
-                                const std::vector<SavedConfiguration>& saved) {
+JammingPoint find_jamming_point_or_stop(System<D, Contact>& sys,
+                                        const std::vector<SavedConfiguration>& saved,
+                                        const std::atomic<bool>* stop) {
   JammingPoint r;
   if (saved.size() < 2) return r;
   auto jammed = [&](const std::vector<double>& s, double phi) {
     ++r.minimizations;
-    return jammed_after_minimization(sys, s, phi);
+    return jammed_after_minimization(sys, s, phi, stop);
   };
   if (!jammed(saved.back().s, saved.back().packing_fraction)) return r;
   if (jammed(saved.front().s, saved.front().packing_fraction)) return r;
@@ -83,6 +92,20 @@ JammingPoint find_jamming_point(System<D, Contact>& sys,
   r.packing_fraction = phi0 + 0.5 * (lam_lo + lam_hi) * (phi1 - phi0);
   r.bracketed = true;
   return r;
+}
+
+/// find_jamming_point_or_stop, with a stop reported in the result (stopped = true).
+template <int D, class Contact>
+JammingPoint find_jamming_point(System<D, Contact>& sys,
+                                const std::vector<SavedConfiguration>& saved,
+                                const std::atomic<bool>* stop = nullptr) {
+  try {
+    return find_jamming_point_or_stop(sys, saved, stop);
+  } catch (const JammingSearchStopped&) {
+    JammingPoint r;
+    r.stopped = true;
+    return r;
+  }
 }
 
 }  // namespace jam

@@ -316,7 +316,13 @@ class CompressionRun {
     if (c_.jamming_point) {
       System<D, Contact> scratch(sys_.particles, sys_.species, sys_.box, c_.skin);
       scratch.set_threads(c_.threads);
-      const JammingPoint j = find_jamming_point(scratch, st_.saved);
+      const JammingPoint j = find_jamming_point(scratch, st_.saved, control_.stop);
+      if (j.stopped) {
+        // The compression is done and its state (saved configurations included) goes into
+        // the checkpoint; resuming redoes only the search, which is deterministic.
+        pause_at_once(0);
+        return interrupted();
+      }
       meta_.jamming_packing_fraction = j.packing_fraction;
       meta_.jamming_minimizations = j.minimizations;
     }
