@@ -84,7 +84,8 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
     b.out = (dir / fmt::format("jam_{}.h5", k)).string();
     run_compression(b);
     const h5::File f = h5::File::open_read(b.out);
-    const auto phi_jam = f.read_dataset("packing_fraction"), p_jam = f.read_dataset("pressure");
+    const auto phi_jam = f.read_dataset("packing_fraction");
+    const auto p_jam = f.read_dataset("pressure", h5::exactly(phi_jam.size()));
     const double phi_start = f.read_attribute_double("phi_init");
     std::vector<double> phi_lmp;
     for (double t : lmp.time) phi_lmp.push_back(phi_start * std::exp(D * kRate * t));

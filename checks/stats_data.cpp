@@ -13,14 +13,77 @@
 namespace jam::checks {
 namespace {
 
-std::vector<std::vector<double>> table(const h5::File& f, const std::string& name, std::size_t m) {
-  const auto flat = f.read_dataset(name);
-  std::vector<std::vector<double>> rows;
-  for (std::size_t s = 0; m > 0 && s * m < flat.size(); ++s) {
-    rows.emplace_back(flat.begin() + static_cast<long>(s * m),
-                      flat.begin() + static_cast<long>((s + 1) * m));
+/// A table of `rows` samples by `m` grid points, stored row by row: its length is checked
+/// before it is read, so that every row is whole.
+std::vector<std::vector<double>> table(const h5::File& f, const std::string& name, std::size_t rows,
+                                       std::size_t m) {
+  const auto flat = f.read_dataset(name, h5::exactly(rows * m));
+  std::vector<std::vector<double>> out;
+  for (std::size_t s = 0; m > 0 && s < rows; ++s) {
+    out.emplace_back(flat.begin() + static_cast<long>(s * m),
+                     flat.begin() + static_cast<long>((s + 1) * m));
   }
-  return rows;
+  return out;
+}
+
+/// The rows of a table whose row count is its own (constant Z keeps its own sample list).
+std::size_t rows_of(const h5::File& f, const std::string& group) {
+  return f.read_dataset(group + "/sample_ids").size();
+}
+
+std::int64_t sample_id(const h5::File& f, const std::string& group, double id) {
+  // Converting a double beyond int64 (or NaN) is undefined: only sample numbers pass.
+  if (!(std::abs(id) < 0x1p53) || id != std::floor(id)) {
+    throw std::runtime_error(fmt::format(
+        "{}: dataset '{}/sample_ids' holds {}, not a sample number", f.path(), group, id));
+  }
+  return static_cast<std::int64_t>(id);
+}
+
+int read_dim(const h5::File& f) {
+  const std::int64_t dim = f.read_attribute_int("dim");
+  if (dim != 2 && dim != 3) {
+    throw std::runtime_error(
+        fmt::format("{}: attribute 'dim' = {}, expected 2 or 3", f.path(), dim));
+  }
+  return static_cast<int>(dim);
+}
+
+/// The constant-Z table of an ensemble group g, when it has one.
+void read_constant_z(const h5::File& f, const std::string& g, EnsembleTables& e) {
+  if (!f.has_dataset(g + "/constant_z")) return;
+  const std::string z = g + "/constant_z";
+  const auto groups = f.list_group(z);
+  const std::string grid_name =
+      std::find(groups.begin(), groups.end(), "contacts_per_particle") != groups.end()
+          ? "contacts_per_particle"
+          : "contacts_per_particle_no_rattlers";
+  e.z_grid = f.read_dataset(z + "/" + grid_name);
+  e.pressure_at_z = table(f, z + "/pressure_samples", rows_of(f, z), e.z_grid.size());
+}
+
+EnsembleTables read_ensemble(const h5::File& f, const std::string& name) {
+  const std::string g = "ensembles/" + name;
+  const std::string phi = g + "/constant_phi";
+  EnsembleTables e;
+  e.name = name;
+  e.n = f.read_attribute_int("n", g);
+  e.phi_init = f.read_attribute_double("phi_init", g);
+  e.log10_rate = f.read_attribute_double("log10_rate", g);
+  if (f.has_attribute("chain_phi_init", g))
+    e.chain_phi_init = f.read_attribute_double("chain_phi_init", g);
+  e.phi_grid = f.read_dataset(phi + "/packing_fraction");
+  for (double id : f.read_dataset(phi + "/sample_ids"))
+    e.sample_ids.push_back(sample_id(f, phi, id));
+  const std::size_t rows = e.sample_ids.size(), m = e.phi_grid.size();
+  e.pressure_at_phi = table(f, phi + "/pressure_samples", rows, m);
+  read_constant_z(f, g, e);
+  const std::string z_name = phi + "/contacts_per_particle_samples";
+  find_compressed_range(
+      e, f.has_dataset(z_name) ? table(f, z_name, rows, m) : std::vector<std::vector<double>>{});
+  if (f.has_dataset(g + "/jamming"))
+    e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples");
+  return e;
 }
 
 }  // namespace
@@ -47,41 +110,13 @@ StatsData read_stats(const std::string& directory) {
   const h5::File f = h5::File::open_read(path);
   StatsData d;
   d.campaign = f.read_attribute_string("campaign");
-  d.dim = static_cast<int>(f.read_attribute_int("dim"));
+  d.dim = read_dim(f);
   d.pooled = f.read_attribute_int("pooled_sizes") != 0;
   if (f.has_dataset("fit/representative")) {
     d.fit_window_min = f.read_attribute_double("phi_min", "fit/representative");
     d.fit_phi_j = f.read_attribute_double("phi_j", "fit/representative");
   }
-  for (const auto& name : f.list_group("ensembles")) {
-    const std::string g = "ensembles/" + name;
-    EnsembleTables e;
-    e.name = name;
-    e.n = f.read_attribute_int("n", g);
-    e.phi_init = f.read_attribute_double("phi_init", g);
-    e.log10_rate = f.read_attribute_double("log10_rate", g);
-    if (f.has_attribute("chain_phi_init", g))
-      e.chain_phi_init = f.read_attribute_double("chain_phi_init", g);
-    e.phi_grid = f.read_dataset(g + "/constant_phi/packing_fraction");
-    e.pressure_at_phi = table(f, g + "/constant_phi/pressure_samples", e.phi_grid.size());
-    for (double id : f.read_dataset(g + "/constant_phi/sample_ids"))
-      e.sample_ids.push_back(static_cast<std::int64_t>(id));
-    if (f.has_dataset(g + "/constant_z")) {
-      const auto groups = f.list_group(g + "/constant_z");
-      const std::string grid_name =
-          std::find(groups.begin(), groups.end(), "contacts_per_particle") != groups.end()
-              ? "contacts_per_particle"
-              : "contacts_per_particle_no_rattlers";
-      e.z_grid = f.read_dataset(g + "/constant_z/" + grid_name);
-      e.pressure_at_z = table(f, g + "/constant_z/pressure_samples", e.z_grid.size());
-    }
-    const std::string z_name = g + "/constant_phi/contacts_per_particle_samples";
-    find_compressed_range(e, f.has_dataset(z_name) ? table(f, z_name, e.phi_grid.size())
-                                                   : std::vector<std::vector<double>>{});
-    if (f.has_dataset(g + "/jamming"))
-      e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples");
-    d.ensembles.push_back(std::move(e));
-  }
+  for (const auto& name : f.list_group("ensembles")) d.ensembles.push_back(read_ensemble(f, name));
   return d;
 }
 

@@ -38,11 +38,13 @@ CampaignData read_campaign_runs(const std::string& directory) {
     c.phi_init = run.phi_init;
     c.log10_rate = run.log10_rate;
     c.sample = run.sample;
+    // run_status has checked the file; the lengths are checked again where they are read.
     c.phi = f.read_dataset("packing_fraction");
-    c.pressure = f.read_dataset("pressure");
-    c.contacts = f.read_dataset("contacts_per_particle");
+    const h5::Extent points = h5::exactly(c.phi.size());
+    c.pressure = f.read_dataset("pressure", points);
+    c.contacts = f.read_dataset("contacts_per_particle", points);
     if (f.has_dataset("contacts_per_particle_no_rattlers")) {
-      c.contacts_no_rattlers = f.read_dataset("contacts_per_particle_no_rattlers");
+      c.contacts_no_rattlers = f.read_dataset("contacts_per_particle_no_rattlers", points);
     }
     if (f.has_attribute("jamming_packing_fraction")) {
       c.jamming_point = f.read_attribute_double("jamming_packing_fraction");

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -11,18 +12,28 @@
 namespace jam::stats {
 namespace {
 
+/// A sample number stored as a double: an integer (converting anything else is undefined).
+std::int64_t sample_id(const h5::File& f, const std::string& group, double id) {
+  if (!(std::abs(id) < 0x1p53) || id != std::floor(id)) {
+    throw std::runtime_error(fmt::format(
+        "{}: dataset '{}/sample_ids' holds {}, not a sample number", f.path(), group, id));
+  }
+  return static_cast<std::int64_t>(id);
+}
+
 /// One averaging of an ensemble: its grid, sample ids and per-sample tables.
 GridAverage read_average(const h5::File& f, const std::string& group, const std::string& grid) {
   GridAverage a;
   a.grid_name = grid;
   a.grid = f.read_dataset(group + "/" + grid);
   for (double id : f.read_dataset(group + "/sample_ids"))
-    a.sample_ids.push_back(static_cast<std::int64_t>(id));
+    a.sample_ids.push_back(sample_id(f, group, id));
   const std::size_t m = a.grid.size();
   for (const auto& name : f.list_group(group)) {
     const auto at = name.rfind("_samples");
     if (at == std::string::npos || at + 8 != name.size()) continue;
-    const auto flat = f.read_dataset(group + "/" + name);
+    // One row per sample, one column per grid point: the tables are indexed so.
+    const auto flat = f.read_dataset(group + "/" + name, h5::exactly(a.sample_ids.size() * m));
     std::vector<std::vector<double>> rows;
     for (std::size_t s = 0; m > 0 && (s + 1) * m <= flat.size(); ++s) {
       rows.emplace_back(flat.begin() + static_cast<long>(s * m),
@@ -48,7 +59,11 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
   {
     const h5::File f = h5::File::open_read(path);
     s.data.name = f.read_attribute_string("campaign");
-    s.data.dim = static_cast<int>(f.read_attribute_int("dim"));
+    const std::int64_t dim = f.read_attribute_int("dim");
+    if (dim != 2 && dim != 3) {
+      throw std::runtime_error(fmt::format("{}: attribute 'dim' = {}, expected 2 or 3", path, dim));
+    }
+    s.data.dim = static_cast<int>(dim);
     s.runs_averaged = f.read_attribute_int("runs");
     s.runs_skipped = f.read_attribute_int("runs_skipped");
     for (const auto& name : f.list_group("ensembles")) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -74,11 +75,20 @@ ChainStart<D> read_chain_start(const std::string& path, const std::string& ident
         fmt::format("chained start '{}' was taken from another run or packing", path));
   }
   try {
-    if (f.read_attribute_int("dim") != D) throw std::runtime_error(path + ": other dimension");
+    if (const auto dim = f.read_attribute_int("dim"); dim != D) {
+      throw std::runtime_error(fmt::format("{}: attribute 'dim' = {}, expected {}", path, dim, D));
+    }
     s.box_length = f.read_attribute_double("box_length");
     s.packing_fraction = f.read_attribute_double("packing_fraction");
+    if (!(s.box_length > 0.0 && std::isfinite(s.box_length))) {
+      throw std::runtime_error(fmt::format(
+          "{}: attribute 'box_length' = {} is not positive and finite", path, s.box_length));
+    }
+    if (!(s.packing_fraction > 0.0 && s.packing_fraction < 1.0)) {
+      throw std::runtime_error(fmt::format(
+          "{}: attribute 'packing_fraction' = {} is outside (0, 1)", path, s.packing_fraction));
+    }
     s.particles = read_particles<D>(f, path);
-    if (!(s.box_length > 0.0)) throw std::runtime_error(path + ": box length not positive");
     return s;
   } catch (const std::exception& e) {
     throw CorruptCheckpoint(e.what());

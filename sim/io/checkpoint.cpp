@@ -2,14 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/particle_datasets.hpp"
 #include "sim/io/sealed_file.hpp"
+#include "sim/run/sim_config.hpp"
 
 namespace jam {
 namespace {
@@ -115,43 +118,97 @@ std::optional<Checkpoint<D>> read_checkpoint(const std::string& path,
   }
 }
 
+namespace {
+
+constexpr auto kMaxPoints = static_cast<std::size_t>(kMaxOutputPoints);
+
+/// Integer attribute `name`, refused (naming the file, the field and its value) outside
+/// [lo, hi]: a run indexes its output times with next_output and counts steps from these.
+std::int64_t read_in_range(const h5::File& f, const char* name, std::int64_t lo, std::int64_t hi) {
+  const std::int64_t v = f.read_attribute_int(name);
+  if (v < lo || v > hi) {
+    throw std::runtime_error(
+        fmt::format("{}: attribute '{}' = {} is outside [{}, {}]", f.path(), name, v, lo, hi));
+  }
+  return v;
+}
+
+double read_finite(const h5::File& f, const char* name) {
+  const double v = f.read_attribute_double(name);
+  if (!std::isfinite(v)) {
+    throw std::runtime_error(
+        fmt::format("{}: attribute '{}' = {} is not finite", f.path(), name, v));
+  }
+  return v;
+}
+
+template <int D>
+void read_counters(const h5::File& f, RunState<D>& s) {
+  constexpr std::int64_t kMaxSteps = std::numeric_limits<std::int64_t>::max() / 2;
+  s.phase = read_in_range(f, "phase", RunState<D>::kRelaxing, RunState<D>::kCompressing);
+  s.relax_steps = read_in_range(f, "relax_steps", 0, kMaxSteps);
+  s.relax_converged = f.read_attribute_int("relax_converged") != 0;
+  s.steps = read_in_range(f, "steps", 0, kMaxSteps);
+  s.next_output = read_in_range(f, "next_output", 0, static_cast<std::int64_t>(kMaxPoints));
+  // Times of adaptive steps (fixed-step runs compute theirs from the step count).
+  if (f.has_attribute("time")) s.time = read_finite(f, "time");
+  if (f.has_attribute("relax_time")) s.relax_time = read_finite(f, "relax_time");
+}
+
+/// The output points so far: every points_* column has one entry per point, the stress D x D.
+template <int D>
+void read_points(const h5::File& f, RunState<D>& s) {
+  const std::size_t m = f.read_dataset("points_time", h5::at_most(kMaxPoints)).size();
+  s.points.resize(m);
+  for (int k = 0; k < 7; ++k) {
+    const auto column =
+        f.read_dataset(std::string("points_") + kObservableFields[k], h5::exactly(m));
+    for (std::size_t i = 0; i < m; ++i) field(s.points[i], k) = column[i];
+  }
+  const auto stress = f.read_dataset("points_stress", h5::exactly(m * D * D));
+  std::size_t at = 0;
+  for (auto& pt : s.points)
+    for (auto& row : pt.stress)
+      for (auto& x : row) x = stress[at++];
+}
+
+/// The configurations kept for the jamming point: D x n scaled positions each.
+template <int D>
+void read_saved(const h5::File& f, RunState<D>& s, std::size_t n) {
+  const auto saved_phi = f.read_dataset("saved_packing_fraction", h5::at_most(kMaxPoints));
+  const std::size_t per = D * n;
+  const auto saved_s = f.read_dataset("saved_s", h5::exactly(saved_phi.size() * per));
+  for (std::size_t k = 0; k < saved_phi.size(); ++k) {
+    const auto first = saved_s.begin() + static_cast<long>(k * per);
+    s.saved.push_back({saved_phi[k], std::vector<double>(first, first + static_cast<long>(per))});
+  }
+}
+
+/// The integrator's fields. The integrators copy a per-particle field whole and index it by
+/// particle, so each holds one value per particle, except the two scalars.
+StepperState read_stepper(const h5::File& f, std::size_t n) {
+  constexpr std::int64_t kMaxFields = 64;  // the integrators keep at most 2 D + 1
+  StepperState stepper;
+  const std::int64_t fields = read_in_range(f, "stepper_fields", 0, kMaxFields);
+  for (std::int64_t k = 0; k < fields; ++k) {
+    const std::string name = f.read_attribute_string(fmt::format("stepper_field_{}", k));
+    const bool scalar = name == "h_next" || name == "have_forces";
+    stepper.emplace_back(name, f.read_dataset("stepper_" + name, h5::exactly(scalar ? 1 : n)));
+  }
+  return stepper;
+}
+
+}  // namespace
+
 template <int D>
 Checkpoint<D> read_checkpoint_data(const std::string& path) {
   const h5::File f = h5::File::open_read(path);
   Checkpoint<D> c;
-  c.state.phase = f.read_attribute_int("phase");
-  c.state.relax_steps = f.read_attribute_int("relax_steps");
-  c.state.relax_converged = f.read_attribute_int("relax_converged") != 0;
-  c.state.steps = f.read_attribute_int("steps");
-  c.state.next_output = f.read_attribute_int("next_output");
-  // Times of adaptive steps (fixed-step runs compute theirs from the step count).
-  if (f.has_attribute("time")) c.state.time = f.read_attribute_double("time");
-  if (f.has_attribute("relax_time")) c.state.relax_time = f.read_attribute_double("relax_time");
+  read_counters(f, c.state);
   c.particles = read_particles<D>(f, path);
-  const auto time = f.read_dataset("points_time");
-  c.state.points.resize(time.size());
-  for (int k = 0; k < 7; ++k) {
-    const auto column = f.read_dataset(std::string("points_") + kObservableFields[k]);
-    for (std::size_t m = 0; m < column.size(); ++m) field(c.state.points[m], k) = column[m];
-  }
-  const auto stress = f.read_dataset("points_stress");
-  std::size_t at = 0;
-  for (auto& pt : c.state.points)
-    for (auto& row : pt.stress)
-      for (auto& x : row) x = stress.at(at++);
-  const auto saved_phi = f.read_dataset("saved_packing_fraction");
-  const auto saved_s = f.read_dataset("saved_s");
-  const std::size_t per = saved_phi.empty() ? 0 : saved_s.size() / saved_phi.size();
-  for (std::size_t k = 0; k < saved_phi.size(); ++k) {
-    c.state.saved.push_back(
-        {saved_phi[k], std::vector<double>(saved_s.begin() + static_cast<long>(k * per),
-                                           saved_s.begin() + static_cast<long>((k + 1) * per))});
-  }
-  const auto fields = f.read_attribute_int("stepper_fields");
-  for (std::int64_t k = 0; k < fields; ++k) {
-    const std::string name = f.read_attribute_string(fmt::format("stepper_field_{}", k));
-    c.stepper.emplace_back(name, f.read_dataset("stepper_" + name));
-  }
+  read_points(f, c.state);
+  read_saved(f, c.state, c.particles.size());
+  c.stepper = read_stepper(f, c.particles.size());
   return c;
 }
 

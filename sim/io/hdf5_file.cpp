@@ -4,12 +4,25 @@
 
 #include <cerrno>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/output_path.hpp"
 
 namespace jam::h5 {
 namespace {
+
+/// "4000" or "2x3": the extent of a simple dataspace, for errors.
+std::string extent_words(const std::vector<hsize_t>& dims) {
+  std::string s;
+  for (std::size_t k = 0; k < dims.size(); ++k) {
+    if (k > 0) s += 'x';
+    s += std::to_string(dims[k]);
+  }
+  return s;
+}
 
 hid_t check(hid_t id, const std::string& what) {
   if (id < 0) throw std::runtime_error(what);
@@ -43,6 +56,37 @@ struct SilenceHdf5 {
 const SilenceHdf5 silence_hdf5;
 
 }  // namespace
+
+std::vector<hsize_t> extent(hid_t space, const std::string& what) {
+  const int rank = H5Sget_simple_extent_ndims(space);
+  if (rank < 0 || rank > H5S_MAX_RANK) throw std::runtime_error(what + ": unreadable shape");
+  std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+  if (rank > 0 && H5Sget_simple_extent_dims(space, dims.data(), nullptr) < 0) {
+    throw std::runtime_error(what + ": unreadable shape");
+  }
+  return dims;
+}
+
+hsize_t count_values(const std::vector<hsize_t>& dims, const std::string& what) {
+  hsize_t count = 1;
+  for (const hsize_t d : dims) {
+    // A flipped bit in a dimension can make the product wrap round to a small number.
+    if (d != 0 && count > std::numeric_limits<hsize_t>::max() / d) {
+      throw std::runtime_error(
+          fmt::format("{}: an extent of {} values overflows", what, extent_words(dims)));
+    }
+    count *= d;
+  }
+  return count;
+}
+
+hsize_t values_in(hid_t space, const std::string& what) {
+  const H5S_class_t cls = H5Sget_simple_extent_type(space);
+  if (cls == H5S_NULL) return 0;
+  if (cls == H5S_SCALAR) return 1;
+  if (cls != H5S_SIMPLE) throw std::runtime_error(what + ": unreadable shape");
+  return count_values(extent(space, what), what);
+}
 
 Handle& Handle::operator=(Handle&& o) noexcept {
   if (this != &o) {
@@ -97,6 +141,8 @@ File File::create(const std::string& path, hsize_t user_block) {
 }
 
 File File::open_read(const std::string& path) {
+  // stat() never waits; opening a FIFO waits for a writer that may never come.
+  check_input_file("HDF5 file", path);
   std::unique_lock lock(library_mutex());
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -158,19 +204,6 @@ void write_array(hid_t file, const std::string& name, hid_t file_type, hid_t mem
                      "cannot write dataset " + name);
 }
 
-template <class T>
-std::vector<T> read_array(hid_t file, const std::string& path, const std::string& name,
-                          hid_t memory_type) {
-  Handle set(check(H5Dopen2(file, name.c_str(), H5P_DEFAULT),
-                   fmt::format("{}: missing dataset '{}'", path, name)),
-             H5Dclose);
-  Handle space(H5Dget_space(set.get()), H5Sclose);
-  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
-  std::vector<T> v(static_cast<std::size_t>(count < 0 ? 0 : count));
-  check_status(H5Dread(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
-               path + ": cannot read " + name);
-  return v;
-}
 }  // namespace
 
 void File::write_dataset(const std::string& name, const std::vector<double>& data,
@@ -192,40 +225,206 @@ bool File::has_dataset(const std::string& name) const {
 }
 
 namespace {
-Handle open_attribute(hid_t file, const std::string& path, const std::string& name,
-                      const std::string& object) {
-  return Handle(check(H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
-                      fmt::format("{}: missing attribute '{}'", path, name)),
-                H5Aclose);
+
+/// What a reader asks for: the HDF5 type classes it accepts, in words for its errors.
+enum class Kind { kInteger, kNumber, kString };
+
+const char* expected_words(Kind kind) {
+  switch (kind) {
+    case Kind::kInteger:
+      return "an integer";
+    case Kind::kNumber:
+      return "a number";
+    case Kind::kString:
+      return "a string";
+  }
+  return "";
 }
+
+const char* class_words(H5T_class_t cls) {
+  switch (cls) {
+    case H5T_INTEGER:
+      return "an integer";
+    case H5T_FLOAT:
+      return "a floating-point number";
+    case H5T_STRING:
+      return "a string";
+    case H5T_COMPOUND:
+      return "a compound value";
+    case H5T_ARRAY:
+      return "an array type";
+    case H5T_VLEN:
+      return "a variable-length sequence";
+    case H5T_ENUM:
+      return "an enumeration";
+    case H5T_REFERENCE:
+      return "a reference";
+    default:
+      return "a value of another HDF5 class";
+  }
+}
+
+bool accepts(Kind kind, H5T_class_t cls) {
+  switch (kind) {
+    case Kind::kInteger:
+      return cls == H5T_INTEGER;
+    case Kind::kNumber:  // an integer converts exactly enough; nothing else converts safely
+      return cls == H5T_INTEGER || cls == H5T_FLOAT;
+    case Kind::kString:
+      return cls == H5T_STRING;
+  }
+  return false;
+}
+
+/// "attribute 'n'" or "attribute 'n' of 'ensembles/a'".
+std::string attribute_label(const std::string& name, const std::string& object) {
+  return object == "." || object == "/" ? fmt::format("attribute '{}'", name)
+                                        : fmt::format("attribute '{}' of '{}'", name, object);
+}
+
+/// Throws `what` unless the type's class is what `kind` accepts, of a size that converts.
+void check_type(hid_t type, Kind kind, const std::string& what) {
+  const H5T_class_t cls = H5Tget_class(type);
+  if (!accepts(kind, cls)) {
+    throw std::runtime_error(
+        fmt::format("{} is {}, expected {}", what, class_words(cls), expected_words(kind)));
+  }
+  const std::size_t size = H5Tget_size(type);
+  // Numbers of 1-16 bytes convert to int64 or double; other sizes are not numbers jam wrote.
+  if (kind != Kind::kString && (size == 0 || size > 16)) {
+    throw std::runtime_error(fmt::format("{} is a number of {} bytes", what, size));
+  }
+  if (kind == Kind::kString && H5Tis_variable_str(type) <= 0 && size > kMaxStringBytes) {
+    throw std::runtime_error(fmt::format("{} is a string of {} bytes, longer than the {} allowed",
+                                         what, size, kMaxStringBytes));
+  }
+}
+
+/// Opens attribute `name` of `object` and checks that it holds one value of `kind`.
+Handle open_value(hid_t file, const std::string& path, const std::string& name,
+                  const std::string& object, Kind kind) {
+  const std::string what = path + ": " + attribute_label(name, object);
+  Handle attr(H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+              H5Aclose);
+  if (attr.get() < 0) {
+    throw std::runtime_error(fmt::format("{}: missing attribute '{}'", path, name));
+  }
+  Handle space(check(H5Aget_space(attr.get()), what + ": unreadable shape"), H5Sclose);
+  const std::vector<hsize_t> dims = extent(space.get(), what);
+  if (H5Sget_simple_extent_type(space.get()) == H5S_NULL) {
+    throw std::runtime_error(what + " holds no value (a null dataspace), expected a scalar");
+  }
+  if (!dims.empty() && count_values(dims, what) != 1) {
+    throw std::runtime_error(
+        fmt::format("{} is an array of {}, expected a scalar", what, extent_words(dims)));
+  }
+  Handle type(check(H5Aget_type(attr.get()), what + ": unreadable type"), H5Tclose);
+  check_type(type.get(), kind, what);
+  return attr;
+}
+
+/// A variable-length string attribute (as h5py writes str), read into memory HDF5 allocates.
+std::string read_variable_string(hid_t attr, hid_t file_type, const std::string& what) {
+  Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(memory.get(), H5T_VARIABLE);
+  H5Tset_cset(memory.get(), H5Tget_cset(file_type));
+  char* text = nullptr;
+  check_status(H5Aread(attr, memory.get(), &text), what + ": cannot read");
+  std::string v = text ? std::string(text, strnlen(text, kMaxStringBytes + 1)) : std::string();
+  H5free_memory(text);
+  if (v.size() > kMaxStringBytes) {
+    throw std::runtime_error(
+        fmt::format("{} is a string longer than the {} bytes allowed", what, kMaxStringBytes));
+  }
+  return v;
+}
+
 }  // namespace
 
 double File::read_attribute_double(const std::string& name, const std::string& object) const {
-  Handle attr = open_attribute(id(), path_, name, object);
+  Handle attr = open_value(id(), path_, name, object, Kind::kNumber);
   double v = 0.0;
   check_status(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &v), path_ + ": cannot read " + name);
   return v;
 }
 
 std::int64_t File::read_attribute_int(const std::string& name, const std::string& object) const {
-  Handle attr = open_attribute(id(), path_, name, object);
+  Handle attr = open_value(id(), path_, name, object, Kind::kInteger);
   std::int64_t v = 0;
   check_status(H5Aread(attr.get(), H5T_NATIVE_INT64, &v), path_ + ": cannot read " + name);
   return v;
 }
 
 std::string File::read_attribute_string(const std::string& name, const std::string& object) const {
-  Handle attr = open_attribute(id(), path_, name, object);
+  Handle attr = open_value(id(), path_, name, object, Kind::kString);
   Handle type(H5Aget_type(attr.get()), H5Tclose);
-  const std::size_t size = H5Tget_size(type.get());
-  std::string v(size, '\0');
+  const std::string what = path_ + ": " + attribute_label(name, object);
+  if (H5Tis_variable_str(type.get()) > 0) return read_variable_string(attr.get(), type.get(), what);
+  // One fixed-length string of at most kMaxStringBytes (open_value): the buffer holds it.
+  std::string v(H5Tget_size(type.get()), '\0');
   check_status(H5Aread(attr.get(), type.get(), v.data()), path_ + ": cannot read " + name);
   v.resize(v.find('\0') == std::string::npos ? v.size() : v.find('\0'));
   return v;
 }
 
-std::vector<double> File::read_dataset(const std::string& name) const {
-  return read_array<double>(id(), path_, name, H5T_NATIVE_DOUBLE);
+namespace {
+
+/// Opens dataset `name` and checks its shape before anything is read: a simple array of
+/// `kind`, no more bytes than the file, written, of the extent the caller expects. Returns the
+/// dataset and its number of values.
+std::pair<Handle, std::size_t> open_array(const File& f, const std::string& name, Kind kind,
+                                          const Extent& expected) {
+  const std::string what = fmt::format("{}: dataset '{}'", f.path(), name);
+  Handle set(check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT),
+                   fmt::format("{}: missing dataset '{}'", f.path(), name)),
+             H5Dclose);
+  Handle space(check(H5Dget_space(set.get()), what + ": unreadable shape"), H5Sclose);
+  if (H5Sget_simple_extent_type(space.get()) != H5S_SIMPLE) {
+    throw std::runtime_error(what + " is not an array (a scalar or null dataspace)");
+  }
+  const hsize_t count = count_values(extent(space.get(), what), what);
+  Handle type(check(H5Dget_type(set.get()), what + ": unreadable type"), H5Tclose);
+  check_type(type.get(), kind, what);
+  const hsize_t bytes = count * H5Tget_size(type.get());  // no overflow: size <= 16
+  if (bytes / 16 > count || bytes > f.size_bytes()) {
+    throw std::runtime_error(fmt::format("{} of {} values ({} bytes) is larger than the file ({})",
+                                         what, count, bytes, f.size_bytes()));
+  }
+  // Declared but never written: HDF5 would fill it with zeros of any size.
+  if (count > 0 && H5Dget_storage_size(set.get()) == 0) {
+    throw std::runtime_error(fmt::format("{} of {} values was never written", what, count));
+  }
+  if ((expected.length != Extent::kAny && count != expected.length) || count > expected.max) {
+    throw std::runtime_error(fmt::format("{} has {} values, expected {}", what, count,
+                                         expected.length != Extent::kAny
+                                             ? std::to_string(expected.length)
+                                             : fmt::format("at most {}", expected.max)));
+  }
+  return {std::move(set), static_cast<std::size_t>(count)};
+}
+
+template <class T>
+std::vector<T> read_array(const File& f, const std::string& name, Kind kind, hid_t memory_type,
+                          const Extent& expected) {
+  auto [set, count] = open_array(f, name, kind, expected);
+  std::vector<T> v(count);
+  check_status(H5Dread(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+               f.path() + ": cannot read " + name);
+  return v;
+}
+
+}  // namespace
+
+std::vector<double> File::read_dataset(const std::string& name, const Extent& expected) const {
+  return read_array<double>(*this, name, Kind::kNumber, H5T_NATIVE_DOUBLE, expected);
+}
+
+hsize_t File::size_bytes() const {
+  // The larger of the end of file and the end of allocated space: a file being written may
+  // not have reached its end yet. HDF5 refuses to open a file shorter than its superblock says.
+  hsize_t size = 0;
+  check_status(H5Fget_filesize(id(), &size), path_ + ": cannot read the file size");
+  return size;
 }
 
 std::vector<std::string> File::list_group(const std::string& group) const {
@@ -238,6 +437,7 @@ std::vector<std::string> File::list_group(const std::string& group) const {
   for (hsize_t k = 0; k < info.nlinks; ++k) {
     const ssize_t size =
         H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
+    if (size < 0) throw std::runtime_error(fmt::format("{}: cannot list group '{}'", path_, group));
     std::string name(static_cast<std::size_t>(size), '\0');
     H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1,
                        H5P_DEFAULT);
@@ -246,8 +446,9 @@ std::vector<std::string> File::list_group(const std::string& group) const {
   return names;
 }
 
-std::vector<std::uint32_t> File::read_dataset_u32(const std::string& name) const {
-  return read_array<std::uint32_t>(id(), path_, name, H5T_NATIVE_UINT32);
+std::vector<std::uint32_t> File::read_dataset_u32(const std::string& name,
+                                                  const Extent& expected) const {
+  return read_array<std::uint32_t>(*this, name, Kind::kInteger, H5T_NATIVE_UINT32, expected);
 }
 
 }  // namespace jam::h5

@@ -2,9 +2,25 @@
 // A thin RAII layer over the HDF5 C API: just what run files need (scalar attributes,
 // string attributes, 1-D and N-D double datasets), with errors turned into exceptions.
 // Object modification times are not recorded, so identical runs give identical files.
+//
+// Reading checks shapes before values, because a file may come from anywhere (a damaged copy,
+// a hand edit, a forged checksum) and HDF5 writes as many values as the file says into the
+// caller's buffer:
+// - a scalar attribute holds one value: a scalar dataspace or an array of exactly one element
+//   (the value is the same either way, and the run file's checksum treats them alike), of the
+//   class asked for (an integer; a number, integer or floating-point; a string, fixed-length
+//   of at most kMaxStringBytes or variable-length);
+// - a dataset is a simple array of the class asked for, whose values take no more bytes than
+//   the whole file (jam writes uncompressed data), that was written (not only declared), and
+//   whose number of values is what the caller expects (Extent).
+// Anything else throws std::runtime_error "<file>: attribute 'complete' is an array of 4000,
+// expected a scalar" (naming the file, the object and what is wrong). Only a regular file is
+// opened: a FIFO would block the open for ever.
 #include <hdf5.h>
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -30,6 +46,29 @@ class Handle {
   herr_t (*close_)(hid_t) = nullptr;
 };
 
+/// The longest string attribute read (the longest jam writes, the units, is a few hundred).
+constexpr std::size_t kMaxStringBytes = 1 << 16;
+
+/// What a reader expects of a dataset's number of values (every rank flattened).
+struct Extent {
+  static constexpr std::size_t kAny = std::numeric_limits<std::size_t>::max();
+  std::size_t length = kAny;  // exactly this many (kAny: any number)
+  std::size_t max = kAny;     // at most this many
+};
+inline Extent exactly(std::size_t n) {
+  return {n, n};
+}
+inline Extent at_most(std::size_t n) {
+  return {Extent::kAny, n};
+}
+
+/// The extent of a dataspace ({} for a scalar or null one); throws naming `what` if unreadable.
+std::vector<hsize_t> extent(hid_t space, const std::string& what);
+/// The product of an extent; throws naming `what` when it overflows.
+hsize_t count_values(const std::vector<hsize_t>& dims, const std::string& what);
+/// The number of values a dataspace holds: 1 when scalar, 0 when null.
+hsize_t values_in(hid_t space, const std::string& what);
+
 /// The Debian HDF5 library is built without thread safety: every File holds this lock for
 /// its lifetime, so runs on several threads of a campaign never call HDF5 concurrently.
 std::mutex& library_mutex();
@@ -39,6 +78,7 @@ class File {
   /// Truncates. A user block of `user_block` bytes (0 or a power of two >= 512) is left at the
   /// start of the file for the caller (sealed_file.hpp).
   static File create(const std::string& path, hsize_t user_block = 0);
+  /// Opens a regular file (anything else is refused before it is opened, naming what it is).
   static File open_read(const std::string& path);
   hid_t id() const { return file_.get(); }
   const std::string& path() const { return path_; }
@@ -64,10 +104,14 @@ class File {
   double read_attribute_double(const std::string& name, const std::string& object = ".") const;
   std::int64_t read_attribute_int(const std::string& name, const std::string& object = ".") const;
   std::string read_attribute_string(const std::string& name, const std::string& object = ".") const;
-  std::vector<double> read_dataset(const std::string& name) const;
+  /// Floating-point values, every rank flattened.
+  std::vector<double> read_dataset(const std::string& name, const Extent& expected = {}) const;
   /// Names of the links (groups, datasets) directly inside a group, in name order.
   std::vector<std::string> list_group(const std::string& group) const;
-  std::vector<std::uint32_t> read_dataset_u32(const std::string& name) const;
+  std::vector<std::uint32_t> read_dataset_u32(const std::string& name,
+                                              const Extent& expected = {}) const;
+  /// The file's size in bytes: no dataset of it can hold more.
+  hsize_t size_bytes() const;
 
  private:
   File(std::unique_lock<std::mutex> lock, Handle h, std::string path)

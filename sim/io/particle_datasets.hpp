@@ -25,18 +25,16 @@ template <int D>
 ParticleData<D> read_particles(const h5::File& f, const std::string& path) {
   ParticleData<D> p;
   p.id = f.read_dataset_u32("id");
+  if (p.id.empty()) throw std::runtime_error(path + ": no particles");
   p.resize(p.id.size());
-  const auto type = f.read_dataset_u32("type");
-  if (type.size() != p.size()) throw std::runtime_error(path + ": type and id differ");
+  // Every other dataset is checked against id's length before it is read.
+  const auto type = f.read_dataset_u32("type", h5::exactly(p.size()));
   for (std::size_t i = 0; i < type.size(); ++i) {
     if (type[i] > 1) throw std::runtime_error(path + ": particle type out of range");
     p.type[i] = static_cast<std::uint8_t>(type[i]);
   }
   for (int d = 0; d < D; ++d) {
-    p.s[d] = f.read_dataset(fmt::format("s_{}", d));
-    if (p.s[d].size() != p.size()) {
-      throw std::runtime_error(path + ": positions and id differ in length");
-    }
+    p.s[d] = f.read_dataset(fmt::format("s_{}", d), h5::exactly(p.size()));
     for (double x : p.s[d]) {
       if (!(x >= 0.0 && x < 1.0)) throw std::runtime_error(path + ": position outside the box");
     }

@@ -42,6 +42,10 @@ void add_to_checksum(std::uint64_t& h, const std::string& name, const std::vecto
   }
 }
 
+// The most output points a run file holds (sim_config.hpp's kMaxOutputPoints, beyond which a
+// run is refused).
+constexpr auto kMaxRunFilePoints = static_cast<std::size_t>(kMaxOutputPoints);
+
 constexpr std::uint64_t kChecksumStart = 0xcbf29ce484222325ULL;
 
 std::string hex(std::uint64_t h) {
@@ -68,15 +72,19 @@ RunFileCheck check_run_file(const std::string& path) {
     } else if (!f.has_attribute("data_checksum")) {
       return problem("run file has no checksum");
     }
-    const std::size_t m = f.read_dataset("packing_fraction").size();
+    const std::vector<double> phi =
+        f.read_dataset("packing_fraction", h5::at_most(kMaxRunFilePoints));
+    const std::size_t m = phi.size();
     std::uint64_t h = kChecksumStart;
     for (const char* name : kChecksummed) {
       if (!f.has_dataset(name)) continue;
-      const std::vector<double> v = f.read_dataset(name);
+      // One entry per output point; the stress a D x D matrix per point (D = 2 or 3).
+      const bool stress = std::string(name) == "stress";
+      const std::vector<double> v =
+          f.read_dataset(name, stress ? h5::at_most(9 * m) : h5::exactly(m));
       add_to_checksum(h, name, v);
-      if (std::string(name) != "stress" && v.size() != m) {
-        return problem(
-            fmt::format("dataset {} has {} entries, packing_fraction {}", name, v.size(), m));
+      if (stress && v.size() != 4 * m && v.size() != 9 * m) {
+        return problem(fmt::format("dataset stress has {} values for {} points", v.size(), m));
       }
     }
     // Schema 1 (no "checksum"): only the datasets were checksummed; such a file stays readable
@@ -85,7 +93,6 @@ RunFileCheck check_run_file(const std::string& path) {
       return problem(fmt::format("data checksum {} does not match the stored {}", hex(h),
                                  f.read_attribute_string("data_checksum")));
     }
-    const std::vector<double> phi = f.read_dataset("packing_fraction");
     for (std::size_t k = 0; k < phi.size(); ++k) {
       if (!std::isfinite(phi[k]) || (k > 0 && !(phi[k] > phi[k - 1]))) {
         return problem(

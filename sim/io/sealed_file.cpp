@@ -1,6 +1,9 @@
 #include "sim/io/sealed_file.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -54,9 +57,37 @@ void seal_file(const std::string& path) {
   }
 }
 
+namespace {
+
+const char* kind(mode_t mode) {
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+}  // namespace
+
 std::string sealed_file_problem(const std::string& path) {
-  FilePtr f(std::fopen(path.c_str(), "rb"));
-  if (!f) return fmt::format("cannot read: {}", std::strerror(errno));
+  // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer; what was opened
+  // is then checked by its descriptor, so nothing can be swapped in between.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return fmt::format("cannot read: {}", std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    const int error = errno;
+    ::close(fd);
+    return S_ISREG(st.st_mode)
+               ? fmt::format("cannot read: {}", std::strerror(error))
+               : fmt::format("is {}; only a regular file can be read", kind(st.st_mode));
+  }
+  FilePtr f(::fdopen(fd, "rb"));
+  if (!f) {
+    ::close(fd);
+    return fmt::format("cannot read: {}", std::strerror(errno));
+  }
   char block[kSealBytes + 1] = {};
   if (std::fread(block, 1, kSealBytes, f.get()) != kSealBytes) return "shorter than its seal";
   if (std::strncmp(block, "jam-seal ", 9) != 0) {

@@ -19,7 +19,8 @@ constexpr std::uint64_t kSealBytes = 512;
 /// Writes the seal of the closed HDF5 file at path (created with a kSealBytes user block).
 void seal_file(const std::string& path);
 
-/// "" when the file at path carries a seal that matches its bytes; otherwise why not.
+/// "" when the file at path carries a seal that matches its bytes; otherwise why not. Anything
+/// but a regular file (a FIFO, a device) is refused before it is read, without waiting.
 std::string sealed_file_problem(const std::string& path);
 
 /// Writes a sealed HDF5 file at path atomically: fill(h5::File&) writes its content under a
