@@ -11,6 +11,7 @@
 #include "checks/check_registry.hpp"
 #include "checks/run_checks.hpp"
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/output_path.hpp"
 
 namespace jam {
 namespace {
@@ -105,6 +106,13 @@ int run_check_command(const CheckArgs& a) {
   // no check creates it (the lammps check writes its work files inside it).
   if (!std::filesystem::is_directory(a.directory)) {
     throw std::runtime_error(fmt::format("{}: no such campaign directory", a.directory));
+  }
+  // The three outputs, checked before any check runs (output_path.hpp): a FIFO or directory
+  // there is refused now, not after the work.
+  {
+    const std::filesystem::path dir(a.directory);
+    const std::string stem = a.name == "all" ? "checks" : "checks-" + a.name;
+    for (const char* ext : {".json", ".xml", ".h5"}) output_file_target((dir / (stem + ext)).string());
   }
   checks::CheckOptions o = a.options;
   // Margins and expected failures: the campaign file's, then --margin.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "sim/io/output_path.hpp"
 #include "sim/model/paper_values.hpp"
 
 namespace jam {
@@ -67,11 +68,13 @@ int run_stats_command(const StatsArgs& a) {
     o.fixed_q = paper_values(dim).q();
     if (a.fix_paper_exponents) o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
+  // The output, checked before the work (output_path.hpp).
+  const std::string out = output_file_target(
+      (std::filesystem::path(a.directory) / "stats.h5").string());
   const auto started = std::chrono::steady_clock::now();
   stats::CampaignStats s = a.refit ? stats::refit_campaign_stats(a.directory, o)
                                    : stats::compute_campaign_stats(a.directory, o);
   s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  const std::string out = (std::filesystem::path(a.directory) / "stats.h5").string();
   stats::write_stats_file(out, s, o);
   fmt::print("{}", stats::format_stats_summary(s));
   fmt::print("wrote {}\n", out);

@@ -10,6 +10,7 @@
 #include "checks/check_registry.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/version.hpp"
 
 namespace jam::checks {
@@ -138,7 +139,8 @@ std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite
   return out.str();
 }
 
-void write_curves(const std::string& path, const std::vector<Verdict>& v, double wall_time) {
+void write_curves(const std::string& given, const std::vector<Verdict>& v, double wall_time) {
+  const std::string path = output_file_target(given);
   const std::string temporary = AtomicFile::temporary_name(path);
   try {
     h5::File f = h5::File::create(temporary);

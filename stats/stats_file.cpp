@@ -7,6 +7,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/output_path.hpp"
 #include "sim/model/paper_values.hpp"
 #include "sim/version.hpp"
 #include "stats/campaign_stats.hpp"
@@ -159,7 +160,8 @@ void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
 
 }  // namespace
 
-void write_stats_file(const std::string& path, const CampaignStats& s, const StatsOptions& o) {
+void write_stats_file(const std::string& given, const CampaignStats& s, const StatsOptions& o) {
+  const std::string path = output_file_target(given);
   const std::string temporary = AtomicFile::temporary_name(path);
   try {
     h5::File f = h5::File::create(temporary);

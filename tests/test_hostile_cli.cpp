@@ -212,6 +212,36 @@ BOOST_AUTO_TEST_CASE(write_start_fifo_device_symlink_dangling_directory_refused_
   BOOST_TEST(jam::test::slurp(kDir / "target.h5") != "old");
 }
 
+BOOST_AUTO_TEST_CASE(symlinked_stats_h5_and_checks_json_written_through_fifos_refused) {
+  const fs::path file = small_campaign("links");
+  const fs::path dir = kDir / "links";
+  BOOST_REQUIRE(jam_within(120, "campaign run --quiet " + file.string()).status == 0);
+  // Links to regular files elsewhere: written through, the links stay (docs/cli.md).
+  write(kDir / "stats-target.h5", "old");
+  write(kDir / "checks-target.json", "old");
+  fs::create_symlink(kDir / "stats-target.h5", dir / "stats.h5");
+  fs::create_symlink(kDir / "checks-target.json", dir / "checks.json");
+  BOOST_TEST(jam_within(60, "stats --no-fit " + dir.string()).status == 0);
+  jam_within(120, "check all --no-lmp " + dir.string());
+  BOOST_TEST(fs::is_symlink(dir / "stats.h5"));
+  BOOST_TEST(fs::is_symlink(dir / "checks.json"));
+  BOOST_TEST(jam::test::slurp(kDir / "stats-target.h5") != "old");
+  BOOST_TEST(jam::test::slurp(kDir / "checks-target.json").find("verdicts") != std::string::npos);
+  // FIFOs: refused before the work, and left as they are.
+  fs::remove(dir / "checks.json");
+  BOOST_REQUIRE(::mkfifo((dir / "checks.json").c_str(), 0600) == 0);
+  Outcome o = jam_within(60, "check all --no-lmp " + dir.string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(mentions(o, (dir / "checks.json").string() + ": is a FIFO"), o.output);
+  BOOST_TEST(fs::is_fifo(dir / "checks.json"));
+  fs::remove(dir / "stats.h5");
+  BOOST_REQUIRE(::mkfifo((dir / "stats.h5").c_str(), 0600) == 0);
+  o = jam_within(60, "stats --no-fit " + dir.string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(mentions(o, (dir / "stats.h5").string() + ": is a FIFO"), o.output);
+  BOOST_TEST(fs::is_fifo(dir / "stats.h5"));
+}
+
 BOOST_AUTO_TEST_CASE(out_name_of_230_characters_refused_before_the_first_checkpoint) {
   const fs::path out = kDir / (std::string(230, 'a') + ".h5");
   const Outcome o = jam_within(60, kSim + "--out " + out.string());

@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "sim/io/output_path.hpp"
+
 namespace jam {
 
 std::string write_failure(const std::string& path, int error) {
@@ -47,7 +49,8 @@ std::string move_aside(const std::string& path, const std::string& suffix) {
                                path, suffix));
 }
 
-void copy_file_atomically(const std::string& from, const std::string& to) {
+void copy_file_atomically(const std::string& from, const std::string& given) {
+  const std::string to = output_file_target(given);
   const std::string temporary = AtomicFile::temporary_name(to);
   std::error_code ec;
   std::filesystem::copy_file(from, temporary, std::filesystem::copy_options::overwrite_existing,
@@ -68,7 +71,7 @@ std::string AtomicFile::temporary_name(const std::string& path) {
 }
 
 AtomicFile::AtomicFile(std::string path)
-    : path_(std::move(path)), temporary_(temporary_name(path_)) {
+    : path_(output_file_target(path)), temporary_(temporary_name(path_)) {
   stream_ = std::fopen(temporary_.c_str(), "w");
   if (!stream_) {
     throw WriteError(fmt::format("cannot write '{}': {}", path_, std::strerror(errno)));

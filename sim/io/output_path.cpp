@@ -37,23 +37,33 @@ const char* kind(fs::file_type t) {
 
 }  // namespace
 
-std::string checked_output_file(const std::string& option, const std::string& path) {
-  if (path.empty()) refuse(option, "''", "an output file name is required");
-  if (path.back() == '/') refuse(option, path, "names a directory, not a file");
+std::string output_file_target(const std::string& path) {
+  auto refuse_path = [&path](const std::string& why) {
+    throw OutputPathError(fmt::format("{}: {}", path.empty() ? "''" : path, why));
+  };
+  if (path.empty()) refuse_path("an output file name is required");
+  if (path.back() == '/') refuse_path("names a directory, not a file");
   std::error_code ec;
   const fs::file_status link = fs::symlink_status(path, ec);
   if (link.type() == fs::file_type::not_found) return path;
   const fs::file_status target = fs::status(path, ec);
   const bool is_link = link.type() == fs::file_type::symlink;
   if (is_link && target.type() == fs::file_type::not_found) {
-    refuse(option, path, "is a symbolic link to a missing file; give the file's own path");
+    refuse_path("is a symbolic link to a missing file; give the file's own path");
   }
   if (target.type() != fs::file_type::regular) {
-    refuse(option, path,
-           fmt::format("is {}{}; only a regular file (or a new name) can be replaced",
-                       kind(target.type()), is_link ? " (through a symbolic link)" : ""));
+    refuse_path(fmt::format("is {}{}; only a regular file (or a new name) can be replaced",
+                            kind(target.type()), is_link ? " (through a symbolic link)" : ""));
   }
   return is_link ? fs::canonical(path).string() : path;
+}
+
+std::string checked_output_file(const std::string& option, const std::string& path) {
+  try {
+    return output_file_target(path);
+  } catch (const OutputPathError& e) {
+    throw ConfigError(fmt::format("--{} {}", option, e.what()));
+  }
 }
 
 void check_output_directory(const std::string& option, const std::string& path) {

@@ -10,9 +10,21 @@
 // as it was. A link that points nowhere, or at anything else, is refused.
 //
 // Inputs are checked too (check_input_file): only a regular file is ever opened for reading.
+#include <stdexcept>
 #include <string>
 
 namespace jam {
+
+/// An output path that names something jam must not replace (output_file_target).
+struct OutputPathError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The one route of every file output, options and files jam names itself (stats.h5,
+/// checks.json, run files, checkpoints) alike: the path to write, `path` itself or the regular
+/// file a symbolic link there points to. Throws OutputPathError "<path>: is a FIFO; ..." for a
+/// FIFO, device, socket, directory or dangling link, before anything is written.
+std::string output_file_target(const std::string& path);
 
 /// The path to write for a file output: `path` itself, or the file a symbolic link there
 /// points to. Throws ConfigError "--<option> <path>: ..." naming what is there otherwise.
