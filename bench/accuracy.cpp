@@ -145,9 +145,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
   validate(o);
   const bool lammps = o.lammps && lmp_available();
   if (o.lammps && !lammps) fmt::print(stderr, "jam bench: no lmp on the PATH, jam only\n");
-  const fs::path work =
-      fs::temp_directory_path() / fmt::format("jam-bench-accuracy-{}", ::getpid());
-  fs::create_directories(work);
+  const fs::path work = make_work_directory("jam-bench-accuracy");
 
   // Relaxed starts, one per (dimension, seed), shared by every rate and method.
   std::map<std::pair<int, int>, Start> starts;

@@ -191,9 +191,7 @@ std::vector<ThroughputRow> run_throughput(const ThroughputOptions& o) {
   if (o.lammps && !lammps) fmt::print(stderr, "jam bench: no lmp on the PATH, jam only\n");
   ThroughputOptions opts = o;
   opts.lammps = lammps;
-  const fs::path work =
-      fs::temp_directory_path() / fmt::format("jam-bench-throughput-{}", ::getpid());
-  fs::create_directories(work);
+  const fs::path work = make_work_directory("jam-bench-throughput");
   std::vector<ThroughputRow> rows;
   try {
     for (int d : o.dims) {
