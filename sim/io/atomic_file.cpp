@@ -56,9 +56,11 @@ void copy_file_atomically(const std::string& from, const std::string& given) {
   std::filesystem::copy_file(from, temporary, std::filesystem::copy_options::overwrite_existing,
                              ec);
   if (ec) {
+    // The cause is judged while the partial copy still takes its space (a full disk can answer
+    // EIO; write_failure calls it full only when no block is left).
+    const std::string why = write_failure(to, ec.value());
     std::filesystem::remove(temporary);
-    throw WriteError(
-        fmt::format("cannot copy '{}' to '{}': {}", from, to, write_failure(to, ec.value())));
+    throw WriteError(fmt::format("cannot copy '{}' to '{}': {}", from, to, why));
   }
   AtomicFile::publish(to);
 }

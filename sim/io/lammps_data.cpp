@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 #include <unordered_set>
 #include <vector>
 
@@ -16,11 +17,32 @@
 
 namespace jam {
 
+namespace {
+/// The data file's text into f; fmt throws std::system_error when a write fails.
+template <int D>
+void write_lammps_data_to(std::FILE* f, const ParticleData<D>& p, double box_length,
+                          double mass_small, double mass_big, const std::string& title);
+}  // namespace
+
 template <int D>
 void write_lammps_data(const std::string& path, const ParticleData<D>& p, double box_length,
                        double mass_small, double mass_big, const std::string& title) {
   AtomicFile out(path);
-  std::FILE* f = out.stream();
+  try {
+    write_lammps_data_to(out.stream(), p, box_length, mass_small, mass_big, title);
+  } catch (const std::system_error& e) {
+    // fmt's "cannot write to file" names no file; the temporary still holds the space it took,
+    // so write_failure sees the disk as full as it was.
+    throw WriteError(
+        fmt::format("cannot write '{}': {}", path, write_failure(path, e.code().value())));
+  }
+  out.commit();
+}
+
+namespace {
+template <int D>
+void write_lammps_data_to(std::FILE* f, const ParticleData<D>& p, double box_length,
+                          double mass_small, double mass_big, const std::string& title) {
   const double half = 0.5 * box_length;
   fmt::print(f, "LAMMPS data file: {}\n\n{} atoms\n2 atom types\n\n", title, p.size());
   const char* axes[3] = {"x", "y", "z"};
@@ -42,8 +64,8 @@ void write_lammps_data(const std::string& path, const ParticleData<D>& p, double
     }
     fmt::print(f, " 0 0 0\n");
   }
-  out.commit();
 }
+}  // namespace
 
 namespace {
 
