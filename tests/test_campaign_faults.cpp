@@ -175,27 +175,17 @@ BOOST_AUTO_TEST_CASE(file_size_limit_like_a_full_disk) {
 // A real full disk: a 512 kB tmpfs holding the campaign, filled up before the new runs. Needs
 // root (mount); skipped with a message otherwise.
 BOOST_AUTO_TEST_CASE(full_tmpfs) {
-  const fs::path mnt = kDir / "mnt";
-  fs::create_directories(mnt);
-  if (::geteuid() != 0 || ::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=512k") != 0) {
+  const jam::test::SmallTmpfs tmpfs(kDir / "mnt", "512k");
+  if (!tmpfs.mounted) {
     BOOST_TEST_MESSAGE("full_tmpfs skipped: mounting a tmpfs needs root");
     return;
   }
-  struct Unmount {
-    fs::path p;
-    ~Unmount() { ::umount2(p.c_str(), MNT_DETACH); }
-  } unmount{mnt};
+  const fs::path& mnt = tmpfs.dir;
   const fs::path dir = mnt / "campaign";
   const fs::path file = write_campaign("f", kTiny, dir);
   BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
   const auto first = run_files(dir);
-  {  // fill the disk, leaving a few kB
-    std::ofstream filler(mnt / "filler", std::ios::binary);
-    const std::string block(4096, 'x');
-    while (filler.write(block.data(), block.size())) {
-    }
-  }
-  fs::resize_file(mnt / "filler", fs::file_size(mnt / "filler") - 8192);
+  tmpfs.fill(8192);  // leaving a few kB
   std::string more = kTiny;
   more.replace(more.find("samples = 3"), 11, "samples = 6");
   const fs::path bigger = write_campaign("f", more, dir);
@@ -207,7 +197,7 @@ BOOST_AUTO_TEST_CASE(full_tmpfs) {
   for (const auto& [name, bytes] : now) {
     BOOST_TEST(jam::run_file_problem((dir / "runs" / name).string()) == "", name);
   }
-  fs::remove(mnt / "filler");
+  tmpfs.empty();
   const Outcome again = run_jam("campaign run --quiet " + bigger.string());
   BOOST_TEST(again.status == 0, again.output);
   BOOST_TEST(run_files(dir).size() == 6u);
@@ -283,25 +273,16 @@ BOOST_FIXTURE_TEST_CASE(check_fails_in_one_line, Fixture) {
   BOOST_TEST(one_line(o), o.output);
   BOOST_TEST(o.output.find((dir / "stats.h5").string()) != std::string::npos, o.output);
 
-  const fs::path mnt = kDir / "mnt-check";
-  fs::create_directories(mnt);
-  if (::geteuid() != 0 || ::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=256k") != 0) {
+  const jam::test::SmallTmpfs tmpfs(kDir / "mnt-check", "256k");
+  if (!tmpfs.mounted) {
     BOOST_TEST_MESSAGE("full disk part skipped: mounting a tmpfs needs root");
     return;
   }
-  struct Unmount {
-    fs::path p;
-    ~Unmount() { ::umount2(p.c_str(), MNT_DETACH); }
-  } unmount{mnt};
+  const fs::path& mnt = tmpfs.dir;
   const fs::path full = mnt / "c";
   fs::create_directories(full);
   std::ofstream(full / "stats.h5", std::ios::binary) << stats;
-  {
-    std::ofstream filler(mnt / "filler", std::ios::binary);
-    const std::string block(4096, 'x');
-    while (filler.write(block.data(), block.size())) {
-    }
-  }
+  tmpfs.fill();
   o = run_jam("check sample_pairs " + full.string());
   BOOST_TEST(o.status == 2, o.output);
   BOOST_TEST(o.output.find("No space left on device") != std::string::npos, o.output);

@@ -5,7 +5,6 @@
 // corrupt run, and grids are bounded before they are allocated. Every jam started here runs
 // under `timeout`, so that a regression to a hang fails the test instead of CI.
 #define BOOST_TEST_MODULE hostile_cli
-#include <sys/mount.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -15,6 +14,7 @@
 #include <regex>
 #include <string>
 
+#include "file_faults.hpp"
 #include "process.hpp"
 #include "sim/io/process.hpp"
 
@@ -302,16 +302,12 @@ BOOST_AUTO_TEST_CASE(stats_z_step_1e_minus_7_refused_before_allocating) {
 // file, no truncated copy is left under a final name, and a summary printed to a file on the
 // full disk is an error, not exit 0. Root only (a tmpfs is mounted); skipped otherwise.
 BOOST_AUTO_TEST_CASE(full_disk_during_check_all_names_the_file_and_leaves_no_truncated_copy) {
-  const fs::path mnt = kDir / "mnt";
-  fs::create_directories(mnt);
-  if (::geteuid() != 0 || ::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=1m") != 0) {
+  const jam::test::SmallTmpfs tmpfs(kDir / "mnt", "1m");
+  if (!tmpfs.mounted) {
     BOOST_TEST_MESSAGE("skipped: mounting a tmpfs needs root");
     return;
   }
-  struct Unmount {
-    fs::path p;
-    ~Unmount() { ::umount2(p.c_str(), MNT_DETACH); }
-  } unmount{mnt};
+  const fs::path& mnt = tmpfs.dir;
   const fs::path file = small_campaign("full");
   std::string text = jam::test::slurp(file);
   text.replace(text.find((kDir / "full").string()), (kDir / "full").string().size(),
@@ -324,14 +320,8 @@ BOOST_AUTO_TEST_CASE(full_disk_during_check_all_names_the_file_and_leaves_no_tru
   // it is still named for what it is.
   for (const int kilobytes : {0, 4, 12, 24, 40}) {
     fs::remove_all(mnt / "full" / "lammps-check");
-    fs::remove(mnt / "filler");
-    {
-      std::ofstream filler(mnt / "filler", std::ios::binary);
-      const std::string block(4096, 'x');
-      while (filler.write(block.data(), block.size())) {
-      }
-    }
-    fs::resize_file(mnt / "filler", fs::file_size(mnt / "filler") - 1024u * kilobytes);
+    tmpfs.empty();
+    tmpfs.fill(1024u * kilobytes);
     const Outcome o = jam_within(120, "check all --no-lmp " + (mnt / "full").string());
     BOOST_TEST_CONTEXT(kilobytes << " kB free") {
       BOOST_TEST(o.status == 2, o.output);
@@ -343,12 +333,7 @@ BOOST_AUTO_TEST_CASE(full_disk_during_check_all_names_the_file_and_leaves_no_tru
     }
   }
   fs::remove_all(mnt / "full" / "lammps-check");
-  {
-    std::ofstream filler(mnt / "filler", std::ios::binary | std::ios::app);
-    const std::string block(4096, 'x');
-    while (filler.write(block.data(), block.size())) {
-    }
-  }
+  tmpfs.fill();
   std::vector<std::string> argv = jam::test::jam_argv("campaign status " + (mnt / "full").string());
   jam::ProcessOptions po;
   po.stdout_file = (mnt / "status.txt").string();
