@@ -17,7 +17,28 @@
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
 #include "sim/io/install_paths.hpp"
+#include "sim/simd.hpp"
 #include "sim/version.hpp"
+
+namespace {
+/// The version and what this build can do: MPI (campaigns over ranks), OpenMP (--threads),
+/// AVX2 forms of the hot loops and whether this processor runs them.
+std::string version_text() {
+#if defined(_OPENMP)
+  const char* openmp = "yes";
+#else
+  const char* openmp = "no (--threads 1 only)";
+#endif
+#if defined(JAM_AVX2_FORMS)
+  const char* avx2 = jam::cpu_has_avx2() ? "yes" : "built, not on this processor";
+#else
+  const char* avx2 = "no";
+#endif
+  return fmt::format("jam {}\nMPI: {}\nOpenMP: {}\nAVX2: {}", jam::kVersion,
+                     jam::built_with_mpi() ? "yes" : "no (rebuild with libopenmpi-dev installed)",
+                     openmp, avx2);
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   const jam::Ranks ranks = jam::start_ranks(&argc, &argv);
@@ -26,7 +47,7 @@ int main(int argc, char** argv) {
   } stop_ranks_at_exit;
 
   CLI::App app{"jam: compression-driven jamming of bidisperse soft spheres"};
-  app.set_version_flag("--version", std::string(jam::kVersion));
+  app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
   jam::SimConfig sim_config;
   jam::add_sim_command(app, sim_config);

@@ -1,5 +1,6 @@
 #include "campaign/ranks.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 
 #ifdef JAM_HAVE_MPI
@@ -7,8 +8,8 @@
 #endif
 
 namespace jam {
-#ifdef JAM_HAVE_MPI
 namespace {
+#ifdef JAM_HAVE_MPI
 bool mpi_active = false;
 bool mpi_multiple = false;
 
@@ -18,11 +19,41 @@ bool launched_by_mpi() {
   }
   return false;
 }
-}  // namespace
 #endif
+
+/// The number of processes an MPI launcher started, as its environment says (1 when it says
+/// nothing): OpenMPI's mpirun, PMI and PMIx launchers (MPICH's, srun --mpi=pmi2 or pmix).
+long launched_processes() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"}) {
+    if (const char* value = std::getenv(v)) {
+      char* end = nullptr;
+      const long n = std::strtol(value, &end, 10);
+      if (end != value && n > 1) return n;
+    }
+  }
+  return 1;
+}
+}  // namespace
+
+bool built_with_mpi() {
+#ifdef JAM_HAVE_MPI
+  return true;
+#else
+  return false;
+#endif
+}
 
 Ranks start_ranks([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   Ranks r;
+  if (!built_with_mpi() && launched_processes() > 1) {
+    // Each process would run the whole campaign alone and collide with the others.
+    std::fprintf(stderr,
+                 "jam: error: started as one of %ld processes (mpirun or srun), but this jam was "
+                 "built without MPI; install OpenMPI's headers (libopenmpi-dev) and rebuild, or "
+                 "run one process\n",
+                 launched_processes());
+    std::exit(2);
+  }
 #ifdef JAM_HAVE_MPI
   if (launched_by_mpi()) {
     // Worker threads ask rank 0 for runs themselves (run_queue.hpp): ask for full thread

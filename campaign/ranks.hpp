@@ -12,7 +12,12 @@ struct Ranks {
   int size = 1;
 };
 
+/// Whether this jam was built with MPI (`jam --version` says so).
+bool built_with_mpi();
+
 /// Starts MPI when launched under an MPI launcher; returns this process's rank and the size.
+/// A jam built without MPI and started as one of several processes exits with status 2 and
+/// one line saying so, instead of running the whole campaign in every process.
 Ranks start_ranks(int* argc, char*** argv);
 void stop_ranks();
 /// Ends every rank with exit status `code` after an error on this one (MPI_Abort), so that no

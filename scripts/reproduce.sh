@@ -139,7 +139,7 @@ cat >"$tmp/provenance.json" <<EOF
 {
   "name": "$name",
   "command": "scripts/reproduce.sh $name",
-  "code_version": "$($jam --version)",
+  "code_version": "$($jam --version | head -n 1)",
   "git_commit": "$commit",
   "date": "$(date -u +%Y-%m-%dT%H:%M:%SZ)",
   "machine": "$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB",

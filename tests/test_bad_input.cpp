@@ -207,3 +207,27 @@ BOOST_AUTO_TEST_CASE(absurd_costs) {
   c.compression_rate = 1.0;
   BOOST_CHECK_THROW(jam::validate_cost(c, 1024, true), jam::ConfigError);
 }
+
+// A jam built without MPI, started by mpirun or srun as one of several processes, would run
+// the whole campaign in each of them. It refuses in one line instead. Only a build without MPI
+// can show this (the sanitizer build, scripts/sanitize.sh); a build with MPI skips it.
+BOOST_AUTO_TEST_CASE(jam_without_mpi_refuses_to_run_as_one_of_several_processes) {
+  fs::create_directories(kDir);
+  const auto version = jam::test::run_logged(kDir / "version.txt", {JAM_EXECUTABLE, "--version"});
+  BOOST_REQUIRE(version.status == 0);
+  if (version.output.find("MPI: no") == std::string::npos) {
+    BOOST_TEST_MESSAGE("this jam is built with MPI: skipped");
+    return;
+  }
+  for (const char* launcher : {"OMPI_COMM_WORLD_SIZE=2", "PMI_SIZE=4", "PMIX_SIZE=2"}) {
+    const auto o = jam::test::run_logged(
+        kDir / "mpi.txt", {"env", launcher, JAM_EXECUTABLE, "sim", "--quiet", "--n", "64", "--out",
+                           (kDir / "mpi.h5").string()});
+    BOOST_TEST_CONTEXT(launcher) {
+      BOOST_TEST(o.status == 2, o.output);
+      BOOST_TEST(o.output.find("this jam was built without MPI") != std::string::npos, o.output);
+      BOOST_TEST(std::count(o.output.begin(), o.output.end(), '\n') == 1, o.output);
+      BOOST_TEST(!fs::exists(kDir / "mpi.h5"));
+    }
+  }
+}
