@@ -10,17 +10,22 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "process.hpp"
 #include "sim/io/chain_start.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/hdf5_file.hpp"
 
 namespace jam::test {
+
+inline std::string file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
 
 /// The HDF5 classes an edit can give an attribute or dataset.
 enum class ValueClass { kInteger, kFloat, kString, kVariableString, kCompound };
@@ -100,6 +105,33 @@ class Editor {
         H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT));
   }
 
+  /// A chunked dataset of `written` doubles, then extended to `n`: the chunks past the first
+  /// were never written, as when a flipped bit raises a dimension.
+  void add_extended(const std::string& name, hsize_t written, hsize_t n) {
+    if (H5Lexists(id_, name.c_str(), H5P_DEFAULT) > 0) H5Ldelete(id_, name.c_str(), H5P_DEFAULT);
+    const hsize_t unlimited = H5S_UNLIMITED;
+    const Owned space{H5Screate_simple(1, &written, &unlimited), H5Sclose};
+    const Owned dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+    const hsize_t chunk = 64;
+    H5Pset_chunk(dcpl.id, 1, &chunk);
+    const Owned set{
+        H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT),
+        H5Dclose};
+    if (set.id < 0) throw std::runtime_error("cannot create dataset " + name);
+    const std::vector<double> values(written, 0.5);
+    H5Dwrite(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    H5Dset_extent(set.id, &n);
+  }
+
+  /// Removes attribute `name` of `object`, or the link `name` when object is "".
+  void remove(const std::string& object, const std::string& name) {
+    if (object.empty()) {
+      H5Ldelete(id_, name.c_str(), H5P_DEFAULT);
+    } else {
+      H5Adelete_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT);
+    }
+  }
+
   /// A hard link `name` to the group `target`: a group inside itself when target is above it.
   void link(const std::string& target, const std::string& name) {
     if (H5Lcreate_hard(id_, target.c_str(), id_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT) < 0) {
@@ -175,7 +207,7 @@ class Editor {
 /// when HDF5 then reads the new extent. False when none is the dimension.
 inline bool flip_dimension(const std::filesystem::path& file, const std::string& name,
                            std::uint64_t length, int bit) {
-  const std::string original = slurp(file);
+  const std::string original = file_bytes(file);
   char pattern[sizeof length];
   std::memcpy(pattern, &length, sizeof length);
   const std::uint64_t wanted = length ^ (std::uint64_t{1} << bit);
@@ -271,6 +303,18 @@ inline void write_template_stats(const std::string& path, std::size_t samples = 
   f.write_dataset(g + "/constant_phi/packing_fraction", grid);
   f.write_dataset(g + "/constant_phi/sample_ids", ids);
   f.write_dataset(g + "/constant_phi/pressure_samples", pressure, {samples, points});
+  f.write_dataset(g + "/constant_phi/contacts_per_particle_samples", pressure, {samples, points});
+  // Constant Z on its own grid and samples, the jamming points, the fit's window.
+  f.create_group(g + "/constant_z");
+  f.write_dataset(g + "/constant_z/contacts_per_particle", grid);
+  f.write_dataset(g + "/constant_z/sample_ids", ids);
+  f.write_dataset(g + "/constant_z/pressure_samples", pressure, {samples, points});
+  f.create_group(g + "/jamming");
+  f.write_dataset(g + "/jamming/packing_fraction_samples", std::vector<double>(samples, 0.84));
+  f.write_dataset(g + "/jamming/sample_ids", ids);
+  f.create_group("fit/representative");
+  f.write_attribute("phi_min", 0.8, "fit/representative");
+  f.write_attribute("phi_j", 0.84, "fit/representative");
   f.close();
 }
 

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -60,6 +61,8 @@ Isolated isolated(const std::function<std::string()>& read, unsigned seconds = 6
   const pid_t pid = ::fork();
   BOOST_REQUIRE(pid >= 0);
   if (pid == 0) {
+    // The test framework's handlers would carry on with the other tests in this child.
+    for (int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGALRM}) std::signal(sig, SIG_DFL);
     ::close(fds[0]);
     ::alarm(seconds);
     const long before = peak_kilobytes();

@@ -268,7 +268,7 @@ bool accepts(Kind kind, H5T_class_t cls) {
   switch (kind) {
     case Kind::kInteger:
       return cls == H5T_INTEGER;
-    case Kind::kNumber:  // an integer converts exactly enough; nothing else converts safely
+    case Kind::kNumber:  // an integer converts to a double; no other class converts safely
       return cls == H5T_INTEGER || cls == H5T_FLOAT;
     case Kind::kString:
       return cls == H5T_STRING;
@@ -385,10 +385,12 @@ std::pair<Handle, std::size_t> open_array(const File& f, const std::string& name
   const hsize_t count = count_values(extent(space.get(), what), what);
   Handle type(check(H5Dget_type(set.get()), what + ": unreadable type"), H5Tclose);
   check_type(type.get(), kind, what);
-  const hsize_t bytes = count * H5Tget_size(type.get());  // no overflow: size <= 16
-  if (bytes / 16 > count || bytes > f.size_bytes()) {
-    throw std::runtime_error(fmt::format("{} of {} values ({} bytes) is larger than the file ({})",
-                                         what, count, bytes, f.size_bytes()));
+  // Division, not multiplication: a flipped bit can make count * size wrap round.
+  const std::size_t size = H5Tget_size(type.get());  // 1 to 16 (check_type)
+  if (count > f.size_bytes() / size) {
+    throw std::runtime_error(
+        fmt::format("{} of {} values of {} bytes is larger than the file ({} bytes)", what, count,
+                    size, f.size_bytes()));
   }
   // Declared but never written: HDF5 would fill it with zeros of any size.
   if (count > 0 && H5Dget_storage_size(set.get()) == 0) {
