@@ -30,8 +30,8 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from report_data import UNREADABLE, ReportInputError, cause, load_campaign  # noqa: E402
-from report_output import (ReportOutputError, check_target, publish, staging,  # noqa: E402
-                           write_text)
+from report_output import (ReportOutputError, check_target, mark, publish,  # noqa: E402
+                           staging, write_text)
 
 # Debian packages whose versions the provenance lists (the project's dependencies).
 PACKAGES = ["lammps", "libhdf5-dev", "libgsl-dev", "libeigen3-dev", "libboost-test-dev",
@@ -97,6 +97,16 @@ def provenance(c, report_seconds):
     }
 
 
+def report_name(name):
+    """The campaign's name as the default report directory's name: a plain word, never '.',
+    '..' or a path (the name comes from a file, and a report replaces its directory)."""
+    if (not isinstance(name, str) or name in ("", ".", "..") or "/" in name
+            or any(ord(ch) < 0x20 or ord(ch) == 0x7f for ch in name)):
+        raise ReportOutputError(
+            f"campaign name {name!r} cannot name a report directory; give --out DIR")
+    return name
+
+
 def write_report(c, out, started):
     """Draws the report into a temporary directory and moves it to `out`; returns the summary."""
     with staging(out) as temporary:
@@ -107,6 +117,7 @@ def write_report(c, out, started):
         write_text(os.path.join(temporary, "index.html"), page)
         summary = report_html.text_summary(c, os.path.join(out, "index.html"))
         write_text(os.path.join(temporary, "summary.txt"), summary)
+        mark(temporary)
         os.chmod(temporary, 0o755)
         publish(temporary, out)
     return summary
@@ -127,10 +138,11 @@ def run(a):
     started = time.monotonic()
     out = os.path.abspath(a.out) if a.out else None
     if out:
-        out = check_target(out)
+        out = check_target(out, a.directory)
     c = load_campaign(a.directory)
     if not out:
-        out = check_target(os.path.abspath(os.path.join("reports", c.name)))
+        out = check_target(os.path.abspath(os.path.join("reports", report_name(c.name))),
+                           a.directory)
     summary = write_report(c, out, started)
     if not a.quiet:
         print_summary(summary)

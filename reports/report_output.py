@@ -4,12 +4,19 @@ directory next to it, the move into place, and the cleanup when something fails.
 The report is built in `<out>.partial-*` next to `<out>` and renamed to `<out>` when complete.
 On failure the temporary directory is removed, and so is every parent directory this run
 created for it that is still empty; a directory that existed before is never removed.
+
+A report directory is jam's own: it holds `.jam-report`, the list of the files the report
+wrote. A report replaces only such a directory (or an empty one, or one written before the
+marker existed that holds nothing but report files), and when it does it deletes only the
+files listed. A directory holding anything else, the working directory, the campaign and their
+parents are refused before any work: publishing a report never deletes a user's file.
 """
 
 import contextlib
 import os
 import shutil
 import stat
+import sys
 import tempfile
 
 from report_data import cause
@@ -19,8 +26,11 @@ KINDS = [(stat.S_ISREG, "a regular file"), (stat.S_ISFIFO, "a FIFO"),
          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
          (stat.S_ISSOCK, "a socket")]
 
-# What a previous report holds: a directory holding one of these may be replaced.
+# The files a report writes, by name: the page and the summary; each figure as PNG and SVG
+# with the CSV of its numbers. MARKER lists the files of one report, one name a line.
 REPORT_FILES = ("index.html", "summary.txt")
+FIGURE_SUFFIXES = (".png", ".svg", ".csv")
+MARKER = ".jam-report"
 
 
 class ReportOutputError(Exception):
@@ -34,11 +44,43 @@ def _kind(mode):
     return "not a directory"
 
 
-def check_target(out):
-    """Refuses, before any work, an output path that exists and is not a directory, or is a
-    directory that is neither empty nor a report (replacing it would delete its contents).
-    Returns the path to write: `out`, or for a symbolic link to a directory the directory it
-    points to (links are written through, as everywhere in jam: the link stays)."""
+def _is_report_file(name):
+    return name in REPORT_FILES or name.endswith(FIGURE_SUFFIXES)
+
+
+def owned_files(directory):
+    """The names of the files jam wrote in a report directory: those its MARKER lists, or for a
+    report written before the marker existed (an index.html, nothing but report files) all of
+    them. None when the directory is not a report jam wrote."""
+    entries = set(os.listdir(directory))
+    marker = os.path.join(directory, MARKER)
+    if MARKER in entries:
+        if not stat.S_ISREG(os.lstat(marker).st_mode):
+            return None
+        with open(marker, encoding="utf-8", errors="replace") as f:
+            listed = {line.rstrip("\n") for line in f if line.strip()}
+        return {n for n in listed if n and "/" not in n and n not in (".", "..")} | {MARKER}
+    if "index.html" in entries and all(_is_report_file(n) for n in entries):
+        return entries
+    return None
+
+
+def _contains(outer, inner):
+    """Whether `inner` is `outer` or lies below it (both real paths)."""
+    return os.path.commonpath([outer, inner]) == outer
+
+
+def check_target(out, campaign=None):
+    """Refuses, before any work, an output path that exists and is not a directory, a directory
+    that is not a report jam wrote (it would be replaced: MARKER), or one holding files the
+    report did not write; and the working directory, the campaign directory and any of their
+    parents, whatever they hold. Returns the path to write: `out`, or for a symbolic link to a
+    directory the directory it points to (links are written through: the link stays)."""
+    real = os.path.realpath(out)
+    for what, path in (("the working directory", os.getcwd()), ("the campaign", campaign)):
+        if path is not None and _contains(real, os.path.realpath(path)):
+            raise ReportOutputError(
+                f"{out}: is {what} or a parent of it; a report needs a directory of its own")
     try:
         mode = os.stat(out).st_mode  # a link to a directory counts as the directory
     except FileNotFoundError:
@@ -48,10 +90,17 @@ def check_target(out):
     if not stat.S_ISDIR(mode):
         raise ReportOutputError(f"{out}: exists and is {_kind(mode)}, not a directory")
     entries = os.listdir(out)
-    if entries and not any(name in entries for name in REPORT_FILES):
-        raise ReportOutputError(
-            f"{out}: exists and is not a report (no {REPORT_FILES[0]}); not replaced")
-    return os.path.realpath(out) if os.path.islink(out) else out
+    if entries:
+        owned = owned_files(out)
+        if owned is None:
+            raise ReportOutputError(
+                f"{out}: exists and is not a report jam wrote (no {MARKER}); not replaced")
+        foreign = sorted(set(entries) - owned)
+        if foreign:
+            shown = ", ".join(repr(n) for n in foreign[:5]) + (", ..." if len(foreign) > 5 else "")
+            raise ReportOutputError(
+                f"{out}: holds files the report did not write ({shown}); not replaced")
+    return real if os.path.islink(out) else out
 
 
 def _make_parents(directory, created):
@@ -117,12 +166,25 @@ def staging(out):
             _remove_empty(created)
 
 
+def mark(temporary):
+    """Writes MARKER into a finished report directory: the names of every file in it."""
+    names = sorted(n for n in os.listdir(temporary) if n != MARKER)
+    write_text(os.path.join(temporary, MARKER), "".join(n + "\n" for n in names))
+
+
 def _discard(path):
-    """Removes the replaced report (a link to one: the link only)."""
-    if os.path.islink(path):
-        os.unlink(path)
-    else:
-        shutil.rmtree(path, ignore_errors=True)
+    """Removes the replaced report: only the files it lists as its own, then the directory if
+    that leaves it empty. Anything else (put there after the check) stays, and is said."""
+    owned = owned_files(path) or set()
+    for name in owned:
+        target = os.path.join(path, name)
+        if os.path.isfile(target) or os.path.islink(target):
+            os.unlink(target)
+    try:
+        os.rmdir(path)
+    except OSError:
+        print(f"jam report: warning: kept {path}: it holds files the report did not write",
+              file=sys.stderr)
 
 
 def publish(temporary, out):

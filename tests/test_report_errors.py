@@ -36,12 +36,12 @@ class Skip(Exception):
     """A case that cannot run here; the message says why."""
 
 
-def report(directory, out):
-    """reports/jam_report.py DIR --out OUT --quiet; the completed process."""
+def report(directory, out, cwd=None):
+    """reports/jam_report.py DIR [--out OUT] --quiet, run in cwd; the completed process."""
     script = os.path.join(SOURCE, "reports", "jam_report.py")
+    args = [sys.executable, script, directory, "--quiet"] + (["--out", out] if out else [])
     try:
-        return subprocess.run([sys.executable, script, directory, "--out", out, "--quiet"],
-                              capture_output=True, text=True, timeout=TIMEOUT)
+        return subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT, cwd=cwd)
     except subprocess.TimeoutExpired as e:
         raise AssertionError(f"the report did not finish in {TIMEOUT} s") from e
 
@@ -255,8 +255,92 @@ def case_symbolic_link(work):
         raise AssertionError(f"no report in the link's target {target}")
 
 
+def contents(root):
+    """Every path under root with the bytes of each file, for a before/after comparison."""
+    out = {}
+    for path in sorted(tree(root)):
+        full = os.path.join(root, path)
+        out[path] = None if os.path.isdir(full) else open(full, "rb").read()
+    return out
+
+
+def expect_untouched(r, words, root, before):
+    """Refused in one line holding `words`, and every file under root as it was."""
+    expect_error(r, words, set(before), root)
+    if contents(root) != before:
+        raise AssertionError("files under the work directory were changed or removed")
+
+
+def case_site_with_thesis_and_data_survives(work):
+    """--out site holding index.html, thesis.tex and data/ (the attack that deleted them): a
+    directory jam did not write is refused, whatever it holds."""
+    camp = campaign(work)
+    site = os.path.join(work, "site")
+    os.makedirs(os.path.join(site, "data"))
+    for name, text in (("index.html", "x\n"), ("thesis.tex", "t\n")):
+        with open(os.path.join(site, name), "w") as f:
+            f.write(text)
+    before = contents(work)
+    expect_untouched(report(camp, site), [site, "not a report jam wrote"], work, before)
+
+
+def case_out_dot_is_the_working_directory(work):
+    """`--out .` in a directory holding an index.html and the campaign: refused, the campaign
+    kept (it once deleted the campaign)."""
+    camp = campaign(work)
+    with open(os.path.join(work, "index.html"), "w") as f:
+        f.write("x\n")
+    before = contents(work)
+    r = report(os.path.relpath(camp, work), ".", cwd=work)
+    expect_untouched(r, ["the working directory"], work, before)
+
+
+def case_out_is_the_campaign_or_its_parent(work):
+    camp = campaign(work)
+    before = contents(work)
+    for out in (camp, work):
+        expect_untouched(report(camp, out), [out, "the campaign"], work, before)
+
+
+def case_campaign_named_dot_dot(work):
+    """A stats.h5 whose campaign name is '..', no --out, a summary.txt in the working
+    directory: refused (the default reports/.. once replaced the working directory)."""
+    camp = campaign(work)
+    with h5py.File(os.path.join(camp, "stats.h5"), "r+") as f:
+        f.attrs["campaign"] = ".."
+    with open(os.path.join(work, "summary.txt"), "w") as f:
+        f.write("mine\n")
+    before = contents(work)
+    r = report(os.path.relpath(camp, work), None, cwd=work)
+    expect_untouched(r, ["campaign name '..'", "--out"], work, before)
+
+
+def case_own_report_replaced_foreign_file_refused(work):
+    """A report jam wrote (it holds .jam-report) is replaced; once a file of someone else's is
+    put into it, it is refused and the file kept; a report of an older version (no marker,
+    only report files) is replaced too."""
+    camp = campaign(work)
+    out = os.path.join(work, "r")
+    for attempt in range(2):
+        r = report(camp, out)
+        if r.returncode != 0 or not os.path.isfile(os.path.join(out, ".jam-report")):
+            raise AssertionError(f"attempt {attempt}: exit {r.returncode}: {r.stderr}")
+    with open(os.path.join(out, "notes.txt"), "w") as f:
+        f.write("mine\n")
+    before = contents(work)
+    expect_untouched(report(camp, out), [out, "'notes.txt'"], work, before)
+    os.remove(os.path.join(out, "notes.txt"))
+    os.remove(os.path.join(out, ".jam-report"))
+    r = report(camp, out)
+    if r.returncode != 0 or not os.path.isfile(os.path.join(out, ".jam-report")):
+        raise AssertionError(f"an older report was not replaced: exit {r.returncode}: {r.stderr}")
+
+
 CASES = [case_symbolic_link, case_random_stats, case_missing_dataset, case_truncated_checks, case_read_only,
-         case_full_disk, case_fifo, case_regular_file, case_not_a_report]
+         case_full_disk, case_fifo, case_regular_file, case_not_a_report,
+         case_site_with_thesis_and_data_survives, case_out_dot_is_the_working_directory,
+         case_out_is_the_campaign_or_its_parent, case_campaign_named_dot_dot,
+         case_own_report_replaced_foreign_file_refused]
 
 
 def check_fixture():
