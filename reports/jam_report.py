@@ -168,6 +168,12 @@ def main(argv=None):
         return fail(str(e))
     except OSError as e:
         return fail(f"{e.filename}: {cause(e)}" if e.filename else cause(e))
+    except Exception as e:  # noqa: BLE001 - one line, not a traceback, whatever the input held
+        if os.environ.get("JAM_REPORT_TRACEBACK"):
+            raise
+        what = f"{type(e).__name__}: {str(e)[:300]}"
+        return fail(f"{a.directory}: cannot draw the report ({what}); "
+                    "JAM_REPORT_TRACEBACK=1 shows where")
 
 
 if __name__ == "__main__":

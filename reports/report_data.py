@@ -192,12 +192,28 @@ def _ensemble(e):
                     _jamming(e, where + "/jamming"))
 
 
+# Attributes of a fit that are text; every other attribute of fit/representative is a number.
+FIT_TEXT = ("quality", "quality_reason", "fixed", "start", "chosen_because", "error_method")
+
+
+def _typed(attrs, where, text=()):
+    """attrs, each a string where its name is in `text` and a number (not bool) otherwise:
+    what the page formats as a number must be one, so no file can put markup in its place."""
+    for name, value in attrs.items():
+        if name in text:
+            if not isinstance(value, str):
+                raise FieldError(f"{where}: attribute '{name}' is {_shown(value)}, not text")
+        elif isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+            raise FieldError(f"{where}: attribute '{name}' is {_shown(value)}, not a number")
+    return attrs
+
+
 def _fit(fit, where="/fit"):
     """A jamio Fit as the dict the figures read: attrs, representative, coefficients,
     collapse, scan, scan_failures (the keys present only where the file has them)."""
     out = {"attrs": fit.attrs}
     if fit.representative is not None:
-        out["representative"] = fit.representative
+        out["representative"] = _typed(fit.representative, where + "/representative", FIT_TEXT)
         if fit.coefficients is None:
             raise ValueError(f"dataset {where}/representative/coefficients missing")
         out["coefficients"] = fit.coefficients
@@ -226,18 +242,52 @@ def _read_stats(path):
     return attrs, ensembles, fit
 
 
-def _number(x):
-    return None if x is None else float(x)
+def _shown(value):
+    """A value in an error message: its repr, shortened."""
+    r = repr(value)
+    return r if len(r) <= 60 else r[:57] + "..."
+
+
+class FieldError(ValueError):
+    """A checks.json field of the wrong type; the message names the field and the value."""
+
+
+def _number(x, key):
+    """The number at x[key] (None when absent or null); a string, list or bool is refused."""
+    v = x.get(key)
+    if v is None:
+        return None
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise FieldError(f"field '{key}' is {_shown(v)}, not a number")
+    return float(v)
+
+
+def _string(x, key, default=None):
+    """The string at x[key] (`default` when absent and one is given)."""
+    v = x[key] if default is None else x.get(key, default)
+    if not isinstance(v, str):
+        raise FieldError(f"field '{key}' is {_shown(v)}, not a string")
+    return v
 
 
 def _verdict(x):
-    return Verdict(x["check"], x["case"], x["status"], x.get("reason", ""),
-                   x.get("statistic_name", ""), _number(x.get("statistic")),
-                   _number(x.get("threshold")), _number(x.get("detectable_effect")),
-                   _number(x.get("excluded_above")), x.get("values") or {},
-                   margin=_number(x.get("margin")),
-                   samples_needed=_number(x.get("samples_needed")),
-                   expected_failure=bool(x.get("expected_failure", False)))
+    if not isinstance(x, dict):
+        raise FieldError(f"is {_shown(x)}, not an object")
+    status = _string(x, "status")
+    if status not in ("pass", "fail", "inconclusive"):
+        raise FieldError(f"field 'status' is {_shown(status)}, not pass, fail or inconclusive")
+    values = x.get("values") or {}
+    if not isinstance(values, dict):
+        raise FieldError(f"field 'values' is {_shown(values)}, not an object")
+    expected = x.get("expected_failure", False)
+    if not isinstance(expected, bool):
+        raise FieldError(f"field 'expected_failure' is {_shown(expected)}, not true or false")
+    return Verdict(_string(x, "check"), _string(x, "case"), status, _string(x, "reason", ""),
+                   _string(x, "statistic_name", ""), _number(x, "statistic"),
+                   _number(x, "threshold"), _number(x, "detectable_effect"),
+                   _number(x, "excluded_above"), values,
+                   margin=_number(x, "margin"), samples_needed=_number(x, "samples_needed"),
+                   expected_failure=expected)
 
 
 def _registry(checks):
@@ -266,6 +316,8 @@ def _verdicts(checks):
                 v = _verdict(x)
             except KeyError as e:
                 raise ReportInputError(f"{checks.path}: verdict {k}: field {e} missing") from e
+            except FieldError as e:
+                raise ReportInputError(f"{checks.path}: verdict {k}: {e}") from e
             entry = registry.get(v.check, UNREGISTERED)
             v.figure, v.margin_unit = entry["figure"], entry["margin_unit"]
             verdicts.append(v)

@@ -1,7 +1,14 @@
-"""The report's HTML page and its plain-text summary, from a loaded Campaign and its figures."""
+"""The report's HTML page and its plain-text summary, from a loaded Campaign and its figures.
+
+Every value that comes from a file reaches the page through one route: `text()` (made
+visible, shortened, HTML-escaped with quotes) or `num()` (a number formatted, anything else
+shown as text). The plain-text summary goes through `plain()` (made visible, shortened), so a
+control character in a case name never reaches the terminal raw.
+"""
 
 import html
 import math
+import numbers
 
 STYLE = """
 body { font-family: sans-serif; max-width: 1200px; margin: 2em auto; color: #222; }
@@ -25,10 +32,50 @@ p.files { font-size: 0.85em; margin-top: 0.2em; }
 """
 
 
-def _fmt(x):
-    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+# A value longer than this is shown shortened, with its length (a 50 MB case name once made a
+# 2 GB summary).
+LONGEST = 300
+
+
+def plain(x, longest=LONGEST, lines=False):
+    """A value as text for a terminal or a page: control characters shown as escapes (\\x1b,
+    \\x00; line breaks kept when `lines`), at most `longest` characters."""
+    s = x if isinstance(x, str) else str(x)
+    if len(s) > longest:
+        s = f"{s[:longest]}... ({len(s)} characters)"
+    keep = " \n" if lines else " "
+    return "".join(ch if ch.isprintable() or ch in keep else ascii(ch)[1:-1] for ch in s)
+
+
+def text(x, longest=LONGEST, lines=False):
+    """A value as HTML text: plain(), then escaped (quotes too, so attributes are safe)."""
+    return html.escape(plain(x, longest, lines), quote=True)
+
+
+def _is_number(x):
+    return isinstance(x, numbers.Real) and not isinstance(x, bool)
+
+
+def _number_text(x, spec):
+    """A number formatted by spec (integers whole when spec is empty), '-' for None or a
+    non-finite number; anything else as plain text."""
+    if x is None:
         return "-"
-    return f"{x:.4g}"
+    if not _is_number(x):
+        return plain(x)
+    if isinstance(x, numbers.Integral) and not spec:
+        return str(int(x))
+    x = float(x)
+    return format(x, spec or "g") if math.isfinite(x) else "-"
+
+
+def num(x, spec=""):
+    """A number for the page (formatted, then escaped like any text)."""
+    return html.escape(_number_text(x, spec), quote=True)
+
+
+def _fmt(x):
+    return _number_text(x, ".4g")
 
 
 def counts(verdicts):
@@ -45,16 +92,16 @@ def counts(verdicts):
 
 
 def counts_text(n):
-    text = f"{n['pass']} passed, {n['fail']} failed, {n['inconclusive']} inconclusive"
+    words = f"{n['pass']} passed, {n['fail']} failed, {n['inconclusive']} inconclusive"
     if n["expected"]:
-        text += f", {n['expected']} failed as expected"
+        words += f", {n['expected']} failed as expected"
     if n["expected_passed"]:
-        text += f" ({n['expected_passed']} expected to fail passed)"
-    return text
+        words += f" ({n['expected_passed']} expected to fail passed)"
+    return words
 
 
 def _percent(x):
-    return f"{100 * x:.3g}%"
+    return f"{100 * x:.3g}%" if _is_number(x) else plain(x)
 
 
 def headline(check, verdicts):
@@ -63,7 +110,7 @@ def headline(check, verdicts):
     margins = sorted({v.margin for v in verdicts if v.margin is not None})
     relative = verdicts[0].margin_unit == "relative"
     if len(margins) == 1:
-        margin = _percent(margins[0]) if relative else f"{margins[0]:.3g}"
+        margin = _percent(margins[0]) if relative else _number_text(margins[0], ".3g")
     else:
         margin = "each verdict's margin" if margins else "its margin"
     parts = [f"no effect above {margin} in {n['pass']} of {len(verdicts)}"]
@@ -78,7 +125,7 @@ def headline(check, verdicts):
                 else f"{int(min(needed or [0]))}-{int(max(needed or [0]))}")
         need = f", needs about {span} samples per set (estimate)" if needed else ""
         parts.append(f"{n['inconclusive']} inconclusive{need}")
-    return f"{check.replace('_', ' ')}: " + "; ".join(parts)
+    return f"{plain(check).replace('_', ' ')}: " + "; ".join(parts)
 
 
 def headlines(verdicts):
@@ -97,12 +144,14 @@ def verdict_table_html(verdicts):
         status = v.status + (" (expected)" if v.expected_failure else "")
         css = "expected" if v.expected_failure else v.status
         rows.append(
-            f"<tr class='{html.escape(css)}'><td class='status'>{html.escape(status)}</td>"
-            f"<td>{html.escape(v.check)}</td><td>{html.escape(v.case)}"
-            f"<div class='reason'>{html.escape(v.reason)}</div></td>"
-            f"<td>{html.escape(v.statistic_name)}</td><td class='num'>{_fmt(v.statistic)}</td>"
-            f"<td class='num'>{_fmt(v.threshold)}</td><td class='num'>{_fmt(v.detectable)}</td>"
-            f"<td class='num'>{_fmt(v.excluded_above)}</td><td class='num'>{_fmt(v.margin)}</td>"
+            f"<tr class='{text(css)}'><td class='status'>{text(status)}</td>"
+            f"<td>{text(v.check)}</td><td>{text(v.case)}"
+            f"<div class='reason'>{text(v.reason)}</div></td>"
+            f"<td>{text(v.statistic_name)}</td><td class='num'>{num(v.statistic, '.4g')}</td>"
+            f"<td class='num'>{num(v.threshold, '.4g')}</td>"
+            f"<td class='num'>{num(v.detectable, '.4g')}</td>"
+            f"<td class='num'>{num(v.excluded_above, '.4g')}</td>"
+            f"<td class='num'>{num(v.margin, '.4g')}</td>"
             "</tr>")
     rows.append("</table>")
     return "\n".join(rows)
@@ -126,51 +175,53 @@ def fit_table_html(c):
     rows = fit_rows(c)
     if not rows:
         failure = (c.fit or {}).get("attrs", {}).get("failure", "no fit in stats.h5")
-        return f"<p>No scaling fit: {html.escape(str(failure))}</p>"
+        return f"<p>No scaling fit: {text(str(failure))}</p>"
     rep = c.fit["representative"]
     quality = str(rep.get("quality", "ok"))
     flag = ("" if quality == "ok" else
-            f"<p class='summary'><b>Fit quality: {html.escape(quality)}</b> "
-            f"({html.escape(str(rep.get('quality_reason', '')))})</p>")
+            f"<p class='summary'><b>Fit quality: {text(quality)}</b> "
+            f"({text(str(rep.get('quality_reason', '')))})</p>")
     out = [flag, "<table><tr><th>parameter</th><th>this campaign (jackknife, bias-corrected)"
            "</th><th>plain fit</th><th>quality</th><th>paper</th></tr>"]
     for name, value, error, paper, paper_error in rows:
-        paper_text = "-" if paper is None else f"{paper:g} &plusmn; {paper_error:g}"
-        out.append(f"<tr><td>{name}</td><td class='num'>{value:.5g} &plusmn; {_fmt(error)}</td>"
-                   f"<td class='num'>{_fmt(rep.get(name + '_plain'))}</td>"
-                   f"<td>{html.escape(quality)}</td><td class='num'>{paper_text}</td></tr>")
+        paper_text = "-" if paper is None else f"{num(paper)} &plusmn; {num(paper_error)}"
+        out.append(f"<tr><td>{text(name)}</td><td class='num'>{num(value, '.5g')} &plusmn; "
+                   f"{num(error, '.4g')}</td>"
+                   f"<td class='num'>{num(rep.get(name + '_plain'), '.4g')}</td>"
+                   f"<td>{text(quality)}</td><td class='num'>{paper_text}</td></tr>")
     out.append("</table>")
     out.append(
-        f"<p>Window phi in [{rep.get('phi_min', 0):.4f}, {rep.get('phi_max', 0):.4f}], rates up "
-        f"to {rep.get('rate_max', 0):.3g}, {rep.get('points', 0)} points, "
-        f"{rep.get('samples', 0)} samples; held fixed: {html.escape(str(rep.get('fixed')))}; "
-        f"chi^2/dof {_fmt(rep.get('chi2_diag_per_dof'))} (diagonal), "
-        f"{_fmt(rep.get('chi2_cov_per_dof'))} (with covariance); "
-        f"start: {html.escape(str(rep.get('start', '-')))}; window settled after "
-        f"{rep.get('iterations', '-')} iteration(s); chosen because: "
-        f"{html.escape(str(rep.get('chosen_because', '-')))}; errors: "
-        f"{html.escape(str(rep.get('error_method', '')))}.</p>")
+        f"<p>Window phi in [{num(rep.get('phi_min', 0), '.4f')}, "
+        f"{num(rep.get('phi_max', 0), '.4f')}], rates up to {num(rep.get('rate_max', 0), '.3g')}, "
+        f"{num(rep.get('points', 0))} points, "
+        f"{num(rep.get('samples', 0))} samples; held fixed: {text(str(rep.get('fixed')))}; "
+        f"chi^2/dof {num(rep.get('chi2_diag_per_dof'), '.4g')} (diagonal), "
+        f"{num(rep.get('chi2_cov_per_dof'), '.4g')} (with covariance); "
+        f"start: {text(str(rep.get('start', '-')))}; window settled after "
+        f"{num(rep.get('iterations', '-'))} iteration(s); chosen because: "
+        f"{text(str(rep.get('chosen_because', '-')))}; errors: "
+        f"{text(str(rep.get('error_method', '')))}.</p>")
     return "\n".join(out)
 
 
 def provenance_html(c, provenance):
-    items = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>"
+    items = "".join(f"<tr><th>{text(k)}</th><td>{text(str(v), longest=4000)}</td></tr>"
                     for k, v in provenance.items())
-    campaign = html.escape(c.campaign_text or "(campaign.toml not found)")
+    campaign = text(c.campaign_text or "(campaign.toml not found)", longest=100000, lines=True)
     return f"<table>{items}</table>\n<h3>Campaign file</h3>\n<pre>{campaign}</pre>"
 
 
 def _section(anchor, title, body):
-    return (anchor, title, f"<section id='{anchor}'><h2>{html.escape(title)}</h2>{body}</section>")
+    return (anchor, title, f"<section id='{text(anchor)}'><h2>{text(title)}</h2>{body}</section>")
 
 
 def _figure_section(f):
     """A figure with its caption and the links to its SVG and to the CSV of what it plots."""
-    files = (f"<p class='files'>Files: <a href='{html.escape(f.file)}'>PNG</a> &middot; "
-             f"<a href='{html.escape(f.svg)}'>SVG</a> &middot; <a href='{html.escape(f.csv)}'>"
+    files = (f"<p class='files'>Files: <a href='{text(f.file)}'>PNG</a> &middot; "
+             f"<a href='{text(f.svg)}'>SVG</a> &middot; <a href='{text(f.csv)}'>"
              "CSV of the plotted numbers</a></p>")
-    body = (f"<figure><img src='{html.escape(f.file)}' alt='{html.escape(f.title)}'>"
-            f"<figcaption>{html.escape(f.caption)}</figcaption></figure>{files}")
+    body = (f"<figure><img src='{text(f.file)}' alt='{text(f.title)}'>"
+            f"<figcaption>{text(f.caption)}</figcaption></figure>{files}")
     return _section("figure-" + f.stem, f.title, body)
 
 
@@ -191,7 +242,7 @@ def sections(c, figures, provenance):
 
 
 def contents_html(parts):
-    items = "".join(f"<li><a href='#{anchor}'>{html.escape(title)}</a></li>"
+    items = "".join(f"<li><a href='#{text(anchor)}'>{text(title)}</a></li>"
                     for anchor, title, _ in parts)
     return f"<nav class='contents'><h2>Contents</h2><ol>{items}</ol></nav>"
 
@@ -201,14 +252,14 @@ def page(c, figures, provenance):
     n = counts(c.verdicts)
     parts = sections(c, figures, provenance)
     verdict_word = "FAIL" if n["fail"] else ("INCONCLUSIVE" if n["inconclusive"] else "PASS")
-    lines = "".join(f"<li>{html.escape(h)}</li>" for h in headlines(c.verdicts))
+    lines = "".join(f"<li>{text(h)}</li>" for h in headlines(c.verdicts))
     body = "\n".join(part for _, _, part in parts)
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><link rel="icon" href="data:,">
-<title>jam report: {html.escape(c.name)}</title><style>{STYLE}</style></head>
+<title>jam report: {text(c.name)}</title><style>{STYLE}</style></head>
 <body>
-<h1>Campaign <code>{html.escape(c.name)}</code>, {c.dim}D</h1>
-<p class="summary"><b>{verdict_word}</b>: {html.escape(counts_text(n))}.</p>
+<h1>Campaign <code>{text(c.name)}</code>, {num(c.dim)}D</h1>
+<p class="summary"><b>{verdict_word}</b>: {text(counts_text(n))}.</p>
 <ul class="headlines">{lines}</ul>
 {contents_html(parts)}
 {body}
@@ -219,15 +270,15 @@ def page(c, figures, provenance):
 def text_summary(c, report_path):
     """The terminal/CI-log summary: the verdict table, the fit against the paper, the path."""
     n = counts(c.verdicts)
-    lines = [f"jam report: campaign {c.name} ({c.dim}D), {len(c.ensembles)} ensembles", ""]
-    width = max([len(v.case) for v in c.verdicts] + [4])
-    check_width = max([len(v.check) for v in c.verdicts] + [5])
+    lines = [f"jam report: campaign {plain(c.name)} ({c.dim}D), {len(c.ensembles)} ensembles", ""]
+    width = max([len(plain(v.case)) for v in c.verdicts] + [4])
+    check_width = max([len(plain(v.check)) for v in c.verdicts] + [5])
     lines.append(f"{'status':<16}{'check':<{check_width + 2}}{'case':<{width + 2}}"
                  f"{'value':>11}{'threshold':>11}{'detectable':>11}{'excluded>':>11}"
                  f"{'margin':>9}")
     for v in c.verdicts:
         status = v.status + ("(expected)" if v.expected_failure else "")
-        lines.append(f"{status:<16}{v.check:<{check_width + 2}}{v.case:<{width + 2}}"
+        lines.append(f"{status:<16}{plain(v.check):<{check_width + 2}}{plain(v.case):<{width + 2}}"
                      f"{_fmt(v.statistic):>11}{_fmt(v.threshold):>11}{_fmt(v.detectable):>11}"
                      f"{_fmt(v.excluded_above):>11}{_fmt(v.margin):>9}")
     lines.append(counts_text(n))
@@ -237,10 +288,12 @@ def text_summary(c, report_path):
     rep = (c.fit or {}).get("representative") or {}
     for name, value, error, paper, paper_error in fit_rows(c):
         if name in ("phi_j", "beta", "y"):
-            ref = "" if paper is None else f"   (paper {paper:g} +- {paper_error:g})"
-            lines.append(f"fit {name:<6} {value:.5g} +- {_fmt(error)} "
+            ref = ("" if paper is None else
+                   f"   (paper {_number_text(paper, 'g')} +- {_number_text(paper_error, 'g')})")
+            lines.append(f"fit {name:<6} {_number_text(value, '.5g')} +- {_fmt(error)} "
                          f"[plain {_fmt(rep.get(name + '_plain'))}]{ref}")
     if rep and str(rep.get("quality", "ok")) != "ok":
-        lines.append(f"fit quality: {rep.get('quality')} ({rep.get('quality_reason', '')})")
-    lines.append(f"report: {report_path}")
+        lines.append(f"fit quality: {plain(rep.get('quality'))} "
+                     f"({plain(rep.get('quality_reason', ''))})")
+    lines.append(f"report: {plain(report_path)}")
     return "\n".join(lines) + "\n"

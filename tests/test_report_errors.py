@@ -336,11 +336,135 @@ def case_own_report_replaced_foreign_file_refused(work):
         raise AssertionError(f"an older report was not replaced: exit {r.returncode}: {r.stderr}")
 
 
+# Markup and terminal control sequences in every field the report shows.
+HOSTILE = '<script>alert(1)</script><img src=x onerror="alert(2)">\x1b[31m'
+
+
+def report_text(out):
+    """index.html and summary.txt of a finished report, as text."""
+    with open(os.path.join(out, "index.html"), encoding="utf-8") as f:
+        page = f.read()
+    with open(os.path.join(out, "summary.txt"), encoding="utf-8") as f:
+        return page, f.read()
+
+
+def expect_inert(page, where, markup=True):
+    """No control character, and (in HTML: `markup`) no markup from a file left unescaped."""
+    for raw in (("<script", "<img src=x", 'onerror="') if markup else ()) + ("\x1b", "\x00"):
+        if raw in page:
+            raise AssertionError(f"{where}: {raw!r} reached it unescaped")
+
+
+def case_hostile_values_are_escaped(work):
+    """Every string of checks.json, stats.h5, manifest.toml and campaign.toml that the page
+    shows, and the numbers of the fit written as strings, reach the page escaped and the
+    terminal with their control characters made visible (a <script> once ran in Chromium)."""
+    camp = campaign(work)
+    path = os.path.join(camp, "checks.json")
+    with open(path) as f:
+        checks = json.load(f)
+    for v in checks["verdicts"]:
+        v["case"] = v["case"] + HOSTILE + "\x00"
+        v["reason"] = HOSTILE
+        v["statistic_name"] = HOSTILE
+    with open(path, "w") as f:
+        json.dump(checks, f)
+    with h5py.File(os.path.join(camp, "stats.h5"), "r+") as f:
+        f.attrs["campaign"] = HOSTILE
+        f.attrs["version"] = HOSTILE
+        rep = f["fit/representative"]
+        for name in ("quality", "quality_reason", "fixed", "start", "chosen_because",
+                     "error_method"):
+            rep.attrs[name] = HOSTILE
+    with open(os.path.join(camp, "manifest.toml"), "w") as f:
+        f.write(f"campaign_file = {json.dumps(HOSTILE)}\ncode_version = {json.dumps(HOSTILE)}\n")
+    with open(os.path.join(camp, "campaign.toml"), "a") as f:
+        f.write("# " + HOSTILE + "\n")
+    out = os.path.join(work, "r")
+    script = os.path.join(SOURCE, "reports", "jam_report.py")
+    r = subprocess.run([sys.executable, script, camp, "--out", out], capture_output=True,
+                       text=True, timeout=TIMEOUT)
+    if r.returncode != 0:
+        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+    page, summary = report_text(out)
+    expect_inert(page, "index.html")
+    expect_inert(summary, "summary.txt", markup=False)
+    expect_inert(r.stdout, "standard output", markup=False)
+    if "\\x1b[31m" not in summary:
+        raise AssertionError("the escape sequence is not shown, visibly, in summary.txt")
+    if "&lt;script&gt;" not in page:
+        raise AssertionError("the hostile values are not on the page at all (nothing tested)")
+
+
+def case_markup_in_a_number_of_the_fit_is_refused(work):
+    """`iterations`, `points`, `samples` (and every other number of the fit) holding markup:
+    one line naming the attribute, no report (they once reached the page unescaped)."""
+    camp = campaign(work)
+    stats = os.path.join(camp, "stats.h5")
+    for name in ("iterations", "points", "samples", "phi_min", "chi2_diag_per_dof"):
+        with h5py.File(stats, "r+") as f:
+            rep = f["fit/representative"]
+            kept = rep.attrs[name]
+            rep.attrs[name] = HOSTILE
+        before = tree(work)
+        expect_error(report(camp, os.path.join(work, "r")),
+                     [stats, f"attribute '{name}'", "not a number"], before, work)
+        with h5py.File(stats, "r+") as f:
+            f["fit/representative"].attrs[name] = kept
+
+
+def case_a_huge_case_name_gives_a_small_summary(work):
+    """A 20 MB case name: shown shortened with its length, not padded into every row (a 50 MB
+    one once made a 2 GB summary.txt)."""
+    camp = campaign(work)
+    path = os.path.join(camp, "checks.json")
+    with open(path) as f:
+        checks = json.load(f)
+    checks["verdicts"][0]["case"] = "x" * 20_000_000
+    with open(path, "w") as f:
+        json.dump(checks, f)
+    out = os.path.join(work, "r")
+    r = report(camp, out)
+    if r.returncode != 0:
+        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+    for name in ("summary.txt", "index.html"):
+        size = os.path.getsize(os.path.join(out, name))
+        if size > 2_000_000:
+            raise AssertionError(f"{name} is {size} bytes")
+    if "(20000000 characters)" not in report_text(out)[1]:
+        raise AssertionError("the shortened case does not say its length")
+
+
+def case_mistyped_checks_fields(work):
+    """A checks.json field of the wrong type: one line naming the file, the verdict, the field
+    and the value, exit 2, no report (these once gave tracebacks)."""
+    camp = campaign(work)
+    path = os.path.join(camp, "checks.json")
+    with open(path) as f:
+        original = json.load(f)
+    for field, value, says in (("statistic", "abc", "field 'statistic' is 'abc', not a number"),
+                               ("case", 42, "field 'case' is 42, not a string"),
+                               ("margin", [1, 2], "field 'margin' is [1, 2], not a number"),
+                               ("status", "maybe", "field 'status' is 'maybe'"),
+                               ("expected_failure", "yes",
+                                "field 'expected_failure' is 'yes', not true or false"),
+                               ("values", "none", "field 'values' is 'none', not an object")):
+        checks = json.loads(json.dumps(original))
+        checks["verdicts"][3][field] = value
+        with open(path, "w") as f:
+            json.dump(checks, f)
+        before = tree(work)
+        expect_error(report(camp, os.path.join(work, "r")), [path, "verdict 3", says], before,
+                     work)
+
+
 CASES = [case_symbolic_link, case_random_stats, case_missing_dataset, case_truncated_checks, case_read_only,
          case_full_disk, case_fifo, case_regular_file, case_not_a_report,
          case_site_with_thesis_and_data_survives, case_out_dot_is_the_working_directory,
          case_out_is_the_campaign_or_its_parent, case_campaign_named_dot_dot,
-         case_own_report_replaced_foreign_file_refused]
+         case_own_report_replaced_foreign_file_refused, case_hostile_values_are_escaped,
+         case_markup_in_a_number_of_the_fit_is_refused,
+         case_a_huge_case_name_gives_a_small_summary, case_mistyped_checks_fields]
 
 
 def check_fixture():
