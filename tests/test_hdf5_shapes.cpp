@@ -331,6 +331,28 @@ BOOST_AUTO_TEST_CASE(fifo_read_start_is_refused_before_it_is_opened) {
          "is a FIFO");
 }
 
+BOOST_AUTO_TEST_CASE(external_link_to_a_fifo_in_stats_h5_is_not_followed) {
+  const fs::path dir = kDir / "external";
+  fs::create_directories(dir);
+  const fs::path file = dir / "stats.h5", fifo = kDir / "elsewhere.h5";
+  BOOST_REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  jam::test::write_template_stats(file.string());
+  const std::string grid = "ensembles/n64_phi0.7000_r-2.00/constant_phi/packing_fraction";
+  {
+    Editor e(file);
+    H5Ldelete(e.id(), grid.c_str(), H5P_DEFAULT);
+    BOOST_REQUIRE(H5Lcreate_external(fifo.c_str(), "/x", e.id(), grid.c_str(), H5P_DEFAULT,
+                                     H5P_DEFAULT) >= 0);
+  }
+  expect(isolated(
+             [&] {
+               jam::checks::read_stats(dir.string());
+               return std::string();
+             },
+             20),
+         "dataset '" + grid + "' is an external link to another file, not followed");
+}
+
 BOOST_AUTO_TEST_CASE(valid_files_still_read_and_verify) {
   const fs::path file = valid_run_file("valid.h5");
   const auto check = jam::check_run_file(file.string());

@@ -55,7 +55,29 @@ struct SilenceHdf5 {
 };
 const SilenceHdf5 silence_hdf5;
 
+// Refuses to follow an external link: it names another file, which could be anything (a FIFO
+// would block the open for ever) and is no part of what was checked.
+herr_t refuse_external_link(const char*, const char*, const char*, const char*, unsigned*, hid_t,
+                            void*) {
+  return -1;
+}
+
 }  // namespace
+
+hid_t local_links(hid_t property_class) {
+  // Created once, under the library lock every caller holds; never closed (HDF5 is not shut
+  // down at exit either).
+  static const hid_t link = H5Pcreate(H5P_LINK_ACCESS), dataset = H5Pcreate(H5P_DATASET_ACCESS),
+                     group = H5Pcreate(H5P_GROUP_ACCESS);
+  static const bool set = [] {
+    for (const hid_t p : {link, dataset, group}) H5Pset_elink_cb(p, refuse_external_link, nullptr);
+    return true;
+  }();
+  (void)set;
+  if (property_class == H5P_DATASET_ACCESS) return dataset;
+  if (property_class == H5P_GROUP_ACCESS) return group;
+  return link;
+}
 
 std::vector<hsize_t> extent(hid_t space, const std::string& what) {
   const int rank = H5Sget_simple_extent_ndims(space);
@@ -217,11 +239,11 @@ void File::write_dataset(const std::string& name, const std::vector<std::uint32_
 }
 
 bool File::has_attribute(const std::string& name, const std::string& object) const {
-  return H5Aexists_by_name(id(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+  return H5Aexists_by_name(id(), object.c_str(), name.c_str(), local_links(H5P_LINK_ACCESS)) > 0;
 }
 
 bool File::has_dataset(const std::string& name) const {
-  return H5Lexists(id(), name.c_str(), H5P_DEFAULT) > 0;
+  return H5Lexists(id(), name.c_str(), local_links(H5P_LINK_ACCESS)) > 0;
 }
 
 namespace {
@@ -304,7 +326,8 @@ void check_type(hid_t type, Kind kind, const std::string& what) {
 Handle open_value(hid_t file, const std::string& path, const std::string& name,
                   const std::string& object, Kind kind) {
   const std::string what = path + ": " + attribute_label(name, object);
-  Handle attr(H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+  Handle attr(H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT,
+                              local_links(H5P_LINK_ACCESS)),
               H5Aclose);
   if (attr.get() < 0) {
     throw std::runtime_error(fmt::format("{}: missing attribute '{}'", path, name));
@@ -375,9 +398,15 @@ namespace {
 std::pair<Handle, std::size_t> open_array(const File& f, const std::string& name, Kind kind,
                                           const Extent& expected) {
   const std::string what = fmt::format("{}: dataset '{}'", f.path(), name);
-  Handle set(check(H5Dopen2(f.id(), name.c_str(), H5P_DEFAULT),
-                   fmt::format("{}: missing dataset '{}'", f.path(), name)),
-             H5Dclose);
+  Handle set(H5Dopen2(f.id(), name.c_str(), local_links(H5P_DATASET_ACCESS)), H5Dclose);
+  if (set.get() < 0) {
+    H5L_info_t link;
+    const bool external =
+        H5Lget_info(f.id(), name.c_str(), &link, local_links(H5P_LINK_ACCESS)) >= 0 &&
+        link.type == H5L_TYPE_EXTERNAL;
+    throw std::runtime_error(external ? what + " is an external link to another file, not followed"
+                                      : fmt::format("{}: missing dataset '{}'", f.path(), name));
+  }
   Handle space(check(H5Dget_space(set.get()), what + ": unreadable shape"), H5Sclose);
   if (H5Sget_simple_extent_type(space.get()) != H5S_SIMPLE) {
     throw std::runtime_error(what + " is not an array (a scalar or null dataspace)");
@@ -430,7 +459,7 @@ hsize_t File::size_bytes() const {
 }
 
 std::vector<std::string> File::list_group(const std::string& group) const {
-  Handle g(check(H5Gopen2(id(), group.c_str(), H5P_DEFAULT),
+  Handle g(check(H5Gopen2(id(), group.c_str(), local_links(H5P_GROUP_ACCESS)),
                  fmt::format("{}: missing group '{}'", path_, group)),
            H5Gclose);
   H5G_info_t info;

@@ -15,7 +15,8 @@
 //   whose number of values is what the caller expects (Extent).
 // Anything else throws std::runtime_error "<file>: attribute 'complete' is an array of 4000,
 // expected a scalar" (naming the file, the object and what is wrong). Only a regular file is
-// opened: a FIFO would block the open for ever.
+// opened: a FIFO would block the open for ever; for the same reason an external link (to
+// another file) is never followed.
 #include <hdf5.h>
 
 #include <cstddef>
@@ -61,6 +62,10 @@ inline Extent exactly(std::size_t n) {
 inline Extent at_most(std::size_t n) {
   return {Extent::kAny, n};
 }
+
+/// Access properties (H5P_LINK_ACCESS, H5P_DATASET_ACCESS or H5P_GROUP_ACCESS) under which
+/// paths are resolved within the file: an external link is refused, never followed.
+hid_t local_links(hid_t property_class);
 
 /// The extent of a dataspace ({} for a scalar or null one); throws naming `what` if unreadable.
 std::vector<hsize_t> extent(hid_t space, const std::string& what);
