@@ -121,6 +121,24 @@ def make_broken(data):
     os.mkdir(os.path.join(out, "badjson"))
     with open(os.path.join(out, "badjson", "checks.json"), "w") as f:
         f.write('{"schema_version": 2, "verdicts": [\n{"check": }\n')
+    # Hostile files: FIFOs where files belong, and run files whose shapes lie.
+    os.mkfifo(os.path.join(out, "fifo.h5"))
+    os.mkdir(os.path.join(out, "fifodir"))
+    os.mkfifo(os.path.join(out, "fifodir", "checks.json"))
+    os.mkfifo(os.path.join(out, "fifodir", "stats.h5"))
+    for name, edit in (("array-attribute.h5",
+                        lambda f: f.attrs.create("complete", np.ones(4000, "i8"))),
+                       ("unwritten.h5",
+                        lambda f: f.create_dataset("pressure_unwritten", shape=(300_000_000,),
+                                                   dtype="f8", chunks=(1 << 16,)))):
+        path = os.path.join(out, name)
+        shutil.copy(os.path.join(data, "run.h5"), path)
+        with h5py.File(path, "r+") as f:
+            if name == "unwritten.h5":
+                del f["pressure"]
+                f.create_dataset("pressure", shape=(300_000_000,), dtype="f8", chunks=(1 << 16,))
+            else:
+                edit(f)
 
 
 def make_data(work, jam, source):
@@ -461,9 +479,37 @@ def case_errors(data, source):
                  ["stats.h5", "not a readable run file", "packing_fraction"])
 
 
+def case_hostile_files(data, source):
+    """A FIFO where a run file, stats.h5 or checks.json belongs is refused at once (opening it
+    would wait for ever); an attribute of 4000 values and a dataset declared with 3e8 values
+    and never written are refused before they are read (no 2.4 GB allocation): each a
+    JamioError naming the file. An alarm turns a regression to a hang into a failure."""
+    import signal
+    import jamio
+    broken = os.path.join(data, "broken")
+
+    def hung(*_):
+        raise AssertionError("a read waited for 60 s")
+    signal.signal(signal.SIGALRM, hung)
+    signal.alarm(60)
+    try:
+        fifo = os.path.join(broken, "fifo.h5")
+        expect_error(jamio.load_run, fifo, [fifo, "is a FIFO"])
+        fifodir = os.path.join(broken, "fifodir")
+        expect_error(jamio.load_stats, fifodir, [os.path.join(fifodir, "stats.h5"), "is a FIFO"])
+        expect_error(jamio.load_checks, fifodir,
+                     [os.path.join(fifodir, "checks.json"), "is a FIFO"])
+        big = os.path.join(broken, "array-attribute.h5")
+        expect_error(jamio.load_run, big, [big, "attribute 'complete'", "(4000,) values"])
+        unwritten = os.path.join(broken, "unwritten.h5")
+        expect_error(jamio.load_run, unwritten, [unwritten, "holds none"])
+    finally:
+        signal.alarm(0)
+
+
 CASES = [case_installed, case_run_file, case_old_run_file, case_campaign_runs,
          case_runs_set_aside_and_schema_1, case_stats, case_checks, case_checks_schema_1,
-         case_errors]
+         case_errors, case_hostile_files]
 
 
 def inside(a):

@@ -3,10 +3,13 @@ low-level failures (h5py, json, the operating system) into it."""
 
 import contextlib
 import os
+import stat
 
 # What a malformed input raises while it is read: h5py's OSError, RuntimeError and KeyError
-# (garbled internals, missing objects), ValueError and TypeError from values of the wrong kind.
-MALFORMED = (OSError, RuntimeError, KeyError, ValueError, TypeError, IndexError, AttributeError)
+# (garbled internals, missing objects), ValueError and TypeError from values of the wrong kind,
+# MemoryError and OverflowError from sizes a damaged file declares.
+MALFORMED = (OSError, RuntimeError, KeyError, ValueError, TypeError, IndexError, AttributeError,
+             MemoryError, OverflowError)
 
 
 class JamioError(ValueError):
@@ -44,12 +47,23 @@ def reading(path, what):
         raise JamioError(path, f"not a readable {what} ({cause(e)})") from e
 
 
+# What a path that is not a regular file is, in words, by its stat mode.
+_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"),
+          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISSOCK, "a socket"))
+
+
 def require_file(path, what):
-    """Opens `path` as a plain file once: JamioError(missing=True) when it does not exist, and
-    permission denied or a directory said in plain words before HDF5 or JSON is tried."""
+    """Checks `path` before HDF5 or JSON is tried: JamioError(missing=True) when it does not
+    exist; a FIFO, device, socket or directory refused by its stat (opening a FIFO would wait
+    for a writer for ever); permission denied said in plain words."""
     with reading(path, what):
         try:
-            with open(path, "rb"):
-                pass
+            mode = os.stat(path).st_mode
         except FileNotFoundError:
             raise JamioError(path, "missing", missing=True) from None
+        for test, kind in _KINDS:
+            if test(mode):
+                raise JamioError(path, f"is {kind}; only a regular file can be read")
+        with open(path, "rb"):
+            pass

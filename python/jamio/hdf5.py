@@ -1,6 +1,8 @@
 """HDF5 values as Python values: string attributes (stored as fixed-length bytes) as str,
 numpy scalars as int and float, datasets as numpy arrays; a group as a Group."""
 
+import os
+
 import h5py
 import numpy as np
 
@@ -34,13 +36,42 @@ def value(v):
     return v
 
 
+# The most values one attribute may hold: jam writes scalars and short strings, and a damaged
+# or hostile file must not make jamio allocate what its header claims.
+MOST_ATTRIBUTE_VALUES = 1024
+
+
 def attrs(obj):
-    """Every attribute of an HDF5 object, as Python values."""
-    return {key: value(v) for key, v in obj.attrs.items()}
+    """Every attribute of an HDF5 object, as Python values; an attribute of more than
+    MOST_ATTRIBUTE_VALUES values is refused before it is read."""
+    out = {}
+    for key in obj.attrs:
+        shape = obj.attrs.get_id(key).shape
+        if int(np.prod(shape, dtype=np.float64)) > MOST_ATTRIBUTE_VALUES:
+            raise ValueError(f"attribute '{key}' of {obj.name} holds {shape} values "
+                             f"(at most {MOST_ATTRIBUTE_VALUES})")
+        out[key] = value(obj.attrs[key])
+    return out
+
+
+def _check_size(dataset):
+    """Refuses, before reading, a dataset that cannot hold what it declares: declared but never
+    written (no storage), or, uncompressed, more bytes than the whole file has."""
+    declared = dataset.size * dataset.dtype.itemsize
+    if declared == 0:
+        return
+    stored = dataset.id.get_storage_size()
+    if stored == 0:
+        raise ValueError(f"dataset {dataset.name} declares {dataset.shape} values and holds none")
+    file_size = os.path.getsize(dataset.file.filename)
+    if dataset.compression is None and declared > file_size:
+        raise ValueError(f"dataset {dataset.name} declares {declared} bytes in a file of "
+                         f"{file_size}")
 
 
 def array(dataset):
-    """A dataset as a numpy array (strings decoded to str)."""
+    """A dataset as a numpy array (strings decoded to str); its size checked first."""
+    _check_size(dataset)
     data = np.asarray(dataset[()])
     if data.dtype.kind == "S":
         return np.char.decode(data, "utf-8")
