@@ -17,8 +17,9 @@ namespace {
 const std::string kIdentity = "fuzz-start";
 
 const std::vector<jam::fuzz::Target> kTargets = {
-    {".", "identity"}, {".", "box_length"}, {".", "packing_fraction"}, {".", "dim"},
-    {"", "s_0"},       {"", "s_1"},         {"", "id"},                {"", "type"},
+    {".", "identity"}, {".", "box_length"}, {".", "packing_fraction"},
+    {".", "dim"},      {"", "s_0"},         {"", "s_1"},
+    {"", "id"},        {"", "type"},
 };
 
 const std::string& template_bytes() {

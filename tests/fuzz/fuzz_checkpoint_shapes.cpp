@@ -58,7 +58,8 @@ void check_sizes(const jam::Checkpoint<2>& c) {
   const std::size_t n = c.particles.size();
   bool ok = n > 0 && c.state.next_output >= 0 && c.state.steps >= 0;
   for (const auto& s : c.state.saved) ok = ok && s.s.size() == 2 * n;
-  for (const auto& [name, values] : c.stepper) ok = ok && (values.size() == n || values.size() == 1);
+  for (const auto& [name, values] : c.stepper)
+    ok = ok && (values.size() == n || values.size() == 1);
   for (int d = 0; d < 2; ++d) {
     ok = ok && c.particles.s[d].size() == n;
     for (double s : c.particles.s[d]) ok = ok && s >= 0.0 && s < 1.0;
