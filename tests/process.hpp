@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "sim/io/process.hpp"
@@ -52,6 +54,27 @@ inline pid_t spawn_jam(const std::string& args) {
   posix_spawn_file_actions_destroy(&actions);
   if (error != 0) throw std::runtime_error("cannot start " + argv[0]);
   return pid;
+}
+
+/// Waits until a file in `dir` has been written after `since`, or the process has ended (then
+/// false, the process left for the caller to reap), at most a minute. Tests that signal a run
+/// wait for this instead of guessing how long its start takes.
+inline bool wrote_since(const std::filesystem::path& dir, std::filesystem::file_time_type since,
+                        pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+      if (std::filesystem::last_write_time(e.path(), ec) > since) return true;
+    }
+    siginfo_t info{};  // WNOWAIT: ended or not, the process stays to be reaped by wait_for
+    if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+        info.si_pid == pid) {
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
 }
 
 /// Exit status, or minus the signal that ended the process.

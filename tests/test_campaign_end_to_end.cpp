@@ -148,27 +148,6 @@ BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
   for (const auto& [name, bytes] : first) BOOST_TEST((grown.at(name) == bytes), name);
 }
 
-namespace {
-/// Waits until a file in `dir` has been written after `since`, or the process has ended (then
-/// false, the process left for the caller to reap), at most a minute.
-bool wrote_since(const fs::path& dir, fs::file_time_type since, pid_t pid) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(1);
-  while (std::chrono::steady_clock::now() < deadline) {
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(dir, ec)) {
-      if (fs::last_write_time(e.path(), ec) > since) return true;
-    }
-    siginfo_t info{};  // WNOWAIT: ended or not, the process stays to be reaped by wait_for
-    if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
-        info.si_pid == pid) {
-      return false;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return false;
-}
-}  // namespace
-
 BOOST_AUTO_TEST_CASE(killed_campaign_resumes_to_identical_files) {
   const std::string body = R"(name = "kill"
 dim = 2
@@ -196,7 +175,7 @@ checkpoint_interval = 0.02
     // assumption on how long a run takes.
     const auto since = fs::file_time_type::clock::now();
     const pid_t pid = jam::test::spawn_jam("campaign run --quiet " + file.string());
-    if (!wrote_since(kDir / "killed" / "runs", since, pid)) {
+    if (!jam::test::wrote_since(kDir / "killed" / "runs", since, pid)) {
       if (jam::test::wait_for(pid) >= 0) break;  // finished with nothing new to write
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(extra_ms(rng)));

@@ -27,7 +27,8 @@ const fs::path kDir = fs::temp_directory_path() / ("jam-resume-" + std::to_strin
 
 // Runs `args` once uninterrupted and once killed `kills` times at random moments (checkpoints
 // every 20 ms), then compares the two run files byte for byte. Each case's run takes about 2 s
-// on one core here, so that the kills (150-700 ms apart) land mid-run.
+// on one core here, so that the kills (150-700 ms after each attempt's first checkpoint) land
+// mid-run.
 void check_resume(const std::string& args, int kills, int signal_number, unsigned seed) {
   fs::create_directories(kDir);
   const fs::path ref = kDir / "ref.h5", resumed = kDir / "resumed.h5";
@@ -41,7 +42,11 @@ void check_resume(const std::string& args, int kills, int signal_number, unsigne
   const std::string interrupted = args + " --checkpoint-interval 0.02 --out " + resumed.string();
   int checkpoints_seen = 0, finished_early = 0;
   for (int k = 0; k < kills; ++k) {
+    // Signalled a random moment after it has written its first checkpoint (so its handlers are
+    // in place however slow its start is on a loaded machine).
+    const auto since = fs::file_time_type::clock::now();
     const pid_t pid = spawn_jam("sim " + interrupted);
+    jam::test::wrote_since(kDir, since, pid);
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
     kill(pid, signal_number);
     const int status = wait_for(pid);
