@@ -112,7 +112,8 @@ int run_check_command(const CheckArgs& a) {
   {
     const std::filesystem::path dir(a.directory);
     const std::string stem = a.name == "all" ? "checks" : "checks-" + a.name;
-    for (const char* ext : {".json", ".xml", ".h5"}) output_file_target((dir / (stem + ext)).string());
+    for (const char* ext : {".json", ".xml", ".h5"})
+      output_file_target((dir / (stem + ext)).string());
   }
   checks::CheckOptions o = a.options;
   // Margins and expected failures: the campaign file's, then --margin.

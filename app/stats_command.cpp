@@ -69,8 +69,8 @@ int run_stats_command(const StatsArgs& a) {
     if (a.fix_paper_exponents) o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
   // The output, checked before the work (output_path.hpp).
-  const std::string out = output_file_target(
-      (std::filesystem::path(a.directory) / "stats.h5").string());
+  const std::string out =
+      output_file_target((std::filesystem::path(a.directory) / "stats.h5").string());
   const auto started = std::chrono::steady_clock::now();
   stats::CampaignStats s = a.refit ? stats::refit_campaign_stats(a.directory, o)
                                    : stats::compute_campaign_stats(a.directory, o);

@@ -36,8 +36,7 @@ std::string utc_now() {
 }
 
 std::string make_work_directory(const std::string& prefix) {
-  std::string name =
-      (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
+  std::string name = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
   if (!::mkdtemp(name.data())) {
     throw WriteError(fmt::format("cannot create a directory '{}': {}", name, std::strerror(errno)));
   }

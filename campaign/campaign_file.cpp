@@ -16,8 +16,8 @@
 
 #include "campaign/run_plan.hpp"
 #include "checks/check_registry.hpp"
-#include "sim/run/compression_run.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/run/compression_run.hpp"
 #include "sim/run/run_parameters.hpp"
 #include "sim/run/sim_config.hpp"
 
@@ -78,7 +78,8 @@ class Reader {
                               byte));
       }
     }
-    if (v.size() > 4096) fail(key, fmt::format("a string of {} characters (at most 4096)", v.size()));
+    if (v.size() > 4096)
+      fail(key, fmt::format("a string of {} characters (at most 4096)", v.size()));
     return v;
   }
 

@@ -12,8 +12,8 @@
 
 #include "checks/lammps_runner.hpp"
 #include "sim/dynamics/system.hpp"
-#include "sim/io/atomic_file.hpp"
 #include "sim/initial_state.hpp"
+#include "sim/io/atomic_file.hpp"
 #include "sim/io/lammps_data.hpp"
 #include "sim/model/contact_laws.hpp"
 #include "sim/observables/observables.hpp"

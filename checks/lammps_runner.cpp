@@ -32,7 +32,8 @@ std::string lammps_version(const fs::path& log) {
 void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double rate, double dt,
                 long steps, long every, const std::string& data, const std::string& log,
                 const std::string& end, const std::string& contact) {
-  copy_file_atomically((reference / "compress_inertial.in").string(), (dir / "compress_inertial.in").string());
+  copy_file_atomically((reference / "compress_inertial.in").string(),
+                       (dir / "compress_inertial.in").string());
   // The law's own table (sim/io/lammps_table.hpp): LAMMPS runs the law jam runs.
   const LammpsTableFile table = write_lammps_table(dir, contact, kPaperDiameterRatio);
   auto g = [](double v) { return fmt::format("{:.17g}", v); };

@@ -34,9 +34,9 @@ std::vector<double> grid_between(double lo, double hi, double step) {
   // A bound before anything is allocated: a step from a damaged run file (or a typo) must not
   // ask for gigabytes. The campaigns' grids have a few thousand points.
   if (!(count <= 1e6)) {
-    throw std::runtime_error(fmt::format(
-        "a grid of step {:g} from {:g} to {:g} has {:.3g} points (at most 10^6)", step, lo, hi,
-        count));
+    throw std::runtime_error(
+        fmt::format("a grid of step {:g} from {:g} to {:g} has {:.3g} points (at most 10^6)", step,
+                    lo, hi, count));
   }
   const auto last = static_cast<long long>(std::floor(hi / step + 1e-9));
   // Grid values are exactly k * step, whatever the samples: the same run then gives the same

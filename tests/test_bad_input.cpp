@@ -220,9 +220,9 @@ BOOST_AUTO_TEST_CASE(jam_without_mpi_refuses_to_run_as_one_of_several_processes)
     return;
   }
   for (const char* launcher : {"OMPI_COMM_WORLD_SIZE=2", "PMI_SIZE=4", "PMIX_SIZE=2"}) {
-    const auto o = jam::test::run_logged(
-        kDir / "mpi.txt", {"env", launcher, JAM_EXECUTABLE, "sim", "--quiet", "--n", "64", "--out",
-                           (kDir / "mpi.h5").string()});
+    const auto o =
+        jam::test::run_logged(kDir / "mpi.txt", {"env", launcher, JAM_EXECUTABLE, "sim", "--quiet",
+                                                 "--n", "64", "--out", (kDir / "mpi.h5").string()});
     BOOST_TEST_CONTEXT(launcher) {
       BOOST_TEST(o.status == 2, o.output);
       BOOST_TEST(o.output.find("this jam was built without MPI") != std::string::npos, o.output);

@@ -92,8 +92,9 @@ BOOST_AUTO_TEST_CASE(mpi_rank_0_refused_ends_rank_1_too) {
   std::string text = jam::test::slurp(file);
   text.replace(text.find("seed = 1"), 8, "seed = 2");
   write(file, text);
-  std::vector<std::string> argv = {"timeout", "-s", "KILL", "60", "mpirun",
-                                   "--allow-run-as-root", "--oversubscribe", "-np", "2"};
+  std::vector<std::string> argv = {
+      "timeout",         "-s",  "KILL", "60", "mpirun", "--allow-run-as-root",
+      "--oversubscribe", "-np", "2"};
   for (auto& w : jam::test::jam_argv("campaign run --quiet " + file.string())) argv.push_back(w);
   const Outcome o = jam::test::run_logged(kDir / "mpi.txt", argv);
   if (mentions(o, "built without MPI")) {
@@ -138,7 +139,7 @@ BOOST_AUTO_TEST_CASE(fifos_named_like_a_pending_run_and_its_record_do_not_hang_t
   fs::remove(runs / "n64_phi0.7000_r-2.00_s000.record");
   BOOST_REQUIRE(::mkfifo((runs / "n64_phi0.7000_r-2.00_s000.h5").c_str(), 0600) == 0);
   for (const std::string& args : {"campaign status " + (kDir / "fifo").string(),
-                                 "stats --no-fit " + (kDir / "fifo").string()}) {
+                                  "stats --no-fit " + (kDir / "fifo").string()}) {
     BOOST_TEST(jam_within(60, args).status != 137, args << " hung on a FIFO run file");
   }
   run = jam_within(120, "campaign run --quiet " + file.string());
@@ -257,13 +258,14 @@ BOOST_AUTO_TEST_CASE(import_lammps_refuses_what_would_make_a_corrupt_run) {
   const std::string log = jam::test::slurp(ref / "lammps.log");
   const std::string data = " --data " + (ref / "start.data").string();
   const fs::path out = kDir / "imported.h5";
-  BOOST_REQUIRE(jam_within(60, "import lammps " + (ref / "lammps.log").string() + data +
-                                   " --out " + out.string())
+  BOOST_REQUIRE(jam_within(60, "import lammps " + (ref / "lammps.log").string() + data + " --out " +
+                                   out.string())
                     .status == 0);
   fs::remove(out);
   // (pattern in the log, replacement, what the one-line error must say)
   const std::vector<std::array<std::string, 3>> cases = {
-      {"\n      50 0.25 0.00064328635532286225", "\n      50 0.25 nan", "c_virial nan is not finite"},
+      {"\n      50 0.25 0.00064328635532286225", "\n      50 0.25 nan",
+       "c_virial nan is not finite"},
       {"\n      50 0.25 0.00064328635532286225", "\n      50 -0.25 0.00064328635532286225",
        "times must increase"},
       {"\n      50 0.25 0.00064328635532286225", "\n      50 inf 0.00064328635532286225",
@@ -281,8 +283,8 @@ BOOST_AUTO_TEST_CASE(import_lammps_refuses_what_would_make_a_corrupt_run) {
     BOOST_REQUIRE(at != std::string::npos);
     bad.replace(at, from.size(), to);
     write(kDir / "bad.log", bad);
-    const Outcome o = jam_within(60, "import lammps " + (kDir / "bad.log").string() + data +
-                                         " --out " + out.string());
+    const Outcome o = jam_within(
+        60, "import lammps " + (kDir / "bad.log").string() + data + " --out " + out.string());
     BOOST_TEST_CONTEXT(to) {
       BOOST_TEST(o.status == 2, o.output);
       BOOST_TEST(mentions(o, says), o.output);
@@ -328,7 +330,8 @@ BOOST_AUTO_TEST_CASE(full_disk_during_check_all_names_the_file_and_leaves_no_tru
       BOOST_TEST(mentions(o, "No space left on device"), o.output);
       BOOST_TEST(mentions(o, (mnt / "full").string()), o.output);  // names the file
       for (const auto& e : fs::recursive_directory_iterator(mnt / "full")) {
-        if (e.is_regular_file()) BOOST_TEST(fs::file_size(e.path()) > 0u, "truncated: " << e.path());
+        if (e.is_regular_file())
+          BOOST_TEST(fs::file_size(e.path()) > 0u, "truncated: " << e.path());
       }
     }
   }

@@ -53,9 +53,8 @@ void check_thermo(const LammpsThermo& d, const std::string& path) {
   }
   for (std::size_t k = 0; k < d.time.size(); ++k) {
     if (d.energy[k] < 0 || d.contacts[k] < 0) {
-      throw std::runtime_error(
-          fmt::format("{}: thermo line {}: PotEng {} or v_Z {} is negative", path, k + 1,
-                      d.energy[k], d.contacts[k]));
+      throw std::runtime_error(fmt::format("{}: thermo line {}: PotEng {} or v_Z {} is negative",
+                                           path, k + 1, d.energy[k], d.contacts[k]));
     }
   }
 }
@@ -86,7 +85,8 @@ LammpsThermo read_lammps_thermo(const std::string& path) {
     }
     if (w[0] == "timestep" && w.size() == 2 && w[1][0] != '$') {
       d.dt = number(w[1], where, "timestep");
-      if (!(d.dt > 0)) throw std::runtime_error(fmt::format("{}: timestep {} (must be > 0)", where, w[1]));
+      if (!(d.dt > 0))
+        throw std::runtime_error(fmt::format("{}: timestep {} (must be > 0)", where, w[1]));
     }
     if (w[0] == "fix" && w.size() > 5 && w[3] == "deform") {
       for (std::size_t k = 4; k + 2 < w.size(); ++k) {
@@ -151,7 +151,9 @@ double small_mass(const std::string& path) {
         const auto w = words(line);
         if (w.size() >= 2 && w[0] == "1") {
           const double m = number(w[1], path + ": Masses", "mass of type 1");
-          if (!(m > 0)) throw std::runtime_error(fmt::format("{}: Masses: mass of type 1 {} (must be > 0)", path, w[1]));
+          if (!(m > 0))
+            throw std::runtime_error(
+                fmt::format("{}: Masses: mass of type 1 {} (must be > 0)", path, w[1]));
           return m;
         }
       }

@@ -363,9 +363,7 @@ class CompressionRun {
   /// A stop asked for between the checks every 256 steps: a large run takes seconds for 256
   /// steps, and SIGTERM must end it within a second (a checkpoint holds the state). One atomic
   /// load per step.
-  bool stop_now() const {
-    return control_.stop && control_.stop->load(std::memory_order_relaxed);
-  }
+  bool stop_now() const { return control_.stop && control_.stop->load(std::memory_order_relaxed); }
 
   /// Stops now, with a checkpoint; `steps` since the last count. Always false (stopped).
   bool pause_at_once(std::size_t steps) {
