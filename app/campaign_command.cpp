@@ -1,6 +1,12 @@
 #include "app/campaign_command.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <tuple>
+#include <utility>
 
 namespace jam {
 
@@ -17,8 +23,9 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   run->add_flag("--quiet", a.run.quiet, "No progress display and no summary");
   run->add_option("--shard", a.shard,
                   "K/N: run only the K-th of N disjoint shares of the campaign (whole samples, "
-                  "balanced by cost), e.g. one per Slurm array task; together the N shares are "
-                  "the whole campaign, bitwise");
+                  "balanced by cost; K from 1), e.g. one per Slurm array task; together the N "
+                  "shares are the whole campaign, bitwise. 'auto': this Slurm array task's "
+                  "share, whatever the array's first index (--array=0-31 or 1-32, steps too)");
   run->add_flag("--force", a.run.force,
                 "Run even runs beyond the per-run limits on steps, output points and memory");
   CLI::App* status = campaign->add_subcommand(
@@ -33,20 +40,60 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
 }
 
+namespace {
+
+/// A whole number from the environment variable `name` (`fallback` when unset).
+long slurm_number(const char* name, long fallback) {
+  const char* text = std::getenv(name);
+  if (!text) {
+    if (fallback >= 0) return fallback;
+    throw CLI::ValidationError("--shard",
+                               fmt::format("auto: {} is not set (not a Slurm array task)", name));
+  }
+  char* end = nullptr;
+  const long v = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || v < 0) {
+    throw CLI::ValidationError("--shard",
+                               fmt::format("auto: {}={} is not a whole number", name, text));
+  }
+  return v;
+}
+
+/// --shard K/N (K from 1) or `auto`: the share of this Slurm array task, K = (ID - MIN) / STEP
+/// + 1 of N = COUNT, so that arrays numbered from 0 or 1, or with a step, all work.
+std::pair<int, int> parse_shard(const std::string& shard) {
+  if (shard == "auto") {
+    const long id = slurm_number("SLURM_ARRAY_TASK_ID", -1);
+    const long count = slurm_number("SLURM_ARRAY_TASK_COUNT", -1);
+    const long first = slurm_number("SLURM_ARRAY_TASK_MIN", -1);
+    const long step = std::max(1L, slurm_number("SLURM_ARRAY_TASK_STEP", 1));
+    const long k = (id - first) / step + 1;
+    if (id < first || (id - first) % step != 0 || count < 1 || k > count || count > 1000000) {
+      throw CLI::ValidationError(
+          "--shard", fmt::format("auto: task {} of an array of {} from {} in steps of {} is not "
+                                 "one of its tasks",
+                                 id, count, first, step));
+    }
+    return {static_cast<int>(k), static_cast<int>(count)};
+  }
+  int k = 0, n = 0;
+  char rest = 0;
+  if (std::sscanf(shard.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 1 || k > n) {
+    throw CLI::ValidationError(
+        "--shard", shard +
+                       ": must read K/N with 1 <= K <= N, e.g. 3/8 (K counts from 1; for a "
+                       "Slurm array numbered from 0, give --shard auto)");
+  }
+  return {k, n};
+}
+
+}  // namespace
+
 int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks& ranks) {
   const CLI::App* campaign = app.get_subcommand("campaign");
   if (campaign->got_subcommand("run")) {
     CampaignRunOptions options = a.run;
-    if (!a.shard.empty()) {
-      int k = 0, n = 0;
-      char rest = 0;
-      if (std::sscanf(a.shard.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 1 || k > n) {
-        throw CLI::ValidationError("--shard",
-                                   a.shard + ": must read K/N with 1 <= K <= N, e.g. 3/8");
-      }
-      options.shard = k;
-      options.shards = n;
-    }
+    if (!a.shard.empty()) std::tie(options.shard, options.shards) = parse_shard(a.shard);
     return run_campaign(read_campaign(a.file), options, ranks);
   }
   if (campaign->got_subcommand("status")) return print_campaign_status(a.directory, a.json);

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "campaign/campaign_file.hpp"
 #include "campaign/campaign_lock.hpp"
@@ -185,6 +186,42 @@ BOOST_AUTO_TEST_CASE(shards_make_the_whole_campaign) {
     BOOST_TEST(o.status == 2, bad);
     BOOST_TEST(o.output.find("--shard") != std::string::npos, o.output);
   }
+}
+
+// `--shard auto`: the share of a Slurm array task from SLURM_ARRAY_TASK_ID, _COUNT, _MIN and
+// _STEP, so that arrays numbered from 0 (--array=0-2), from 1, or with a step (--array=1-5:2)
+// each make the whole campaign; outside an array it is refused in one line naming the variable.
+BOOST_AUTO_TEST_CASE(shard_auto_follows_the_slurm_array_numbering) {
+  const fs::path single = kDir / "auto-single";
+  BOOST_REQUIRE(
+      run_jam("campaign run --quiet " + write_campaign("s", kSmall, single).string()).status == 0);
+  const auto expected = run_files(single);
+  struct Array {
+    const char* name;
+    std::vector<int> ids;
+    int first, step;
+  };
+  for (const Array& array : {Array{"zero", {0, 1, 2}, 0, 1}, Array{"stepped", {1, 3, 5}, 1, 2}}) {
+    const fs::path dir = kDir / (std::string("auto-") + array.name);
+    const fs::path file = write_campaign(array.name, kSmall, dir);
+    for (const int id : array.ids) {
+      std::vector<std::string> argv = {"env", "SLURM_ARRAY_TASK_ID=" + std::to_string(id),
+                                       "SLURM_ARRAY_TASK_COUNT=" + std::to_string(array.ids.size()),
+                                       "SLURM_ARRAY_TASK_MIN=" + std::to_string(array.first),
+                                       "SLURM_ARRAY_TASK_STEP=" + std::to_string(array.step)};
+      for (auto& w : jam::test::jam_argv("campaign run --quiet --shard auto " + file.string())) {
+        argv.push_back(w);
+      }
+      const Outcome o = jam::test::run_logged(kDir / "auto.txt", argv);
+      BOOST_TEST(o.status == 0, array.name << " task " << id << ": " << o.output);
+    }
+    BOOST_TEST((run_files(dir) == expected), array.name);
+  }
+  const Outcome outside = run_jam("campaign run --quiet --shard auto " +
+                                  write_campaign("o", kSmall, kDir / "auto-outside").string());
+  BOOST_TEST(outside.status == 2, outside.output);
+  BOOST_TEST(outside.output.find("SLURM_ARRAY_TASK_ID is not set") != std::string::npos,
+             outside.output);
 }
 
 BOOST_AUTO_TEST_SUITE_END()
