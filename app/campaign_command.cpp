@@ -21,6 +21,9 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   run->add_option("--jobs", a.run.jobs, "Runs at once per process (0 = all cores)");
   run->add_flag("--retry-failed", a.run.retry_failed, "Also redo runs whose last attempt failed");
   run->add_flag("--quiet", a.run.quiet, "No progress display and no summary");
+  run->add_option("--log-every", a.run.log_seconds,
+                  "Without a terminal (a batch log): a progress line every this many seconds")
+      ->check(CLI::Range(0.1, 86400.0));
   run->add_option("--shard", a.shard,
                   "K/N: run only the K-th of N disjoint shares of the campaign (whole samples, "
                   "balanced by cost; K from 1), e.g. one per Slurm array task; together the N "

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -35,6 +36,14 @@ std::string duration(double seconds) {
   if (seconds < 7200) return fmt::format("{:.1f} min", seconds / 60);
   if (seconds < 172800) return fmt::format("{:.1f} h", seconds / 3600);
   return fmt::format("{:.1f} days", seconds / 86400);
+}
+
+/// Now, UTC, to the second: the stamp of a progress line in a log.
+std::string utc_time() {
+  const std::time_t t = std::time(nullptr);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return text;
 }
 
 /// Refuses the whole campaign before any work when one of its runs is beyond the limits.
@@ -241,16 +250,28 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     ++active;
     threads.emplace_back(worker, k);
   }
-  while (tty && active.load() > 0) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  // Progress: on a terminal a line redrawn every half second; without one (a batch log) a
+  // dated line every options.log_seconds, so a day-long Slurm log shows how far it got.
+  double core_seconds = 0.0, last_line = 0.0;
+  while (show && active.load() > 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(tty ? 500 : 100));
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    core_seconds += (tty ? 0.5 : 0.1) * active.load();
+    if (!tty && elapsed - last_line < options.log_seconds) continue;
+    last_line = elapsed;
     const double done_steps = static_cast<double>(particle_steps.load());
     const double speed = elapsed > 0 ? done_steps / elapsed : 0.0;
     const double eta = speed > 0 ? std::max(0.0, remaining_estimate - done_steps) / speed : 0.0;
+    const std::string line = fmt::format(
+        "runs {}/{} done, {:.3g} core-hours, {:.3g} particle-steps/s, ETA {}",
+        already_done + finished.load(), plan.size(), core_seconds / 3600.0, speed, duration(eta));
     std::lock_guard lock(print_mutex);
-    fmt::print(stderr, "\r  runs {}/{} done, {:.3g} particle-steps/s, ETA {}      ",
-               already_done + finished.load(), plan.size(), speed, duration(eta));
+    if (tty) {
+      fmt::print(stderr, "\r  {}      ", line);
+    } else {
+      fmt::print(stderr, "jam: {} campaign {}: {}\n", utc_time(), c.name, line);
+    }
     std::fflush(stderr);
   }
   for (auto& t : threads) t.join();

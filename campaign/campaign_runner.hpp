@@ -15,6 +15,7 @@ struct CampaignRunOptions {
   bool quiet = false;
   bool force = false;         // run beyond the per-run limits of validate_cost (sim_config.hpp)
   int shard = 1, shards = 1;  // run only the shard-th of `shards` shares (run_plan.hpp)
+  double log_seconds = 300;   // without a terminal: a progress line this often
 };
 
 /// Returns the exit status: 0 when every run is done, 1 when some failed, 130 when

@@ -14,6 +14,7 @@
 #include <iterator>
 #include <map>
 #include <random>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -146,6 +147,32 @@ BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
   const auto grown = run_files("a");
   BOOST_TEST(grown.size() == 24u);
   for (const auto& [name, bytes] : first) BOOST_TEST((grown.at(name) == bytes), name);
+}
+
+// Without a terminal (a Slurm log) a campaign writes a dated progress line every --log-every
+// seconds: runs done of the total, core-hours, speed, ETA; with --quiet none.
+BOOST_AUTO_TEST_CASE(progress_lines_in_a_log_without_a_terminal) {
+  const fs::path file = write_campaign("logged", R"(name = "logged"
+dim = 2
+sizes = [512]
+phi_init = [0.75]
+log10_rates = [-3.0]
+samples = 8
+phi_stop = 0.86
+seed = 9
+)");
+  const Outcome o = run_jam("campaign run --jobs 1 --log-every 0.1 " + file.string());
+  BOOST_TEST_REQUIRE(o.status == 0, o.output);
+  const std::regex line(
+      R"(jam: \d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ campaign logged: runs \d+/8 done, [0-9.e+-]+ )"
+      R"(core-hours, [0-9.e+-]+ particle-steps/s, ETA .+)");
+  std::istringstream lines(o.output);
+  int progress = 0;
+  for (std::string l; std::getline(lines, l);) progress += std::regex_match(l, line);
+  BOOST_TEST(progress >= 1, o.output);
+  fs::remove_all(kDir / "logged");
+  const Outcome quiet = run_jam("campaign run --quiet --log-every 0.1 " + file.string());
+  BOOST_TEST(quiet.output.find("core-hours") == std::string::npos, quiet.output);
 }
 
 BOOST_AUTO_TEST_CASE(killed_campaign_resumes_to_identical_files) {
