@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import h5py
 
-from .errors import JamioError, reading, require_file
+from .errors import JamioError, open_regular, reading, shown
 from .hdf5 import attrs, group, read_hdf5
 
 
@@ -57,13 +57,20 @@ class Checks:
         return None
 
 
+# The largest checks.json read: a campaign's verdicts take kilobytes to a few megabytes (the
+# curves are in checks.h5); a larger file is refused before it is read into memory.
+MOST_JSON_BYTES = 256 << 20
+
+
 def _parse(path):
-    """The JSON of `path`; invalid JSON is a JamioError naming the line."""
-    with open(path, encoding="utf-8") as f:
-        try:
-            return json.load(f)
-        except json.JSONDecodeError as e:
-            raise JamioError(path, f"line {e.lineno}: not valid JSON ({e.msg})") from e
+    """The JSON of `path` (a regular file of at most MOST_JSON_BYTES); invalid JSON is a
+    JamioError naming the line."""
+    with open_regular(path, "verdict file", MOST_JSON_BYTES) as f:
+        text = f.read().decode("utf-8")
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise JamioError(path, f"line {e.lineno}: not valid JSON ({e.msg})") from e
 
 
 def _split(path, content):
@@ -74,13 +81,15 @@ def _split(path, content):
         raise JamioError(path, "not a verdict file (neither an array of verdicts nor an object "
                                "with a 'verdicts' array)")
     metadata = {k: v for k, v in content.items() if k != "verdicts"}
-    return int(metadata.get("schema_version", 2)), metadata, content["verdicts"]
+    schema = metadata.get("schema_version", 2)
+    if isinstance(schema, bool) or not isinstance(schema, int):
+        raise JamioError(path, f"field 'schema_version' is {shown(schema)}, not a whole number")
+    return schema, metadata, content["verdicts"]
 
 
 def read_verdicts(path):
     """checks.json (either schema) as a Checks without curves."""
     path = os.fspath(path)
-    require_file(path, "verdict file")
     with reading(path, "verdict file"):
         schema, metadata, verdicts = _split(path, _parse(path))
     for k, v in enumerate(verdicts):

@@ -1,12 +1,20 @@
 """HDF5 values as Python values: string attributes (stored as fixed-length bytes) as str,
-numpy scalars as int and float, datasets as numpy arrays; a group as a Group."""
+numpy scalars as int and float, datasets as numpy arrays; a group as a Group.
+
+Shapes and types are checked before values, as jam's own reader does (sim/io/hdf5_file.hpp):
+a file may come from a damaged copy or a hand edit, and h5py allocates whatever the file
+declares. Every attribute jam writes is one number or one string, so an attribute is refused
+unless it holds one value (a scalar, or an array of exactly one element, as jam's reader
+takes it) of a number or string type, a fixed-length string of at most MOST_STRING_BYTES. A
+dataset is refused unless it holds numbers or strings, its values fit in the file (or, stored
+compressed, in what its compressed bytes can expand to) and in MOST_DATASET_BYTES."""
 
 import os
 
 import h5py
 import numpy as np
 
-from .errors import reading, require_file
+from .errors import cause, reading, require_file, shown
 
 
 class Group(dict):
@@ -36,48 +44,111 @@ def value(v):
     return v
 
 
-# The most values one attribute may hold: jam writes scalars and short strings, and a damaged
-# or hostile file must not make jamio allocate what its header claims.
-MOST_ATTRIBUTE_VALUES = 1024
+# The longest fixed-length string attribute read, in bytes (as jam's reader: the longest jam
+# writes is a few hundred).
+MOST_STRING_BYTES = 1 << 16
+# The most bytes one dataset may hold, whatever its file declares: the largest jam writes (all
+# samples of a long campaign's pressure) is tens of MB; a flipped bit in a shape must not
+# become a multi-GB allocation.
+MOST_DATASET_BYTES = 1 << 30
+# The most a compressed dataset's bytes may expand to (deflate, the best of HDF5's filters,
+# reaches about 1032:1).
+MOST_EXPANSION = 1100
+
+
+def _is_string(dtype):
+    return h5py.check_string_dtype(dtype) is not None
+
+
+def _kind(dtype):
+    """What an HDF5 type is, in words, for a message."""
+    if dtype.names:
+        return "a compound type"
+    if _is_string(dtype):
+        return "a string"
+    if h5py.check_vlen_dtype(dtype) is not None:
+        return "a variable-length sequence"
+    if h5py.check_ref_dtype(dtype) is not None:
+        return "a reference"
+    if dtype.subdtype is not None:
+        return "an array type"
+    return {"b": "a boolean", "i": "an integer", "u": "an integer", "f": "a number",
+            "c": "a complex number", "V": "an opaque type"}.get(dtype.kind, f"type {dtype}")
+
+
+def _plain_type(dtype):
+    """Whether values of `dtype` are numbers (booleans included) or strings: what jam writes."""
+    if _is_string(dtype):
+        return True
+    return not dtype.names and dtype.subdtype is None and dtype.kind in "biuf"
+
+
+def _attribute(obj, key):
+    """One attribute, its shape and type checked before its value is read."""
+    where = f"attribute {shown(key)} of {shown(obj.name)}"
+    attribute = obj.attrs.get_id(key)
+    shape, dtype = attribute.shape, attribute.dtype
+    count = 0 if shape is None else int(np.prod(shape, dtype=np.float64))  # None: no value
+    if count != 1:
+        raise ValueError(f"{where} holds {shape} values, expected one")
+    if not _plain_type(dtype):
+        raise ValueError(f"{where} is {_kind(dtype)}, expected a number or a string")
+    if dtype.kind == "S" and dtype.itemsize > MOST_STRING_BYTES:
+        raise ValueError(f"{where} is a string of {dtype.itemsize} bytes "
+                         f"(at most {MOST_STRING_BYTES})")
+    try:
+        v = obj.attrs[key]
+        if isinstance(v, np.ndarray):  # an array of one element: its element, as jam reads it
+            v = v.reshape(-1)[0]
+        return value(v)
+    except (ValueError, TypeError, OverflowError) as e:
+        raise ValueError(f"{where}: {cause(e)}") from e
 
 
 def attrs(obj):
-    """Every attribute of an HDF5 object, as Python values; an attribute of more than
-    MOST_ATTRIBUTE_VALUES values is refused before it is read."""
-    out = {}
-    for key in obj.attrs:
-        shape = obj.attrs.get_id(key).shape
-        if int(np.prod(shape, dtype=np.float64)) > MOST_ATTRIBUTE_VALUES:
-            raise ValueError(f"attribute '{key}' of {obj.name} holds {shape} values "
-                             f"(at most {MOST_ATTRIBUTE_VALUES})")
-        out[key] = value(obj.attrs[key])
-    return out
+    """Every attribute of an HDF5 object, as Python values (each checked: _attribute)."""
+    return {key: _attribute(obj, key) for key in obj.attrs}
 
 
 def _check_size(dataset):
-    """Refuses, before reading, a dataset that cannot hold what it declares: declared but never
-    written (no storage), or, uncompressed, more bytes than the whole file has."""
+    """Refuses, before reading, a dataset of another type than numbers or strings, or one that
+    cannot hold what it declares: declared but never written (no storage), more bytes than the
+    whole file (uncompressed) or than its compressed bytes can expand to, or more than
+    MOST_DATASET_BYTES."""
+    where = f"dataset {shown(dataset.name)}"
+    if not _plain_type(dataset.dtype):
+        raise ValueError(f"{where} is {_kind(dataset.dtype)}, expected numbers or strings")
     declared = dataset.size * dataset.dtype.itemsize
     if declared == 0:
         return
     stored = dataset.id.get_storage_size()
     if stored == 0:
-        raise ValueError(f"dataset {dataset.name} declares {dataset.shape} values and holds none")
+        raise ValueError(f"{where} declares {dataset.shape} values and holds none")
+    if declared > MOST_DATASET_BYTES:
+        raise ValueError(f"{where} declares {dataset.shape} values, {declared} bytes "
+                         f"(at most {MOST_DATASET_BYTES})")
     file_size = os.path.getsize(dataset.file.filename)
-    if dataset.compression is None and declared > file_size:
-        raise ValueError(f"dataset {dataset.name} declares {declared} bytes in a file of "
-                         f"{file_size}")
+    if stored > file_size:
+        raise ValueError(f"{where} claims {stored} stored bytes in a file of {file_size}")
+    filtered = bool(dataset.id.get_create_plist().get_nfilters())
+    if not filtered and declared > file_size:
+        raise ValueError(f"{where} declares {declared} bytes in a file of {file_size}")
+    if filtered and declared > MOST_EXPANSION * stored:
+        raise ValueError(f"{where} declares {declared} bytes from {stored} compressed bytes")
 
 
 def array(dataset):
-    """A dataset as a numpy array (strings decoded to str); its size checked first."""
+    """A dataset as a numpy array (strings decoded to str); its type and size checked first."""
     _check_size(dataset)
-    data = np.asarray(dataset[()])
-    if data.dtype.kind == "S":
-        return np.char.decode(data, "utf-8")
-    if data.dtype.kind == "O":
-        return np.array([_text(x) for x in data.ravel()], dtype=object).reshape(data.shape)
-    return data
+    try:
+        data = np.asarray(dataset[()])
+        if data.dtype.kind == "S":
+            return np.char.decode(data, "utf-8")
+        if data.dtype.kind == "O":
+            return np.array([_text(x) for x in data.ravel()], dtype=object).reshape(data.shape)
+        return data
+    except (ValueError, TypeError, OverflowError) as e:
+        raise ValueError(f"dataset {shown(dataset.name)}: {cause(e)}") from e
 
 
 def group(g):
@@ -88,6 +159,28 @@ def group(g):
 def optional_group(parent, name):
     """group(parent[name]), or None when `parent` has no such group."""
     return group(parent[name]) if isinstance(parent.get(name), h5py.Group) else None
+
+
+def require(attributes, where, numbers=(), integers=(), strings=()):
+    """Checks the types of the attributes a reader relies on (those present): each name in
+    `numbers` an int or float (not a bool), in `integers` a whole number, in `strings` a str;
+    a ValueError naming the attribute and its value otherwise."""
+    for name in numbers + integers + strings:
+        if name not in attributes:
+            continue
+        v = attributes[name]
+        if name in strings:
+            ok, expected = isinstance(v, str), "a string"
+        else:
+            ok = isinstance(v, (int, float)) and not isinstance(v, bool)
+            expected = "a number"
+            if name in integers:
+                ok = ok and float(v).is_integer()
+                expected = "a whole number"
+        if not ok:
+            raise ValueError(f"attribute '{name}' of {shown(where)} is {shown(v)}, "
+                             f"not {expected}")
+    return attributes
 
 
 def read_hdf5(path, what, read):

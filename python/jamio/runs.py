@@ -11,7 +11,7 @@ import h5py
 import numpy as np
 
 from .errors import JamioError, reading
-from .hdf5 import array, attrs, read_hdf5, value
+from .hdf5 import array, attrs, read_hdf5, require
 
 # The datasets every run file has (one entry per output point) and those only some have.
 SERIES = ("packing_fraction", "pressure", "contacts_per_particle", "energy_per_particle", "time")
@@ -53,13 +53,21 @@ class Run:
 
 
 def _check(run):
-    """The datasets and attributes every run file has, the series of equal length."""
+    """The datasets and attributes every run file has, of their types (the table of load_runs
+    repeats them as numbers), the series one-dimensional arrays of numbers of equal length."""
     for name in SERIES:
         if name not in run.data:
             raise ValueError(f"dataset '{name}' missing")
+    for name in SERIES + OPTIONAL_SERIES:
+        data = run.data.get(name)
+        if data is not None and (data.ndim != 1 or data.dtype.kind not in "biuf"):
+            raise ValueError(f"dataset '{name}' is {data.ndim}-dimensional of {data.dtype}, "
+                             "expected one dimension of numbers")
     for name in PARAMETERS:
         if name not in run.attrs:
             raise ValueError(f"attribute '{name}' missing")
+    require(run.attrs, "/", numbers=("phi_init", "compression_rate", "sample"),
+            integers=("n", "seed"))
     lengths = {name: len(run.data[name]) for name in SERIES + OPTIONAL_SERIES if name in run.data}
     if len(set(lengths.values())) > 1:
         raise ValueError(f"datasets of different lengths {lengths}")
@@ -67,7 +75,7 @@ def _check(run):
 
 def _read_run(path, f):
     datasets = {k: v for k, v in f.items() if isinstance(v, h5py.Dataset)}
-    units = {k: value(v.attrs["units"]) for k, v in datasets.items() if "units" in v.attrs}
+    units = {k: attrs(v)["units"] for k, v in datasets.items() if "units" in v.attrs}
     run = Run(path, attrs(f), {k: array(v) for k, v in datasets.items()}, units)
     _check(run)
     return run

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import h5py
 
-from .hdf5 import Group, array, attrs, optional_group, read_hdf5
+from .hdf5 import Group, array, attrs, optional_group, read_hdf5, require
 
 # The root attributes every stats.h5 has.
 REQUIRED = ("campaign", "dim", "version")
@@ -75,6 +75,7 @@ def _read_stats(path, f):
     for key in REQUIRED:
         if key not in root:
             raise ValueError(f"root attribute '{key}' missing")
+    require(root, "/", integers=("dim",), strings=("campaign", "version"))
     groups = f.get("ensembles")
     ensembles = {} if groups is None else {
         name: _ensemble(name, g) for name, g in groups.items() if isinstance(g, h5py.Group)}
