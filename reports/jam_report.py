@@ -29,7 +29,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from report_data import UNREADABLE, ReportInputError, cause, load_campaign  # noqa: E402
+from report_data import UNREADABLE, ReportInputError, cause, load_campaign, visible  # noqa: E402
 from report_output import (ReportOutputError, check_target, mark, publish,  # noqa: E402
                            staging, write_text)
 
@@ -150,7 +150,9 @@ def run(a):
 
 
 def fail(message, status=UNREADABLE):
-    print("jam report: error: " + " ".join(message.splitlines()), file=sys.stderr)
+    """The one line on stderr: names and values in it come from files, so its control
+    characters are made visible and its length bounded."""
+    print("jam report: error: " + visible(" ".join(message.split()), 2000), file=sys.stderr)
     return status
 
 

@@ -31,6 +31,9 @@ def _import_jamio():
 
 jamio = _import_jamio()
 cause = jamio.errors.cause
+require = jamio.hdf5.require
+shown = jamio.errors.shown
+visible = jamio.errors.visible
 
 
 # Exit status of a campaign that is not ready for a report (a step has not been run yet) and
@@ -75,6 +78,8 @@ REGISTRY_BEFORE_CHECKS_JSON_HAD_IT = [
     {"name": "regression", "figure": "verdicts", "margin_unit": "relative"}]
 # A check a registry does not name (none that jam writes): the verdict table shows it.
 UNREGISTERED = {"figure": "verdicts", "margin_unit": "relative"}
+# What a check's margin can measure (the registry's `margin_unit`).
+MARGIN_UNITS = ("relative", "packing_fraction")
 
 
 @contextlib.contextmanager
@@ -104,7 +109,7 @@ def _loaded(load, path, step):
 def _require(names, present, where, kind):
     for name in names:
         if name not in present:
-            raise ValueError(f"{kind} {where}/{name} missing")
+            raise ValueError(f"{kind} '{name}' of {shown(where)} missing")
 
 
 @dataclass
@@ -159,13 +164,25 @@ class Campaign:
     run_wall_seconds: list
 
 
-def _datasets(group, required, where):
+def _numbers(out, names, where):
+    """Each of `names` present in `out` a one-dimensional array of numbers: what a figure draws
+    must be one (a string dataset would be drawn as categories, its text in the SVG)."""
+    for name in names:
+        data = out.get(name)
+        if data is not None and (np.ndim(data) != 1 or np.asarray(data).dtype.kind not in "biuf"):
+            raise ValueError(f"dataset '{name}' of {shown(where)} is "
+                             f"{np.ndim(data)}-dimensional of {np.asarray(data).dtype}, "
+                             "expected one dimension of numbers")
+
+
+def _datasets(group, required, where, optional=()):
     """The arrays of a jamio Group (None: {}); when it has any, `required` must be among them,
-    equally long."""
+    one-dimensional arrays of numbers, equally long (and `optional`, where present, too)."""
     out = dict(group or {})
     if out and required:
         _require(required, out, where, "dataset")
-        lengths = {name: len(np.atleast_1d(out[name])) for name in required}
+        _numbers(out, tuple(required) + tuple(optional), where)
+        lengths = {name: len(out[name]) for name in required}
         if len(set(lengths.values())) > 1:
             raise ValueError(f"{where}: datasets of different lengths {lengths}")
     return out
@@ -176,7 +193,9 @@ def _jamming(e, where):
         return None
     jamming = dict(e.jamming.attrs)
     _require(JAMMING, jamming, where, "attribute")
+    require(jamming, where, numbers=JAMMING + ("spread",))
     _require(["packing_fraction_samples"], e.jamming, where, "dataset")
+    _numbers(e.jamming, ["packing_fraction_samples"], where)
     jamming["packing_fraction_samples"] = e.jamming["packing_fraction_samples"]
     return jamming
 
@@ -185,6 +204,8 @@ def _ensemble(e):
     """A jamio Ensemble with what the figures draw checked, as the report's Ensemble."""
     where, a = f"/ensembles/{e.name}", e.attrs
     _require(ENSEMBLE, a, where, "attribute")
+    require(a, where, numbers=("phi_init", "log10_rate", "compression_rate"),
+            integers=("n", "samples"))
     return Ensemble(e.name, int(a["n"]), float(a["phi_init"]), float(a["log10_rate"]),
                     float(a["compression_rate"]), int(a["samples"]),
                     _datasets(e.constant_phi, CONSTANT_PHI, where + "/constant_phi"),
@@ -211,30 +232,40 @@ def _typed(attrs, where, text=()):
 def _fit(fit, where="/fit"):
     """A jamio Fit as the dict the figures read: attrs, representative, coefficients,
     collapse, scan, scan_failures (the keys present only where the file has them)."""
-    out = {"attrs": fit.attrs}
+    out = {"attrs": require(fit.attrs, where, numbers=("phi_init", "n"),
+                            strings=("rates_note", "failure"))}
     if fit.representative is not None:
         out["representative"] = _typed(fit.representative, where + "/representative", FIT_TEXT)
         if fit.coefficients is None:
             raise ValueError(f"dataset {where}/representative/coefficients missing")
+        _numbers({"coefficients": fit.coefficients}, ["coefficients"], where + "/representative")
         out["coefficients"] = fit.coefficients
         if fit.collapse is not None:
             out["collapse"] = _datasets(fit.collapse, COLLAPSE, where + "/representative/collapse")
     if fit.scan is not None:
-        out["scan"] = _datasets(fit.scan, SCAN, where + "/scan")
-        out["scan_failures"] = fit.scan.attrs.get("failures", "")
+        out["scan"] = _datasets(fit.scan, SCAN, where + "/scan", ("half_window", "chosen"))
+        out["scan_failures"] = require(fit.scan.attrs, where + "/scan",
+                                       strings=("failures",)).get("failures", "")
     return out
 
 
 def _paper(paper):
     _require([name + "_error" for name in ("phi_j", "beta", "y") if name in paper], paper,
              "/paper", "attribute")
-    return dict(paper)
+    return require(dict(paper), "/paper", numbers=tuple(paper))
+
+
+# Root attributes of stats.h5 the report shows, by type (jamio checks campaign, dim, version).
+STATS_NUMBERS = ("wall_time",)
+STATS_INTEGERS = ("runs", "runs_skipped")
 
 
 def _read_stats(path):
     stats = _loaded(jamio.load_stats, path, "jam stats")
     with reading(path, "stats file"):
-        int(stats.attrs["dim"])
+        require(stats.attrs, "/", numbers=STATS_NUMBERS, integers=STATS_INTEGERS)
+        if stats.attrs["dim"] not in (2, 3):
+            raise ValueError(f"attribute 'dim' of '/' is {shown(stats.attrs['dim'])}, not 2 or 3")
         ensembles = [_ensemble(e) for e in stats.ensembles.values()]
         fit = _fit(stats.fit) if stats.fit else None
         attrs = dict(stats.attrs, paper=_paper(stats.paper))
@@ -243,22 +274,21 @@ def _read_stats(path):
 
 
 def _shown(value):
-    """A value in an error message: its repr, shortened."""
-    r = repr(value)
-    return r if len(r) <= 60 else r[:57] + "..."
+    """A value in an error message: its repr, shortened, control characters made visible."""
+    return shown(value)
 
 
 class FieldError(ValueError):
     """A checks.json field of the wrong type; the message names the field and the value."""
 
 
-def _number(x, key):
+def _number(x, key, field=None):
     """The number at x[key] (None when absent or null); a string, list or bool is refused."""
     v = x.get(key)
     if v is None:
         return None
     if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise FieldError(f"field '{key}' is {_shown(v)}, not a number")
+        raise FieldError(f"field '{field or key}' is {_shown(v)}, not a number")
     return float(v)
 
 
@@ -270,6 +300,11 @@ def _string(x, key, default=None):
     return v
 
 
+# The entries of a verdict's `values` the figures draw with: each, where present, a number.
+VALUE_NUMBERS = ("phi_init", "constant_z", "log10_rate", "n_a", "n_b",
+                 "largest_consistent_phi_init", "n")
+
+
 def _verdict(x):
     if not isinstance(x, dict):
         raise FieldError(f"is {_shown(x)}, not an object")
@@ -279,6 +314,8 @@ def _verdict(x):
     values = x.get("values") or {}
     if not isinstance(values, dict):
         raise FieldError(f"field 'values' is {_shown(values)}, not an object")
+    for key in VALUE_NUMBERS:
+        _number(values, key, f"values.{key}")
     expected = x.get("expected_failure", False)
     if not isinstance(expected, bool):
         raise FieldError(f"field 'expected_failure' is {_shown(expected)}, not true or false")
@@ -299,11 +336,20 @@ def _registry(checks):
         out = {}
         for k, e in enumerate(entries):
             try:
-                out[str(e["name"])] = {"figure": str(e["figure"]),
-                                       "margin_unit": str(e["margin_unit"])}
+                name, figure, unit = e["name"], e["figure"], e["margin_unit"]
             except (KeyError, TypeError) as x:
                 raise ReportInputError(
                     f"{checks.path}: checks {k}: not a registry entry ({cause(x)})") from x
+            for key, v in (("name", name), ("figure", figure)):
+                if not isinstance(v, str):
+                    raise ReportInputError(
+                        f"{checks.path}: checks {k}: field '{key}' is {_shown(v)}, "
+                        "not a string")
+            if unit not in MARGIN_UNITS:
+                raise ReportInputError(
+                    f"{checks.path}: checks {k}: field 'margin_unit' is {_shown(unit)}, not "
+                    f"{' or '.join(MARGIN_UNITS)}")
+            out[name] = {"figure": figure, "margin_unit": unit}
     return out
 
 
@@ -328,8 +374,10 @@ def _attach_curves(checks, verdicts):
     """checks.h5's curves (when present) onto their verdicts; its root attributes."""
     path = checks.curves_path
     with reading(path, "checks file"):
+        require(checks.curves_attrs, "/", numbers=("wall_time",), strings=("version",))
         for name, g in checks.curves.items():
             k = int(name.split("_", 1)[0])
+            require(g.attrs, f"/verdicts/{name}", strings=("check",))
             if k >= len(verdicts) or verdicts[k].check != g.attrs["check"]:
                 raise ReportInputError(
                     f"{path}: group {name} does not match checks.json; "
@@ -346,28 +394,70 @@ def _read_checks(path):
     return verdicts, _attach_curves(checks, verdicts)
 
 
+# The largest manifest.toml read (a campaign of 100,000 runs, the most a campaign file may
+# plan, writes about 40 MB) and the most of campaign.toml shown (a campaign file is a page).
+MOST_MANIFEST_BYTES = 256 << 20
+MOST_CAMPAIGN_BYTES = 1 << 20
+
+
+def _input(path):
+    """Whether the optional input `path` is there (a symbolic link to nothing counts: opening
+    it names the problem)."""
+    return os.path.lexists(path)
+
+
+def _manifest_runs(manifest, path):
+    """The wall times of the finished runs of a manifest, its fields type-checked."""
+    for key in ("campaign_file", "code_version"):
+        if key in manifest and not isinstance(manifest[key], str):
+            raise ReportInputError(f"{path}: field '{key}' is {_shown(manifest[key])}, "
+                                   "not a string")
+    runs = manifest.get("runs", {})
+    if not isinstance(runs, dict):
+        raise ReportInputError(f"{path}: field 'runs' is {_shown(runs)}, not a table")
+    wall = []
+    for name, r in runs.items():
+        if not isinstance(r, dict):
+            raise ReportInputError(f"{path}: field 'runs.{visible(name)}' is {_shown(r)}, "
+                                   "not a table")
+        seconds = _number(r, "wall_seconds", f"runs.{visible(name)}.wall_seconds")
+        if r.get("status") == "done":
+            wall.append(seconds or 0.0)
+    return wall
+
+
 def _read_manifest(directory):
     path = os.path.join(directory, "manifest.toml")
-    if not os.path.exists(path):
+    if not _input(path):
         return {}, []
     with reading(path, "manifest"):
-        with open(path, "rb") as f:
+        with jamio.errors.open_regular(path, "manifest", MOST_MANIFEST_BYTES) as f:
             try:
                 manifest = tomllib.load(f)
             except tomllib.TOMLDecodeError as e:
                 raise ReportInputError(f"{path}: {cause(e)}") from e
-        run_wall = [float(r.get("wall_seconds", 0.0))
-                    for r in manifest.get("runs", {}).values() if r.get("status") == "done"]
+        try:
+            run_wall = _manifest_runs(manifest, path)
+        except FieldError as e:
+            raise ReportInputError(f"{path}: {e}") from e
     return manifest, run_wall
 
 
 def _read_campaign_text(directory):
+    """campaign.toml as shown on the page: at most MOST_CAMPAIGN_BYTES of it, with its length
+    said when it is longer (the page shows the text; jam itself refuses a campaign file that
+    is not valid)."""
     path = os.path.join(directory, "campaign.toml")
-    if not os.path.exists(path):
+    if not _input(path):
         return ""
     with reading(path, "campaign file"):
-        with open(path) as f:
-            return f.read()
+        with jamio.errors.open_regular(path, "campaign file") as f:
+            data = f.read(MOST_CAMPAIGN_BYTES + 1)
+            size = os.fstat(f.fileno()).st_size
+        text = data[:MOST_CAMPAIGN_BYTES].decode("utf-8", errors="replace")
+        if len(data) > MOST_CAMPAIGN_BYTES:
+            text += f"\n... (campaign.toml is {size} bytes; the first {MOST_CAMPAIGN_BYTES} shown)"
+        return text
 
 
 def load_campaign(directory):

@@ -3,7 +3,8 @@
 import matplotlib.pyplot as plt
 import numpy as np
 
-from report_plot import Figure, Plotted, decorate, rate_colors, rate_label, rate_text, save
+from report_plot import (Figure, Plotted, decorate, label, rate_colors, rate_label, rate_text,
+                         save)
 
 
 def _offset_step(curves):
@@ -111,7 +112,7 @@ def _lammps_panels(top, bottom, v, plotted):
                 v.curves["pressure_lammps"])
     top.set_yscale("log")
     top.set_ylabel("pressure (mean over samples)")
-    top.set_title(v.case, fontsize=9)
+    top.set_title(label(v.case), fontsize=9)
     top.legend(fontsize=7)
     top.grid(alpha=0.3, which="both")
     bottom.errorbar(g, 100 * v.curves["delta"], yerr=100 * v.curves["sigma"], marker="o",

@@ -6,10 +6,15 @@ On failure the temporary directory is removed, and so is every parent directory 
 created for it that is still empty; a directory that existed before is never removed.
 
 A report directory is jam's own: it holds `.jam-report`, the list of the files the report
-wrote. A report replaces only such a directory (or an empty one, or one written before the
-marker existed that holds nothing but report files), and when it does it deletes only the
-files listed. A directory holding anything else, the working directory, the campaign and their
-parents are refused before any work: publishing a report never deletes a user's file.
+wrote. A report replaces only such a directory, or an empty one, and when it does it deletes
+only the files listed. The marker names only files a report writes (`index.html`,
+`summary.txt`, figures as .png, .svg, .csv), so a hand-made marker cannot claim anything else.
+A report written before the marker existed is replaced when it is recognisably jam's: its
+`index.html` is jam's page, its `summary.txt` jam's summary, every other entry a figure file;
+any other directory without the marker (a site with an `index.html`, say) is refused. A
+directory holding anything else, entries that are not regular files, the working directory,
+the campaign and their parents are refused before any work: publishing a report never deletes
+a user's file.
 """
 
 import contextlib
@@ -19,7 +24,7 @@ import stat
 import sys
 import tempfile
 
-from report_data import cause
+from report_data import cause, shown as _shown
 
 # What a path that is not a directory is, in words, by its stat mode.
 KINDS = [(stat.S_ISREG, "a regular file"), (stat.S_ISFIFO, "a FIFO"),
@@ -45,22 +50,61 @@ def _kind(mode):
 
 
 def _is_report_file(name):
-    return name in REPORT_FILES or name.endswith(FIGURE_SUFFIXES)
+    return name in REPORT_FILES or (name.endswith(FIGURE_SUFFIXES) and "/" not in name
+                                    and not name.startswith("."))
+
+
+# How the page and the summary of every jam report begin (report_html.page, text_summary): what
+# identifies a report written before the marker existed.
+PAGE_START = b'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+PAGE_TITLE = b"<title>jam report: "
+SUMMARY_START = b"jam report: campaign "
+# The longest marker read: one name a line, a few dozen files.
+MOST_MARKER_BYTES = 1 << 16
+
+
+def _regular(path):
+    """Whether `path` is a regular file itself (a symbolic link is not)."""
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
+
+
+def _starts(path, *prefixes):
+    """Whether the regular file `path` begins with prefixes[0] and holds the others in its
+    first kilobyte (opened without waiting: it was checked to be a regular file)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_NOFOLLOW)
+    except OSError:
+        return False
+    with os.fdopen(fd, "rb") as f:
+        head = f.read(1024)
+    return head.startswith(prefixes[0]) and all(p in head for p in prefixes[1:])
+
+
+def _jam_wrote_before_the_marker(directory, entries):
+    """A report of a jam before the marker: its page and summary jam's, the rest figures."""
+    if not all(_is_report_file(n) and _regular(os.path.join(directory, n)) for n in entries):
+        return False
+    return (_starts(os.path.join(directory, "index.html"), PAGE_START, PAGE_TITLE)
+            and _starts(os.path.join(directory, "summary.txt"), SUMMARY_START))
 
 
 def owned_files(directory):
-    """The names of the files jam wrote in a report directory: those its MARKER lists, or for a
-    report written before the marker existed (an index.html, nothing but report files) all of
-    them. None when the directory is not a report jam wrote."""
+    """The names of the files jam wrote in a report directory: those its MARKER lists that a
+    report writes, or all the files of a report written before the marker existed. None when
+    the directory is not a report jam wrote."""
     entries = set(os.listdir(directory))
     marker = os.path.join(directory, MARKER)
     if MARKER in entries:
-        if not stat.S_ISREG(os.lstat(marker).st_mode):
+        if not _regular(marker):
             return None
-        with open(marker, encoding="utf-8", errors="replace") as f:
-            listed = {line.rstrip("\n") for line in f if line.strip()}
-        return {n for n in listed if n and "/" not in n and n not in (".", "..")} | {MARKER}
-    if "index.html" in entries and all(_is_report_file(n) for n in entries):
+        with open(marker, "rb") as f:
+            text = f.read(MOST_MARKER_BYTES).decode("utf-8", errors="replace")
+        listed = {line for line in text.splitlines() if line}
+        return {n for n in listed if _is_report_file(n)} | {MARKER}
+    if _jam_wrote_before_the_marker(directory, entries):
         return entries
     return None
 
@@ -95,9 +139,11 @@ def check_target(out, campaign=None):
         if owned is None:
             raise ReportOutputError(
                 f"{out}: exists and is not a report jam wrote (no {MARKER}); not replaced")
-        foreign = sorted(set(entries) - owned)
+        # A listed name that is not a regular file here (a directory called x.png) is not jam's.
+        foreign = sorted(n for n in entries
+                         if n not in owned or not _regular(os.path.join(out, n)))
         if foreign:
-            shown = ", ".join(repr(n) for n in foreign[:5]) + (", ..." if len(foreign) > 5 else "")
+            shown = ", ".join(_shown(n) for n in foreign[:5]) + (", ..." if len(foreign) > 5 else "")
             raise ReportOutputError(
                 f"{out}: holds files the report did not write ({shown}); not replaced")
     return real if os.path.islink(out) else out

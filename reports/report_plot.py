@@ -14,6 +14,8 @@ import matplotlib.colors  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from report_html import plain  # noqa: E402
+
 DPI = 110
 # SVG element ids from a fixed salt and no date: the same report twice gives the same files.
 matplotlib.rcParams["svg.hashsalt"] = "jam-report"
@@ -72,9 +74,22 @@ class Plotted:
 
 
 def _cell(v):
+    """One CSV cell: a number as itself; text with its control characters made visible (a case
+    name comes from a file) and, where it starts like a formula, quoted so that a spreadsheet
+    shows it as text."""
     if isinstance(v, float):
         return "" if math.isnan(v) else repr(v)
+    if isinstance(v, str):
+        v = plain(v)
+        return "'" + v if v[:1] in ("=", "+", "-", "@") else v
     return v
+
+
+def label(x):
+    """Text from a file (a case name) as matplotlib draws it: control characters made visible,
+    shortened, and `$` shown as itself (matplotlib reads text between two `$` as TeX, and
+    refuses TeX it cannot parse: a case name could stop the report)."""
+    return plain(x, 200).replace("$", r"\$")
 
 
 def _named(path, write):

@@ -36,14 +36,14 @@ class Skip(Exception):
     """A case that cannot run here; the message says why."""
 
 
-def report(directory, out, cwd=None):
+def report(directory, out, cwd=None, timeout=TIMEOUT):
     """reports/jam_report.py DIR [--out OUT] --quiet, run in cwd; the completed process."""
     script = os.path.join(SOURCE, "reports", "jam_report.py")
     args = [sys.executable, script, directory, "--quiet"] + (["--out", out] if out else [])
     try:
-        return subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT, cwd=cwd)
+        return subprocess.run(args, capture_output=True, text=True, timeout=timeout, cwd=cwd)
     except subprocess.TimeoutExpired as e:
-        raise AssertionError(f"the report did not finish in {TIMEOUT} s") from e
+        raise AssertionError(f"the report did not finish in {timeout} s") from e
 
 
 def tree(root):
@@ -458,13 +458,345 @@ def case_mistyped_checks_fields(work):
                      work)
 
 
+def case_site_with_only_index_html_survives(work):
+    """--out site holding only a user's index.html (no .jam-report): refused, the file kept (a
+    directory of an index.html and figure-like names once passed for an older report)."""
+    camp = campaign(work)
+    site = os.path.join(work, "site")
+    os.mkdir(site)
+    for name in ("index.html", "photo.png"):
+        with open(os.path.join(site, name), "w") as f:
+            f.write("x\n")
+    before = contents(work)
+    expect_untouched(report(camp, site), [site, "not a report jam wrote"], work, before)
+
+
+def case_marker_cannot_claim_a_users_file(work):
+    """A .jam-report (hand-made or damaged) listing thesis.tex beside index.html: thesis.tex is
+    not a file a report writes, so the directory is refused and thesis.tex kept (it was
+    deleted as the report's own)."""
+    camp = campaign(work)
+    site = os.path.join(work, "site")
+    os.mkdir(site)
+    for name, text in (("index.html", "x\n"), ("thesis.tex", "t\n"),
+                       (".jam-report", "index.html\nthesis.tex\n")):
+        with open(os.path.join(site, name), "w") as f:
+            f.write(text)
+    before = contents(work)
+    expect_untouched(report(camp, site), [site, "'thesis.tex'", "not replaced"], work, before)
+
+
+def case_directory_named_like_a_figure_is_not_owned(work):
+    """A report jam wrote, then a directory extra.png/ with a file in it, listed in the marker:
+    refused and kept in place (the directory was moved aside into `r.old-*` with a warning)."""
+    camp = campaign(work)
+    out = os.path.join(work, "r")
+    r = report(camp, out)
+    if r.returncode != 0:
+        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+    os.mkdir(os.path.join(out, "extra.png"))
+    with open(os.path.join(out, "extra.png", "mine.txt"), "w") as f:
+        f.write("mine\n")
+    with open(os.path.join(out, ".jam-report"), "a") as f:
+        f.write("extra.png\n")
+    before = contents(work)
+    expect_untouched(report(camp, out), [out, "'extra.png'", "not replaced"], work, before)
+
+
+def case_stored_reports_stay_republishable(work):
+    """Each stored report (reports/reduced-*: with its .jam-report, and as an older jam left
+    it, without one) is replaced by a new report without a word on stderr."""
+    camp = campaign(work)
+    stored = sorted(d for d in os.listdir(os.path.join(SOURCE, "reports"))
+                    if d.startswith("reduced-"))
+    if not stored:
+        raise AssertionError("no stored reports in reports/")
+    for name in stored:
+        out = os.path.join(work, name)
+        shutil.copytree(os.path.join(SOURCE, "reports", name), out)
+        if not os.path.isfile(os.path.join(out, ".jam-report")):
+            raise AssertionError(f"reports/{name} has no .jam-report")
+        for marked in (True, False):
+            if not marked:
+                os.remove(os.path.join(out, ".jam-report"))
+            r = report(camp, out)
+            if r.returncode != 0 or r.stderr.strip():
+                raise AssertionError(f"reports/{name} (marker {marked}) not replaced: exit "
+                                     f"{r.returncode}: {r.stderr}")
+        shutil.rmtree(out)
+
+
+# Hostile text for every string field: markup for the page, an attribute breaking out of its
+# quotes, a NUL and an escape sequence for the terminal, TeX for matplotlib.
+HOSTILE_ALL = '<script>alert(1)</script>"onerror=alert(2) \x00\x1b[31m $\\frac{1}$'
+
+
+def hostile_bytes(text):
+    """text as a fixed-length HDF5 string (a variable-length one cannot hold a NUL)."""
+    return np.bytes_(text.encode("utf-8"))
+
+
+def write_lammps_curves(camp):
+    """Curves for the LAMMPS verdicts in checks.h5, so the LAMMPS figure (whose panels are
+    titled with the case) is drawn."""
+    grid = np.linspace(0.80, 0.86, 20)
+    with h5py.File(os.path.join(camp, "checks.h5"), "r+") as f:
+        for g in f["verdicts"].values():
+            if g.attrs["check"] == "lammps":
+                for key in ("grid", "pressure_jam", "pressure_lammps", "delta", "sigma"):
+                    g[key] = 0.01 * grid + 0.001
+
+
+def make_every_field_hostile(camp):
+    """HOSTILE_ALL in every string of checks.json, checks.h5, stats.h5, manifest.toml and
+    campaign.toml that the report reads; check names changed alike in checks.json, its
+    registry and checks.h5, so every figure is still drawn."""
+    write_lammps_curves(camp)
+    path = os.path.join(camp, "checks.json")
+    with open(path) as f:
+        checks = json.load(f)
+    for key in ("campaign", "code_version", "created"):
+        checks[key] = HOSTILE_ALL
+    for entry in checks["checks"]:
+        entry["name"] += HOSTILE_ALL
+        entry["margin_reason"] = HOSTILE_ALL
+    for v in checks["verdicts"]:
+        v["check"] += HOSTILE_ALL
+        for key in ("case", "reason", "statistic_name"):
+            v[key] = v[key] + HOSTILE_ALL
+        v.setdefault("values", {})["note"] = HOSTILE_ALL
+    with open(path, "w") as f:
+        json.dump(checks, f)
+    with h5py.File(os.path.join(camp, "checks.h5"), "r+") as f:
+        f.attrs["version"] = hostile_bytes(HOSTILE_ALL)
+        for g in f["verdicts"].values():
+            for key in ("check", "case"):
+                g.attrs[key] = hostile_bytes(g.attrs[key] + HOSTILE_ALL)
+    with h5py.File(os.path.join(camp, "stats.h5"), "r+") as f:
+        for key in ("campaign", "version"):
+            f.attrs[key] = hostile_bytes(HOSTILE_ALL)
+        for key in ("rates_note", "failure"):
+            f["fit"].attrs[key] = hostile_bytes(HOSTILE_ALL)
+        for key in ("quality", "quality_reason", "fixed", "start", "chosen_because",
+                    "error_method"):
+            f["fit/representative"].attrs[key] = hostile_bytes(HOSTILE_ALL)
+        f["fit/scan"].attrs["failures"] = hostile_bytes("row 1: " + HOSTILE_ALL)
+    with open(os.path.join(camp, "manifest.toml"), "w") as f:
+        f.write(f"campaign_file = {json.dumps(HOSTILE_ALL)}\n"
+                f"code_version = {json.dumps(HOSTILE_ALL)}\n")
+    with open(os.path.join(camp, "campaign.toml"), "a") as f:
+        f.write("# " + HOSTILE_ALL + "\n")
+
+
+def expect_inert_svg(path):
+    """An SVG that is well-formed XML, with no script element, no on* attribute and no
+    control character."""
+    import xml.etree.ElementTree as ET
+    with open(path, "rb") as f:
+        data = f.read()
+    if b"\x00" in data or b"\x1b" in data:
+        raise AssertionError(f"{path}: a control character reached it raw")
+    try:
+        root = ET.fromstring(data)
+    except ET.ParseError as e:
+        raise AssertionError(f"{path}: not well-formed XML ({e})") from e
+    for element in root.iter():
+        if element.tag.rsplit("}", 1)[-1] == "script":
+            raise AssertionError(f"{path}: holds a script element")
+        handlers = [a for a in element.attrib if a.lower().startswith("on")]
+        if handlers:
+            raise AssertionError(f"{path}: an element has the handlers {handlers}")
+
+
+def case_hostile_values_in_every_field(work):
+    """<script>, "onerror=, NUL, ESC[31m and TeX in every string of stats.h5, checks.json,
+    checks.h5, manifest.toml and campaign.toml, with the LAMMPS figure drawn: the page holds
+    them escaped, every SVG is well-formed XML without scripts or handlers, the summary, the
+    CSV files, stdout and stderr hold no raw control character (the LAMMPS figure's SVG held a
+    raw NUL and ESC, matplotlib's warnings printed the ESC raw)."""
+    camp = campaign(work)
+    make_every_field_hostile(camp)
+    out = os.path.join(work, "r")
+    script = os.path.join(SOURCE, "reports", "jam_report.py")
+    r = subprocess.run([sys.executable, script, camp, "--out", out], capture_output=True,
+                       text=True, timeout=TIMEOUT)
+    if r.returncode != 0:
+        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+    page, summary = report_text(out)
+    expect_inert(page, "index.html")
+    if '"onerror' in page:
+        raise AssertionError("index.html: a quote from a file reached it unescaped")
+    for name, text in (("summary.txt", summary), ("standard output", r.stdout),
+                       ("standard error", r.stderr)):
+        expect_inert(text, name, markup=False)
+    if "lammps.svg" not in os.listdir(out):
+        raise AssertionError("the LAMMPS figure was not drawn (nothing tested)")
+    for name in sorted(os.listdir(out)):
+        path = os.path.join(out, name)
+        if name.endswith(".svg"):
+            expect_inert_svg(path)
+        elif name.endswith(".csv"):
+            with open(path, encoding="utf-8") as f:
+                expect_inert(f.read(), name, markup=False)
+    if page.count("&lt;script&gt;") < 10 or "\\x1b[31m" not in summary:
+        raise AssertionError("the hostile values are not shown (nothing tested)")
+
+
+def case_dollar_in_a_case_name_is_text(work):
+    """A case name holding `$\\frac{1}$` (TeX matplotlib cannot parse) titles the LAMMPS panel
+    as text: the report is drawn (it stopped with a mathtext ValueError)."""
+    camp = campaign(work)
+    write_lammps_curves(camp)
+    path = os.path.join(camp, "checks.json")
+    with open(path) as f:
+        checks = json.load(f)
+    for v in checks["verdicts"]:
+        v["case"] += " $\\frac{1}$"
+    with open(path, "w") as f:
+        json.dump(checks, f)
+    out = os.path.join(work, "r")
+    r = report(camp, out)
+    if r.returncode != 0 or not os.path.isfile(os.path.join(out, "lammps.png")):
+        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+
+
+def edit_json(key, value, where="verdict"):
+    """An edit of checks.json: `key` of every verdict's values (where 'values'), of every
+    registry entry (where 'checks') set to `value`."""
+    def edit(camp):
+        path = os.path.join(camp, "checks.json")
+        with open(path) as f:
+            checks = json.load(f)
+        for x in (checks["checks"] if where == "checks" else checks["verdicts"]):
+            (x.setdefault("values", {}) if where == "values" else x)[key] = value
+        with open(path, "w") as f:
+            json.dump(checks, f)
+    return edit
+
+
+def edit_h5(name, obj, key, value):
+    """An edit of the HDF5 file `name`: attribute `key` of `obj` set to `value` (obj '*' for
+    every ensemble)."""
+    def edit(camp):
+        with h5py.File(os.path.join(camp, name), "r+") as f:
+            targets = list(f["ensembles"].values()) if obj == "*" else [f[obj]]
+            for t in targets:
+                t.attrs[key] = hostile_bytes(value) if isinstance(value, str) else value
+    return edit
+
+
+def edit_dataset(path, value):
+    def edit(camp):
+        with h5py.File(os.path.join(camp, "stats.h5"), "r+") as f:
+            first = sorted(f["ensembles"])[0]
+            full = f"ensembles/{first}/{path}"
+            del f[full]
+            f[full] = value
+    return edit
+
+
+def case_mistyped_stats_and_values_fields(work):
+    """A field of stats.h5, checks.h5, checks.json's values and registry, or manifest.toml of
+    the wrong type: one line naming the file, the field and the value, exit 2, no report
+    (these gave 'cannot draw the report (ValueError: Unknown format code ...)', or were shown)."""
+    camp = campaign(work)
+    stats, checks_h5 = os.path.join(camp, "stats.h5"), os.path.join(camp, "checks.h5")
+    checks_json = os.path.join(camp, "checks.json")
+    manifest = os.path.join(camp, "manifest.toml")
+    cases = [
+        (edit_json("phi_init", "0.4", "values"), [checks_json, "verdict 0",
+                                                  "field 'values.phi_init' is '0.4'"]),
+        (edit_json("log10_rate", [1], "values"), [checks_json, "'values.log10_rate' is [1]"]),
+        (edit_json("margin_unit", "percent", "checks"),
+         [checks_json, "checks 0", "field 'margin_unit' is 'percent'"]),
+        (edit_json("name", 7, "checks"), [checks_json, "checks 0", "field 'name' is 7"]),
+        (edit_h5("stats.h5", "/", "wall_time", "1 s"),
+         [stats, "attribute 'wall_time'", "'1 s'", "not a number"]),
+        (edit_h5("stats.h5", "/", "runs", 2.5), [stats, "attribute 'runs'", "2.5"]),
+        (edit_h5("stats.h5", "/", "dim", 7), [stats, "attribute 'dim'", "7", "not 2 or 3"]),
+        (edit_h5("stats.h5", "/paper", "phi_j", "0.84"),
+         [stats, "attribute 'phi_j' of '/paper'", "'0.84'"]),
+        (edit_h5("stats.h5", "/fit", "phi_init", "0.4"),
+         [stats, "attribute 'phi_init' of '/fit'", "'0.4'"]),
+        (edit_h5("stats.h5", "*", "n", "1024"), [stats, "attribute 'n' of '/ensembles/",
+                                                 "'1024'", "not a whole number"]),
+        (edit_h5("stats.h5", "/fit/representative", "iterations", np.arange(3)),
+         [stats, "attribute 'iterations'", "(3,) values, expected one"]),
+        (edit_dataset("constant_phi/pressure_mean", np.array([b"a", b"b"])),
+         [stats, "pressure_mean", "expected one dimension of numbers"]),
+        (edit_h5("checks.h5", "/", "wall_time", "1 s"),
+         [checks_h5, "attribute 'wall_time'", "'1 s'"]),
+        (lambda c: open(manifest, "w").write('[runs.a]\nstatus = "done"\n'
+                                             'wall_seconds = "9 s"\n'),
+         [manifest, "field 'runs.a.wall_seconds' is '9 s', not a number"]),
+    ]
+    for edit, words in cases:
+        shutil.rmtree(camp)
+        camp = campaign(work)
+        edit(camp)
+        before = tree(work)
+        expect_error(report(camp, os.path.join(work, "r")), words, before, work)
+
+
+def case_fifo_and_device_inputs_refused(work):
+    """A FIFO at campaign.toml, manifest.toml, stats.h5, checks.json or checks.h5 (directly or
+    through a symbolic link), /dev/zero at manifest.toml: one line naming it, at once (a FIFO
+    campaign.toml hung the report). Each report is stopped after 30 s."""
+    for name, make in (("campaign.toml", "fifo"), ("manifest.toml", "fifo"),
+                       ("stats.h5", "link to fifo"), ("checks.json", "fifo"),
+                       ("checks.h5", "fifo"), ("manifest.toml", "/dev/zero"),
+                       ("campaign.toml", "/dev/zero")):
+        shutil.rmtree(os.path.join(work, "campaign"), ignore_errors=True)
+        camp = campaign(work)
+        path = os.path.join(camp, name)
+        if os.path.lexists(path):
+            os.remove(path)
+        if make == "fifo":
+            os.mkfifo(path)
+        elif make == "link to fifo":
+            os.mkfifo(os.path.join(work, "elsewhere"))
+            os.symlink(os.path.join(work, "elsewhere"), path)
+        else:
+            os.symlink(make, path)
+        kind = "a character device" if make == "/dev/zero" else "a FIFO"
+        before = tree(work)
+        expect_error(report(camp, os.path.join(work, "r"), timeout=30),
+                     [path, f"is {kind}"], before, work)
+        if os.path.lexists(os.path.join(work, "elsewhere")):
+            os.remove(os.path.join(work, "elsewhere"))
+
+
+def case_error_line_is_visible_and_short(work):
+    """An ensemble named with an escape sequence and 5000 characters, lacking what the figures
+    draw: the error line shows the escape as text and stays short (the name reached the
+    terminal raw)."""
+    camp = campaign(work)
+    with h5py.File(os.path.join(camp, "stats.h5"), "r+") as f:
+        first = sorted(f["ensembles"])[0]
+        name = "\x1b[31m\x1b]0;pwned\x07" + "x" * 5000
+        f.move(f"ensembles/{first}", f"ensembles/{name}")
+        del f[f"ensembles/{name}/constant_phi/pressure_mean"]
+    before = tree(work)
+    line = expect_error(report(camp, os.path.join(work, "r")),
+                        ["stats.h5", "\\x1b[31m", "pressure_mean"], before, work)
+    if "\x1b" in line or "\x07" in line:
+        raise AssertionError(f"a control character reached the terminal raw: {line!r}")
+    if len(line) > 2200:
+        raise AssertionError(f"the error line is {len(line)} characters")
+
+
 CASES = [case_symbolic_link, case_random_stats, case_missing_dataset, case_truncated_checks, case_read_only,
          case_full_disk, case_fifo, case_regular_file, case_not_a_report,
          case_site_with_thesis_and_data_survives, case_out_dot_is_the_working_directory,
          case_out_is_the_campaign_or_its_parent, case_campaign_named_dot_dot,
          case_own_report_replaced_foreign_file_refused, case_hostile_values_are_escaped,
          case_markup_in_a_number_of_the_fit_is_refused,
-         case_a_huge_case_name_gives_a_small_summary, case_mistyped_checks_fields]
+         case_a_huge_case_name_gives_a_small_summary, case_mistyped_checks_fields,
+         case_site_with_only_index_html_survives, case_marker_cannot_claim_a_users_file,
+         case_directory_named_like_a_figure_is_not_owned, case_stored_reports_stay_republishable,
+         case_hostile_values_in_every_field, case_dollar_in_a_case_name_is_text,
+         case_mistyped_stats_and_values_fields, case_fifo_and_device_inputs_refused,
+         case_error_line_is_visible_and_short]
 
 
 def check_fixture():
