@@ -353,9 +353,17 @@ def _registry(checks):
     return out
 
 
+# The most verdicts a report shows: a campaign's checks give hundreds; each verdict is a row of
+# the page and the summary, so a file of millions would make a page of gigabytes.
+MOST_VERDICTS = 20_000
+
+
 def _verdicts(checks):
     registry = _registry(checks)
     verdicts = []
+    if len(checks.verdicts) > MOST_VERDICTS:
+        raise ReportInputError(f"{checks.path}: {len(checks.verdicts)} verdicts, more than a "
+                               f"report shows ({MOST_VERDICTS})")
     with reading(checks.path, "verdict file"):
         for k, x in enumerate(checks.verdicts):
             try:

@@ -35,6 +35,10 @@ p.files { font-size: 0.85em; margin-top: 0.2em; }
 # A value longer than this is shown shortened, with its length (a 50 MB case name once made a
 # 2 GB summary).
 LONGEST = 300
+# The summary is read in a terminal or a CI log: each column padded to the longest value shown,
+# so values are cut shorter there, and at most SUMMARY_ROWS verdicts are listed.
+SUMMARY_LONGEST = 120
+SUMMARY_ROWS = 2000
 
 
 def plain(x, longest=LONGEST, lines=False):
@@ -271,16 +275,21 @@ def text_summary(c, report_path):
     """The terminal/CI-log summary: the verdict table, the fit against the paper, the path."""
     n = counts(c.verdicts)
     lines = [f"jam report: campaign {plain(c.name)} ({c.dim}D), {len(c.ensembles)} ensembles", ""]
-    width = max([len(plain(v.case)) for v in c.verdicts] + [4])
-    check_width = max([len(plain(v.check)) for v in c.verdicts] + [5])
+    shown = c.verdicts[:SUMMARY_ROWS]
+    width = max([len(plain(v.case, SUMMARY_LONGEST)) for v in shown] + [4])
+    check_width = max([len(plain(v.check, SUMMARY_LONGEST)) for v in shown] + [5])
     lines.append(f"{'status':<16}{'check':<{check_width + 2}}{'case':<{width + 2}}"
                  f"{'value':>11}{'threshold':>11}{'detectable':>11}{'excluded>':>11}"
                  f"{'margin':>9}")
-    for v in c.verdicts:
+    for v in shown:
         status = v.status + ("(expected)" if v.expected_failure else "")
-        lines.append(f"{status:<16}{plain(v.check):<{check_width + 2}}{plain(v.case):<{width + 2}}"
+        lines.append(f"{status:<16}{plain(v.check, SUMMARY_LONGEST):<{check_width + 2}}"
+                     f"{plain(v.case, SUMMARY_LONGEST):<{width + 2}}"
                      f"{_fmt(v.statistic):>11}{_fmt(v.threshold):>11}{_fmt(v.detectable):>11}"
                      f"{_fmt(v.excluded_above):>11}{_fmt(v.margin):>9}")
+    if len(c.verdicts) > len(shown):
+        lines.append(f"... and {len(c.verdicts) - len(shown)} more verdicts: the page lists "
+                     "every one")
     lines.append(counts_text(n))
     lines.append("")
     lines.extend(headlines(c.verdicts))

@@ -785,6 +785,34 @@ def case_error_line_is_visible_and_short(work):
         raise AssertionError(f"the error line is {len(line)} characters")
 
 
+def case_verdicts_beyond_what_a_report_shows(work):
+    """25,000 verdicts (a campaign's checks give hundreds): refused in one line before anything
+    is drawn, so no page or summary of gigabytes; 3,000 give a summary that lists 2,000 and
+    says how many more the page has."""
+    camp = campaign(work)
+    path = os.path.join(camp, "checks.json")
+    with open(path) as f:
+        original = json.load(f)
+    checks = dict(original, verdicts=(original["verdicts"] * 200)[:25_000])
+    with open(path, "w") as f:
+        json.dump(checks, f)
+    os.remove(os.path.join(camp, "checks.h5"))
+    before = tree(work)
+    expect_error(report(camp, os.path.join(work, "r")),
+                 [path, "25000 verdicts", "more than a report shows"], before, work)
+    checks = dict(original, verdicts=(original["verdicts"] * 20)[:3_000])
+    with open(path, "w") as f:
+        json.dump(checks, f)
+    out = os.path.join(work, "r")
+    r = report(camp, out)
+    if r.returncode != 0:
+        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+    summary = report_text(out)[1]
+    if "... and 1000 more verdicts" not in summary or len(summary.splitlines()) > 2200:
+        raise AssertionError(f"the summary of 3000 verdicts has {len(summary.splitlines())} "
+                             "lines")
+
+
 CASES = [case_symbolic_link, case_random_stats, case_missing_dataset, case_truncated_checks, case_read_only,
          case_full_disk, case_fifo, case_regular_file, case_not_a_report,
          case_site_with_thesis_and_data_survives, case_out_dot_is_the_working_directory,
@@ -796,7 +824,7 @@ CASES = [case_symbolic_link, case_random_stats, case_missing_dataset, case_trunc
          case_directory_named_like_a_figure_is_not_owned, case_stored_reports_stay_republishable,
          case_hostile_values_in_every_field, case_dollar_in_a_case_name_is_text,
          case_mistyped_stats_and_values_fields, case_fifo_and_device_inputs_refused,
-         case_error_line_is_visible_and_short]
+         case_error_line_is_visible_and_short, case_verdicts_beyond_what_a_report_shows]
 
 
 def check_fixture():
