@@ -77,9 +77,12 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
   c->add_option("--permutations", a.options.permutations,
                 "Permutations of whole runs for null distributions");
   c->add_option("--phi-min", a.phi_min,
-                "phi_init check: compare from this packing (optional; default: the scaling "
-                "fit's window in stats.h5, else where the compression, not the start, sets the "
-                "pressure)")
+                "Pressure checks (finite_size, phi_init, chain): pool from this packing "
+                "(default: the scaling fit's window in stats.h5)")
+      ->always_capture_default(false);
+  c->add_option("--phi-max", a.phi_max,
+                "Pressure checks (finite_size, phi_init): pool up to this packing (default: "
+                "the scaling fit's window)")
       ->always_capture_default(false);
   c->add_option("--margin", a.margin,
                 fmt::format("Margin M of the named check (all: of every check): the largest "
@@ -144,6 +147,14 @@ int run_check_command(const CheckArgs& a) {
   if (o.permutations < 100)
     throw std::runtime_error(fmt::format("--permutations {}: at least 100", o.permutations));
   if (a.phi_min) o.phi_min = *a.phi_min;
+  if (a.phi_max) o.phi_max = *a.phi_max;
+  for (const auto& [name, value] : {std::pair{"--phi-min", a.phi_min}, {"--phi-max", a.phi_max}}) {
+    if (value && !(std::isfinite(*value) && *value > 0 && *value < 1))
+      throw CLI::ValidationError(name, fmt::format("{}: must be a packing in (0, 1)", *value));
+  }
+  if (a.phi_min && a.phi_max && !(*a.phi_min < *a.phi_max))
+    throw CLI::ValidationError("--phi-max",
+                               fmt::format("{}: must exceed --phi-min {}", *a.phi_max, *a.phi_min));
   if (!a.set_a.empty() || !a.set_b.empty()) {
     if (a.set_a.empty() || a.set_b.empty())
       throw std::runtime_error("--set-a and --set-b go together");

@@ -11,7 +11,7 @@ namespace jam {
 struct CheckArgs {
   std::string name, directory, set_a, set_b;
   checks::CheckOptions options;
-  std::optional<double> phi_min;
+  std::optional<double> phi_min, phi_max;
   std::optional<double> margin;
   std::string reference_dir = data_path("reference").string();
   bool no_lmp = false, regenerate = false;

@@ -16,6 +16,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/margin.hpp"
+#include "checks/pooled_verdict.hpp"
 #include "checks/regression_check.hpp"
 #include "checks/relative_difference.hpp"
 
@@ -26,24 +27,6 @@ using Key = std::tuple<std::int64_t, double, double>;  // n, phi_init, log10 rat
 
 Key key_of(const EnsembleTables& e) {
   return {e.n, e.phi_init, e.log10_rate};
-}
-
-/// Fails v at the point where the chain's effect surely exceeds the margin, if there is one.
-void fail_where_surely_beyond(Verdict& v, const RelativeDifference& r,
-                              const std::vector<double>& grid, double margin) {
-  std::size_t worst = r.delta.size();
-  double beyond = margin;
-  for (std::size_t k = 0; k < r.delta.size(); ++k) {
-    const double low = std::abs(r.delta[k]) - r.critical * r.sigma[k];
-    if (low > beyond) beyond = low, worst = k;
-  }
-  if (worst == r.delta.size()) return;
-  v.status = "fail";
-  v.samples_needed = NAN;
-  v.reason = fmt::format(
-      "at phi = {:.4f} the chain's effect surely exceeds the margin {:.3g}: Delta p/p = {:+.3g}, "
-      "at least {:.3g} (simultaneous band, permutation p = {:.3g}); the weighted mean: {}",
-      grid[r.points[worst]], margin, r.delta[worst], beyond, r.p_value, v.reason);
 }
 
 }  // namespace
@@ -63,7 +46,7 @@ std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& cont
                          "no chained rate of the campaign has an unchained control (same size, "
                          "phi_init and rate) in the --against directory")};
   }
-  const double alpha = o.alpha / static_cast<double>(pairs.size());
+  const Levels levels{o.alpha / static_cast<double>(pairs.size()), o.alpha};
   const double margin = o.margin("chain");
   std::vector<Verdict> out;
   for (const auto& [e, c] : pairs) {
@@ -76,28 +59,23 @@ std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& cont
         "n{} phi_init {:g} rate 1e{:g}: chained at {:g} vs unchained, "
         "phi >= {:.4f}",
         e->n, e->phi_init, e->log10_rate, e->chain_phi_init, phi_min);
-    v.statistic_name = "|weighted mean Delta p/p|";
     v.values = {{"n", static_cast<double>(e->n)},
                 {"phi_init", e->phi_init},
                 {"log10_rate", e->log10_rate},
                 {"chain_phi_init", e->chain_phi_init},
                 {"phi_min", phi_min}};
+    PoolRange range;
+    range.min = phi_min;
+    range.why = o.phi_min ? "from --phi-min"
+                : chained.fit_window_min
+                    ? "from the campaign's scaling-fit window: what the fit uses must not "
+                      "remember the chain"
+                    : "no scaling fit: from where both sets are past their starts";
     const Aligned al =
         align(e->phi_grid, e->pressure_at_phi, c->phi_grid, c->pressure_at_phi, phi_min);
     try {
-      const WeightedDifference w = compare_weighted(al.a, al.b, alpha, o.permutations, 3);
-      judge(v, w, alpha, margin, std::min(al.a.size(), al.b.size()));
-      const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, o.permutations, 3);
-      v.values["pointwise_excluded_above"] = r.excluded_above;
-      fail_where_surely_beyond(v, r, al.grid, margin);
-      std::vector<double> grid;
-      double weighted_phi = 0.0;  // where the verdict looks: the weights' mean packing
-      for (std::size_t i = 0; i < r.points.size(); ++i) {
-        grid.push_back(al.grid[r.points[i]]);
-        weighted_phi += w.weight[i] * grid.back();
-      }
-      v.values["weighted_phi"] = weighted_phi;
-      v.curves = {{"grid", grid}, {"delta", r.delta}, {"sigma", r.sigma}, {"weight", w.weight}};
+      judge_pooled(v, al, range, levels, margin, o.permutations);
+      v.values["weighted_phi"] = v.values["weighted_at"];
     } catch (const std::invalid_argument& ex) {
       v.status = "inconclusive";
       v.reason = ex.what();

@@ -28,9 +28,9 @@ double default_margin(const std::string& check);
 struct CheckOptions {
   double alpha = 0.05;  // false-alarm rate of a whole check (Bonferroni over its comparisons)
   int permutations = 2000;
-  // phi_init check: compare from here (default: where the compression, not the start, sets
-  // the pressure in both sets; margin.hpp).
-  std::optional<double> phi_min;
+  // The packing range the pressure checks pool over (checks/pooled_verdict.hpp; default: the
+  // campaign's scaling-fit window).
+  std::optional<double> phi_min, phi_max;
   std::optional<RunSetSelector> set_a, set_b;  // finite-size check of two named run sets
   std::map<std::string, double> margins;       // per check; default_margin() otherwise
   double margin(const std::string& check) const {

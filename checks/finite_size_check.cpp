@@ -1,7 +1,8 @@
 // Finite size (the paper's supplement, "relE-p" and "relE-p-constZ"): Delta p/p between two
-// system sizes against phi and against Z, for every phi_init and rate; one verdict per
-// comparison, each at alpha / (number of comparisons) so the whole check's false-alarm rate
-// is alpha.
+// system sizes against phi and against Z, for every phi_init and rate, pooled over the
+// campaign's scaling-fit window (checks/pooled_verdict.hpp); one verdict per comparison. A
+// difference is detected at alpha / (number of comparisons), so the whole check's false-alarm
+// rate is alpha; each pass is a two one-sided test at alpha.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/margin.hpp"
+#include "checks/pooled_verdict.hpp"
 #include "checks/relative_difference.hpp"
 
 namespace jam::checks {
@@ -23,40 +25,34 @@ struct Comparison {
   std::string label;
 };
 
-std::vector<double> pick(const std::vector<double>& grid, const std::vector<std::size_t>& points) {
-  std::vector<double> out;
-  for (auto k : points) out.push_back(grid[k]);
-  return out;
-}
-
-Verdict compare(const Comparison& c, double alpha, const CheckOptions& o) {
+Verdict compare(const Comparison& c, Levels levels, const StatsData& d, const CheckOptions& o) {
   Verdict v;
   v.check = "finite_size";
   v.case_name = c.label;
-  v.statistic_name = "max |Delta p/p| / sigma";
   // What was compared, as numbers, for the report (checks.json "values", checks.h5 attributes).
   v.values = {{"n_a", static_cast<double>(c.a->n)},
               {"n_b", static_cast<double>(c.b->n)},
               {"phi_init", c.a->phi_init},
               {"log10_rate", c.a->log10_rate},
               {"constant_z", c.at_z ? 1.0 : 0.0}};
-  const auto& ga = c.at_z ? c.a->z_grid : c.a->phi_grid;
-  const auto& gb = c.at_z ? c.b->z_grid : c.b->phi_grid;
   // From where the compression, not the start, sets the pressure in both sets.
   const double from = c.at_z ? std::max(c.a->compressed_from_z, c.b->compressed_from_z)
                              : std::max(c.a->compressed_from_phi, c.b->compressed_from_phi);
   v.values["compared_from"] = from;
-  const Aligned al = align(ga, c.at_z ? c.a->pressure_at_z : c.a->pressure_at_phi, gb,
-                           c.at_z ? c.b->pressure_at_z : c.b->pressure_at_phi, from);
+  const PoolRange range =
+      c.at_z ? z_range(d, o, *c.a, *c.b, from) : *phi_range(d, o, from, false, nullptr);
+  const Aligned al = c.at_z ? align(c.a->z_grid, c.a->pressure_at_z, c.b->z_grid,
+                                    c.b->pressure_at_z, range.min, range.max)
+                            : align(c.a->phi_grid, c.a->pressure_at_phi, c.b->phi_grid,
+                                    c.b->pressure_at_phi, range.min, range.max);
   if (al.grid.empty() || al.a.size() < 2 || al.b.size() < 2) {
     v.status = "inconclusive";
-    v.reason = "no common grid points past the start's transient, or fewer than 2 samples per set";
+    v.reason =
+        fmt::format("no common grid points in {} (or fewer than 2 samples per set)", range.why);
     return v;
   }
   try {
-    const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, o.permutations);
-    judge(v, r, alpha, o.margin("finite_size"), std::min(al.a.size(), al.b.size()));
-    v.curves = {{"grid", pick(al.grid, r.points)}, {"delta", r.delta}, {"sigma", r.sigma}};
+    judge_pooled(v, al, range, levels, o.margin("finite_size"), o.permutations);
   } catch (const std::invalid_argument& e) {
     v.status = "inconclusive";
     v.reason = e.what();
@@ -112,8 +108,8 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
     }
   }
   std::vector<Verdict> out;
-  const double each = o.alpha / static_cast<double>(comparisons.size());
-  for (const auto& c : comparisons) out.push_back(compare(c, each, o));
+  const Levels levels{o.alpha / static_cast<double>(comparisons.size()), o.alpha};
+  for (const auto& c : comparisons) out.push_back(compare(c, levels, d, o));
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include "checks/margin.hpp"
 
 #include <fmt/format.h>
+#include <gsl/gsl_cdf.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,73 +30,99 @@ void decide(Verdict& v, bool detected, double excluded_above, double margin) {
   }
 }
 
-double samples_to_decide(const std::vector<double>& delta, const std::vector<double>& sigma,
-                         double critical, double margin, std::size_t samples) {
+double samples_to_decide(const std::vector<double>& delta, const std::vector<double>& band,
+                         const std::vector<double>& detect, double margin, std::size_t samples) {
   const double n = static_cast<double>(samples);
   double bound = 0.0, to_fail = std::numeric_limits<double>::infinity();
   bool within = true;
   for (std::size_t k = 0; k < delta.size(); ++k) {
-    const double d = std::abs(delta[k]), s = critical * sigma[k];
-    bound = std::max(bound, d + s);
+    const double d = std::abs(delta[k]);
+    bound = std::max(bound, d + band[k]);
     if (d >= margin) {
       within = false;
-      to_fail = std::min(to_fail, n * std::pow(s / d, 2));
+      // Beyond reach at these samples (too few splits): the band, scaled from its level to
+      // the detection level as for normal errors, stands in for the threshold.
+      to_fail = std::min(to_fail, n * std::pow(detect[k] / d, 2));
     }
   }
   const double estimate = within ? n * std::pow(bound / margin, 2) : to_fail;
   return std::isfinite(estimate) ? std::ceil(std::max(estimate, n + 1)) : NAN;
 }
 
-void judge(Verdict& v, const RelativeDifference& t, double alpha, double margin,
+std::string permutation_words(double p_value, double alpha, const PermutationCount& c) {
+  std::string words = c.exact
+                          ? fmt::format("p = {:.3g}, alpha {:.3g}, all {:.0f} splits of whole runs",
+                                        p_value, alpha, c.splits)
+                          : fmt::format("p = {:.3g}, alpha {:.3g}, {} random splits of whole runs",
+                                        p_value, alpha, c.count);
+  if (c.smallest_p > alpha) {
+    words += fmt::format(
+        "; no p-value below {:.3g} is reachable with these samples, so no difference can be "
+        "detected at alpha",
+        c.smallest_p);
+  }
+  return words;
+}
+
+namespace {
+
+/// An infinite detection threshold (too few splits to reach alpha) replaced, for the samples
+/// estimate only, by the band scaled from the pass level to the detection level as for a
+/// normal statistic.
+double reachable(double critical, double band, Levels levels) {
+  if (std::isfinite(critical)) return critical;
+  return band * gsl_cdf_ugaussian_Qinv(levels.detect / 2) / gsl_cdf_ugaussian_Qinv(levels.pass);
+}
+
+/// The inconclusive tail every judge shares: the estimate and its words.
+void add_samples_needed(Verdict& v, double estimate) {
+  if (v.status != "inconclusive") return;
+  v.samples_needed = estimate;
+  if (std::isfinite(v.samples_needed)) {
+    v.reason +=
+        fmt::format("; about {:.0f} samples per set would decide it (estimate)", v.samples_needed);
+  }
+}
+
+}  // namespace
+
+void judge(Verdict& v, const RelativeDifference& t, Levels levels, double margin,
            std::size_t samples) {
   v.statistic = t.statistic;
   v.threshold = t.critical;
   v.detectable = t.detectable;
-  decide(v, t.p_value <= alpha, t.excluded_above, margin);
-  v.reason += fmt::format(" (permutation p = {:.3g}, alpha {:.3g}, {} permutations of whole runs)",
-                          t.p_value, alpha, t.permutations);
-  if (v.status == "inconclusive") {
-    v.samples_needed = samples_to_decide(t.delta, t.sigma, t.critical, margin, samples);
-    if (std::isfinite(v.samples_needed)) {
-      v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
-                              v.samples_needed);
-    }
-  }
+  decide(v, t.statistic > t.critical, t.excluded_above, margin);
+  v.reason += " (" + permutation_words(t.p_value, levels.detect, t.permutations) + ")";
+  std::vector<double> band, detect;
+  const double critical = reachable(t.critical, t.band, levels);
+  for (double s : t.sigma) band.push_back(t.band * s), detect.push_back(critical * s);
+  add_samples_needed(v, samples_to_decide(t.delta, band, detect, margin, samples));
 }
 
-void judge(Verdict& v, const WeightedDifference& t, double alpha, double margin,
+void judge(Verdict& v, const WeightedDifference& t, Levels levels, double margin,
            std::size_t samples) {
   v.statistic = std::abs(t.difference);
   v.threshold = t.critical;
   v.detectable = t.critical;
-  decide(v, t.p_value <= alpha, t.excluded_above, margin);
-  v.reason += fmt::format(
-      " (weighted mean Delta p/p {:+.3g} over {} points, permutation p = {:.3g}, alpha {:.3g}, {} "
-      "permutations of whole runs)",
-      t.difference, t.points.size(), t.p_value, alpha, t.permutations);
-  if (v.status == "inconclusive") {
-    v.samples_needed = samples_to_decide({t.difference}, {t.critical}, 1.0, margin, samples);
-    if (std::isfinite(v.samples_needed)) {
-      v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
-                              v.samples_needed);
-    }
-  }
+  decide(v, v.statistic > t.critical, t.excluded_above, margin);
+  v.reason +=
+      fmt::format(" (weighted mean relative difference {:+.3g} over {} points, {})", t.difference,
+                  t.points.size(), permutation_words(t.p_value, levels.detect, t.permutations));
+  add_samples_needed(
+      v, samples_to_decide({t.difference}, {t.band}, {reachable(t.critical, t.band, levels)},
+                           margin, samples));
 }
 
-void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std::size_t samples) {
+void judge(Verdict& v, const MeanDifference& t, Levels levels, double margin, std::size_t samples) {
   v.statistic = t.statistic;
   v.threshold = t.critical;
   v.detectable = t.detectable;
-  decide(v, t.p_value <= alpha, t.excluded_above, margin);
-  v.reason += fmt::format(" (difference {:+.3g} +- {:.3g}, permutation p = {:.3g}, alpha {:.3g})",
-                          t.difference, t.sigma, t.p_value, alpha);
-  if (v.status == "inconclusive") {
-    v.samples_needed = samples_to_decide({t.difference}, {t.sigma}, t.critical, margin, samples);
-    if (std::isfinite(v.samples_needed)) {
-      v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
-                              v.samples_needed);
-    }
-  }
+  decide(v, t.statistic > t.critical, t.excluded_above, margin);
+  v.reason += fmt::format(" (difference {:+.3g} +- {:.3g}, {})", t.difference, t.sigma,
+                          permutation_words(t.p_value, levels.detect, t.permutations));
+  add_samples_needed(
+      v, samples_to_decide({t.difference}, {t.band * t.sigma},
+                           {reachable(t.critical, t.band, levels) * t.sigma}, margin, samples));
 }
 
 // Why a factor of 10 over the start's pressure: the relaxed start keeps a residual pressure set
@@ -108,10 +135,10 @@ void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std
 // output point after the start already has 860 (rate 10^-6.5) to 4100 (1e-3) times the start's
 // pressure, so the rule drops only t = 0 there; with "auto" it drops the points where the
 // residual still matters (tests/test_verdicts.cpp plants a difference at t = 0 alone).
-RelativeDifference judge_curves(Verdict& v, const Aligned& al, double alpha, double margin,
+RelativeDifference judge_curves(Verdict& v, const Aligned& al, Levels levels, double margin,
                                 int permutations) {
-  const RelativeDifference r = compare_run_sets(al.a, al.b, alpha, permutations, 3);
-  judge(v, r, alpha, margin, std::min(al.a.size(), al.b.size()));
+  const RelativeDifference r = compare_run_sets(al.a, al.b, levels, permutations, 3);
+  judge(v, r, levels, margin, std::min(al.a.size(), al.b.size()));
   std::vector<double> grid;
   for (auto k : r.points) grid.push_back(al.grid[k]);
   v.curves = {{"grid", grid}, {"delta", r.delta}, {"sigma", r.sigma}};

@@ -8,10 +8,10 @@
 //
 // samples_needed (inconclusive only) is an estimate of the samples per set that would decide
 // the comparison at the observed scatter, standard errors shrinking as 1/sqrt(samples) and the
-// critical value c held. Where every observed |Delta_k| < M, the difference is taken for noise
+// thresholds held. Where every observed |Delta_k| < M, the difference is taken for noise
 // (nothing was detected) and the whole bound shrinks: pass at  n (excluded_above / M)^2.
 // Otherwise the observed difference beyond M is taken for the truth, and it would be detected
-// at  n min over those k of (c sigma_k / |Delta_k|)^2.
+// at  n min over those k of (detection threshold_k / |Delta_k|)^2.
 #include <string>
 #include <vector>
 
@@ -26,26 +26,31 @@ namespace jam::checks {
 void decide(Verdict& v, bool detected, double excluded_above, double margin);
 
 /// Judges v on a relative difference of run sets with `samples` per set (the smaller set).
-void judge(Verdict& v, const RelativeDifference& t, double alpha, double margin,
+void judge(Verdict& v, const RelativeDifference& t, Levels levels, double margin,
            std::size_t samples);
 
 /// Judges v on the weighted mean relative difference of two run sets (statistic |D|,
-/// threshold c) with `samples` per set.
-void judge(Verdict& v, const WeightedDifference& t, double alpha, double margin,
+/// threshold: its detection threshold) with `samples` per set.
+void judge(Verdict& v, const WeightedDifference& t, Levels levels, double margin,
            std::size_t samples);
 
 /// Judges v on a difference of means (units of the values) with `samples` per set.
-void judge(Verdict& v, const MeanDifference& t, double alpha, double margin, std::size_t samples);
+void judge(Verdict& v, const MeanDifference& t, Levels levels, double margin, std::size_t samples);
 
 /// Delta p/p of two run sets on one grid (stats_data.hpp, align) judged against the margin;
 /// the verdict keeps the curves compared (grid, delta, sigma). Throws std::invalid_argument
 /// as compare_run_sets does.
-RelativeDifference judge_curves(Verdict& v, const Aligned& al, double alpha, double margin,
+RelativeDifference judge_curves(Verdict& v, const Aligned& al, Levels levels, double margin,
                                 int permutations);
 
-/// The samples-per-set estimate above for per-point differences and errors.
-double samples_to_decide(const std::vector<double>& delta, const std::vector<double>& sigma,
-                         double critical, double margin, std::size_t samples);
+/// The samples-per-set estimate above for per-point differences and their bands (band_k:
+/// the half-width of the equivalence band at point k).
+double samples_to_decide(const std::vector<double>& delta, const std::vector<double>& band,
+                         const std::vector<double>& detect, double margin, std::size_t samples);
+
+/// How the permutation test was run and what it can reach, in words for a reason:
+/// "p = 0.012, alpha 0.0014, all 70 splits of whole runs; no p-value below 0.029 is reachable".
+std::string permutation_words(double p_value, double alpha, const PermutationCount& c);
 
 /// The first index of a pressure curve that the compression, not the start, sets: the first
 /// grid point after the start (index 0, t = 0) whose mean pressure is at least

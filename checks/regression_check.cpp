@@ -133,8 +133,10 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
       continue;
     }
     try {
-      const RelativeDifference t = compare_run_sets(fresh, al.b, alpha, o.permutations);
-      judge(v, t, alpha, o.margin("regression"), std::min(fresh.size(), al.b.size()));
+      const RelativeDifference t =
+          compare_run_sets(fresh, al.b, Levels::two_sided(alpha), o.permutations);
+      judge(v, t, Levels::two_sided(alpha), o.margin("regression"),
+            std::min(fresh.size(), al.b.size()));
       v.curves = {{"grid", {}}, {"delta", t.delta}, {"sigma", t.sigma}};
       for (auto k : t.points) v.curves[0].second.push_back(al.grid[k]);
       v.reason =

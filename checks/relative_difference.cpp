@@ -68,34 +68,8 @@ std::vector<std::size_t> common_points(const std::vector<std::vector<double>>& a
   return points;
 }
 
-using Rows = std::vector<const std::vector<double>*>;
-
-/// The permutation distribution of a statistic of two run sets: `stat(A, B)` on every shuffle
-/// of whole runs (A keeps a's size). Returns the sorted null values and sets p (the fraction at
-/// least `observed`, counting the observation) and c (the 1 - alpha quantile).
-template <class Stat>
-void permutation_null(const Rows& ra, const Rows& rb, Stat stat, double observed, double alpha,
-                      int permutations, std::uint64_t seed, double* p, double* c) {
-  Rows all = ra;
-  all.insert(all.end(), rb.begin(), rb.end());
-  std::mt19937_64 rng(seed);
-  std::vector<std::size_t> order(all.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::vector<double> null;
-  null.reserve(static_cast<std::size_t>(permutations));
-  int at_least = 0;
-  for (int n = 0; n < permutations; ++n) {
-    std::shuffle(order.begin(), order.end(), rng);
-    Rows pa, pb;
-    for (std::size_t i = 0; i < all.size(); ++i) (i < ra.size() ? pa : pb).push_back(all[order[i]]);
-    const double t = stat(pa, pb);
-    null.push_back(t);
-    at_least += t >= observed;
-  }
-  *p = (1.0 + at_least) / (1.0 + permutations);
-  std::sort(null.begin(), null.end());
-  *c = null[std::min(null.size() - 1,
-                     static_cast<std::size_t>(std::ceil((1.0 - alpha) * null.size())) - 1)];
+PermutationCount count_of(const NullDistribution& d) {
+  return {d.count, d.exact, d.splits, d.smallest_p()};
 }
 
 Rows rows_of(const std::vector<std::vector<double>>& a) {
@@ -107,19 +81,22 @@ Rows rows_of(const std::vector<std::vector<double>>& a) {
 }  // namespace
 
 RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
-                                    const std::vector<std::vector<double>>& b, double alpha,
+                                    const std::vector<std::vector<double>>& b, Levels levels,
                                     int permutations, std::uint64_t seed) {
   RelativeDifference r;
   r.points = common_points(a, b);
   const Rows ra = rows_of(a), rb = rows_of(b);
   r.statistic = statistic(ra, rb, r.points, &r.delta, &r.sigma);
-  auto stat = [&](const Rows& pa, const Rows& pb) {
-    return statistic(pa, pb, r.points, nullptr, nullptr);
-  };
-  permutation_null(ra, rb, stat, r.statistic, alpha, permutations, seed, &r.p_value, &r.critical);
-  r.permutations = permutations;
+  const NullDistribution null = permutation_null(
+      ra, rb,
+      [&](const Rows& pa, const Rows& pb) { return statistic(pa, pb, r.points, nullptr, nullptr); },
+      levels.detect, permutations, seed);
+  r.p_value = null.p_value(r.statistic);
+  r.critical = null.threshold(levels.detect);
+  r.band = null.threshold(2 * levels.pass);
+  r.permutations = count_of(null);
   for (std::size_t k = 0; k < r.delta.size(); ++k) {
-    r.excluded_above = std::max(r.excluded_above, std::abs(r.delta[k]) + r.critical * r.sigma[k]);
+    r.excluded_above = std::max(r.excluded_above, std::abs(r.delta[k]) + r.band * r.sigma[k]);
   }
   std::vector<double> sigmas = r.sigma;
   std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<long>(sigmas.size() / 2),
@@ -129,7 +106,7 @@ RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
 }
 
 WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
-                                    const std::vector<std::vector<double>>& b, double alpha,
+                                    const std::vector<std::vector<double>>& b, Levels levels,
                                     int permutations, std::uint64_t seed) {
   WeightedDifference r;
   r.points = common_points(a, b);
@@ -155,17 +132,19 @@ WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
       for (double& w : *weight) w /= total;
     return d / total;
   };
-  auto shift = [&](const Rows& pa, const Rows& pb) { return weighted(pa, pb, nullptr); };
   r.difference = weighted(ra, rb, &r.weight);
-  auto magnitude = [&](const Rows& pa, const Rows& pb) { return std::abs(shift(pa, pb)); };
-  permutation_null(ra, rb, magnitude, std::abs(r.difference), alpha, permutations, seed, &r.p_value,
-                   &r.critical);
-  r.permutations = permutations;
-  r.excluded_above = std::abs(r.difference) + r.critical;
+  const NullDistribution null = permutation_null(
+      ra, rb, [&](const Rows& pa, const Rows& pb) { return std::abs(weighted(pa, pb, nullptr)); },
+      levels.detect, permutations, seed);
+  r.p_value = null.p_value(std::abs(r.difference));
+  r.critical = null.threshold(levels.detect);
+  r.band = null.threshold(2 * levels.pass);
+  r.permutations = count_of(null);
+  r.excluded_above = std::abs(r.difference) + r.band;
   return r;
 }
 
-MeanDifference compare_means(std::vector<double> a, std::vector<double> b, double alpha,
+MeanDifference compare_means(std::vector<double> a, std::vector<double> b, Levels levels,
                              int permutations, std::uint64_t seed) {
   auto finite = [](std::vector<double>& v) {
     v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }),
@@ -175,38 +154,35 @@ MeanDifference compare_means(std::vector<double> a, std::vector<double> b, doubl
   finite(b);
   if (a.size() < 2 || b.size() < 2)
     throw std::invalid_argument("compare: each set needs at least 2 values");
-  auto stat = [](const std::vector<double>& all, std::size_t na, double* diff, double* sigma) {
-    double ma = 0, mb = 0, va = 0, vb = 0;
-    const std::size_t nb = all.size() - na;
-    for (std::size_t i = 0; i < na; ++i) ma += all[i] / static_cast<double>(na);
-    for (std::size_t i = na; i < all.size(); ++i) mb += all[i] / static_cast<double>(nb);
-    for (std::size_t i = 0; i < na; ++i)
-      va += (all[i] - ma) * (all[i] - ma) / static_cast<double>(na - 1);
-    for (std::size_t i = na; i < all.size(); ++i)
-      vb += (all[i] - mb) * (all[i] - mb) / static_cast<double>(nb - 1);
-    const double s = std::sqrt(va / static_cast<double>(na) + vb / static_cast<double>(nb));
+  auto stat = [](const std::vector<double>& xa, const std::vector<double>& xb, double* diff,
+                 double* sigma) {
+    auto mean_var = [](const std::vector<double>& x, double* mean) {
+      double m = 0, v = 0;
+      const auto n = static_cast<double>(x.size());
+      for (double y : x) m += y / n;
+      for (double y : x) v += (y - m) * (y - m) / (n - 1);
+      *mean = m;
+      return v / n;
+    };
+    double ma = 0, mb = 0;
+    const double s = std::sqrt(mean_var(xa, &ma) + mean_var(xb, &mb));
     if (diff) *diff = ma - mb;
     if (sigma) *sigma = s;
     return s > 0 ? std::abs(ma - mb) / s : 0.0;
   };
-  std::vector<double> all = a;
-  all.insert(all.end(), b.begin(), b.end());
   MeanDifference r;
-  r.statistic = stat(all, a.size(), &r.difference, &r.sigma);
-  std::mt19937_64 rng(seed);
-  std::vector<double> null;
-  int at_least = 0;
-  for (int p = 0; p < permutations; ++p) {
-    std::shuffle(all.begin(), all.end(), rng);
-    const double t = stat(all, a.size(), nullptr, nullptr);
-    null.push_back(t);
-    at_least += t >= r.statistic;
-  }
-  r.p_value = (1.0 + at_least) / (1.0 + permutations);
-  std::sort(null.begin(), null.end());
-  r.critical = null[std::min(null.size() - 1,
-                             static_cast<std::size_t>(std::ceil((1.0 - alpha) * null.size())) - 1)];
-  r.excluded_above = std::abs(r.difference) + r.critical * r.sigma;
+  r.statistic = stat(a, b, &r.difference, &r.sigma);
+  const NullDistribution null = permutation_null(
+      a, b,
+      [&](const std::vector<double>& xa, const std::vector<double>& xb) {
+        return stat(xa, xb, nullptr, nullptr);
+      },
+      levels.detect, permutations, seed);
+  r.p_value = null.p_value(r.statistic);
+  r.critical = null.threshold(levels.detect);
+  r.band = null.threshold(2 * levels.pass);
+  r.permutations = count_of(null);
+  r.excluded_above = std::abs(r.difference) + r.band * r.sigma;
   r.detectable = r.critical * r.sigma;
   return r;
 }

@@ -14,6 +14,8 @@
 
 #include "checks/checks.hpp"
 #include "checks/margin.hpp"
+#include "checks/permutation.hpp"
+#include "checks/pooled_verdict.hpp"
 
 namespace jam::checks {
 namespace {
@@ -53,6 +55,8 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
   for (const auto& [key, sizes] : by) comparisons += sizes.size() >= 2;
   if (comparisons == 0)
     return {inconclusive("sample_pairs", "all", "the campaign has a single system size")};
+  // Detection (R beyond its band on either side) at alpha shared over the comparisons; the
+  // allowed effect from R's lower quantile at alpha itself (one-sided, as every pass).
   const double alpha = o.alpha / static_cast<double>(comparisons);
   std::vector<Verdict> out;
   for (const auto& [key, sizes] : by) {
@@ -68,8 +72,12 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
                 {"n_b", static_cast<double>(eb->n)},
                 {"phi_init", key.first},
                 {"log10_rate", key.second}};
+    // Over the range the pressure checks pool over (the scaling fit's window), where the
+    // fitted data are.
+    const PoolRange range = *phi_range(
+        d, o, std::max(ea->compressed_from_phi, eb->compressed_from_phi), false, nullptr);
     const Aligned al = align(ea->phi_grid, ea->pressure_at_phi, eb->phi_grid, eb->pressure_at_phi,
-                             std::max(ea->compressed_from_phi, eb->compressed_from_phi));
+                             range.min, range.max);
     // Points where every sample has a positive pressure.
     std::vector<std::size_t> keep;
     for (std::size_t k = 0; k < al.grid.size(); ++k) {
@@ -98,7 +106,8 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     std::vector<std::size_t> order(rows.size());
     std::iota(order.begin(), order.end(), 0);
     std::vector<double> null;
-    for (int p = 0; p < o.permutations; ++p) {
+    const int count = permutations_for(alpha / 2, o.permutations);
+    for (int p = 0; p < count; ++p) {
       std::shuffle(order.begin(), order.end(), rng);
       std::vector<const std::vector<double>*> pa, pb;
       for (std::size_t i = 0; i < rows.size(); ++i)
@@ -111,6 +120,7 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
                            static_cast<std::size_t>(q * static_cast<double>(null.size())))];
     };
     const double lo = quantile(alpha / 2), hi = quantile(1 - alpha / 2);
+    const double lo_pass = quantile(o.alpha);
     v.threshold = hi;
     // A uniform systematic difference delta adds delta^2 / (v_a + v_b) to R: the smallest one
     // that reaches the threshold from R = 1.
@@ -129,7 +139,7 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     v.detectable = std::sqrt(std::max(0.0, hi - 1.0) * v_mean);
     // The effects the data allow: R = 1 + delta^2 / v_mean + noise, and noise above lo is
     // allowed, so delta^2 <= (R - lo) v_mean.
-    const double allowed = std::sqrt(std::max(0.0, v.statistic - lo) * v_mean);
+    const double allowed = std::sqrt(std::max(0.0, v.statistic - lo_pass) * v_mean);
     const double margin = o.margin("sample_pairs");
     decide(v, v.statistic > hi, allowed, margin);
     if (v.statistic < lo) {
@@ -138,14 +148,16 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
       v.status = "fail";
       v.reason = "pairs more alike than independent samples (R below its band)";
     }
-    v.reason += fmt::format(" (R = {:.3g}, permutation band [{:.3g}, {:.3g}], alpha {:.3g})",
-                            v.statistic, lo, hi, alpha);
+    v.reason += fmt::format(
+        " (R = {:.3g}, permutation band [{:.3g}, {:.3g}], alpha {:.3g}; over phi in [{:.4g}, "
+        "{:.4g}], {})",
+        v.statistic, lo, hi, alpha, al.grid[keep.front()], al.grid[keep.back()], range.why);
     if (v.status == "inconclusive") {
       // The band's half-width shrinks as 1/sqrt(samples); R - 1 stays.
       const double room = margin * margin / v_mean - (v.statistic - 1.0);
       const double n = static_cast<double>(std::min(a.size(), b.size()));
-      if (room > 0 && 1.0 - lo > 0) {
-        v.samples_needed = std::ceil(n * std::pow((1.0 - lo) / room, 2));
+      if (room > 0 && 1.0 - lo_pass > 0) {
+        v.samples_needed = std::ceil(n * std::pow((1.0 - lo_pass) / room, 2));
         v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
                                 v.samples_needed);
       }

@@ -60,6 +60,8 @@ void read_constant_z(const h5::File& f, const std::string& g, EnsembleTables& e)
           : "contacts_per_particle_no_rattlers";
   e.z_grid = f.read_dataset(z + "/" + grid_name);
   e.pressure_at_z = table(f, z + "/pressure_samples", rows_of(f, z), e.z_grid.size());
+  if (f.has_dataset(z + "/packing_fraction_mean"))
+    e.phi_at_z = f.read_dataset(z + "/packing_fraction_mean", h5::exactly(e.z_grid.size()));
 }
 
 EnsembleTables read_ensemble(const h5::File& f, const std::string& name) {
@@ -114,7 +116,14 @@ StatsData read_stats(const std::string& directory) {
   d.pooled = f.read_attribute_int("pooled_sizes") != 0;
   if (f.has_dataset("fit/representative")) {
     d.fit_window_min = f.read_attribute_double("phi_min", "fit/representative");
+    // Older stats.h5 files name only the window's lower edge: then it is open above.
+    if (f.has_attribute("phi_max", "fit/representative"))
+      d.fit_window_max = f.read_attribute_double("phi_max", "fit/representative");
     d.fit_phi_j = f.read_attribute_double("phi_j", "fit/representative");
+  }
+  if (f.has_dataset("fit_z/representative") && f.has_attribute("phi_max", "fit_z/representative")) {
+    d.fit_z_window_min = f.read_attribute_double("phi_min", "fit_z/representative");
+    d.fit_z_window_max = f.read_attribute_double("phi_max", "fit_z/representative");
   }
   for (const auto& name : f.list_group("ensembles")) d.ensembles.push_back(read_ensemble(f, name));
   return d;
@@ -122,13 +131,14 @@ StatsData read_stats(const std::string& directory) {
 
 Aligned align(const std::vector<double>& ga, const std::vector<std::vector<double>>& a,
               const std::vector<double>& gb, const std::vector<std::vector<double>>& b,
-              double grid_min) {
+              double grid_min, double grid_max) {
   Aligned r;
   std::vector<std::size_t> ia, ib;
   std::size_t j = 0;
   for (std::size_t i = 0; i < ga.size(); ++i) {
     while (j < gb.size() && gb[j] < ga[i] - 1e-9) ++j;
-    if (j < gb.size() && std::abs(gb[j] - ga[i]) < 1e-9 && ga[i] >= grid_min - 1e-12) {
+    if (j < gb.size() && std::abs(gb[j] - ga[i]) < 1e-9 && ga[i] >= grid_min - 1e-12 &&
+        ga[i] <= grid_max + 1e-12) {
       ia.push_back(i);
       ib.push_back(j);
       r.grid.push_back(ga[i]);

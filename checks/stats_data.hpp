@@ -16,6 +16,7 @@ struct EnsembleTables {
   std::vector<std::int64_t> sample_ids;              // campaign sample number of each row
   std::vector<double> z_grid;
   std::vector<std::vector<double>> pressure_at_z;  // empty when no constant-Z average
+  std::vector<double> phi_at_z;                    // mean packing at each Z (empty when not stored)
   std::vector<double> jamming_points;  // phi_Ji per sample (NaN: not found); empty if not sought
   // Where the compression, not the start, sets the pressure (margin.hpp,
   // first_compression_point): the packing, and the mean Z there. Comparisons start here.
@@ -29,9 +30,11 @@ struct StatsData {
   std::string campaign;
   int dim = 2;
   bool pooled = false;
-  // The lower edge of the scaling fit's window (stats.h5 fit/representative phi_min), when
-  // `jam stats` fitted: where the data the fit uses begin.
-  std::optional<double> fit_window_min;
+  // The edges of the scaling fit's window (stats.h5 fit/representative phi_min, phi_max), when
+  // `jam stats` fitted: the data the fit uses.
+  std::optional<double> fit_window_min, fit_window_max;
+  // ... and those of the constant-Z fit (fit_z/representative), a window in packing too.
+  std::optional<double> fit_z_window_min, fit_z_window_max;
   // ... and its phi_J (the zeta check compares below it).
   std::optional<double> fit_phi_j;
   std::vector<EnsembleTables> ensembles;
@@ -51,6 +54,6 @@ struct Aligned {
 };
 Aligned align(const std::vector<double>& grid_a, const std::vector<std::vector<double>>& a,
               const std::vector<double>& grid_b, const std::vector<std::vector<double>>& b,
-              double grid_min = -1e300);
+              double grid_min = -1e300, double grid_max = 1e300);
 
 }  // namespace jam::checks

@@ -82,6 +82,24 @@ std::vector<Point> point_set(const std::vector<FitEnsemble>& ens, const Means& m
   return pts;
 }
 
+/// A phi_J outside the packings every fitted rate compressed through is not a jamming point
+/// of these data (an extrapolation the window's polynomial cannot support): refused.
+void refuse_outside_compressed_range(const std::vector<FitEnsemble>& ens,
+                                     const ScalingFitOptions& o, double phi_j) {
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  for (const auto& e : ens) {
+    if (!fitted_rate(e, o) || e.phi.empty()) continue;
+    lo = std::max(lo, e.phi.front());
+    hi = std::min(hi, e.phi.back());
+  }
+  if (!(phi_j > lo && phi_j < hi)) {
+    throw FitError(fmt::format(
+        "fit: phi_J = {:.6g} lies outside the packings every fitted rate compressed through "
+        "[{:.6g}, {:.6g}]",
+        phi_j, lo, hi));
+  }
+}
+
 /// ln <p> of ensemble e at phi, linear in phi between grid points; NaN outside its data.
 double ln_mean_at(const FitEnsemble& e, const std::vector<double>& mean, double phi) {
   const auto it = std::lower_bound(e.phi.begin(), e.phi.end(), phi - 1e-12);
@@ -102,9 +120,13 @@ std::pair<double, std::string> crossover(const std::vector<FitEnsemble>& ens, co
   std::vector<std::size_t> rates;
   for (std::size_t e = 0; e < ens.size(); ++e)
     if (fitted_rate(ens[e], o)) rates.push_back(e);
-  if (rates.size() < 2) {
-    throw FitError(fmt::format("fit: {} rate(s) at or below rate_max {:g}; the start needs 2",
-                               rates.size(), o.rate_max));
+  // Two rates leave phi_J and q trading off against each other (a fit on two rates once
+  // returned phi_J = 0.596, below the runs' phi_init): three at least.
+  if (rates.size() < 3) {
+    throw FitError(fmt::format(
+        "fit: {} rate(s) at or below rate_max {:g}; a scaling fit needs at least 3 (with 2, "
+        "phi_J and q trade off)",
+        rates.size(), o.rate_max));
   }
   const std::size_t slowest = *std::min_element(
       rates.begin(), rates.end(), [&](auto a, auto b) { return ens[a].rate < ens[b].rate; });
@@ -363,6 +385,7 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
     est[4] = est[1] / est[2], err[4] = 0.0;
   }
   r.phi_j = est[0];
+  refuse_outside_compressed_range(ens, o, r.phi_j);
   r.q = est[1];
   r.inv_znu = est[2];
   r.beta = est[3];

@@ -104,8 +104,9 @@ BOOST_AUTO_TEST_CASE(weighted_comparison_false_alarm_and_false_pass_rates) {
   const int repeats = 400;
   int alarms = 0, passes_null = 0;
   for (int r = 0; r < repeats; ++r) {
-    const WeightedDifference w = compare_weighted(runs(10, 0.0, rng), runs(10, 0.0, rng), 0.05, 400,
-                                                  100 + static_cast<unsigned>(r));
+    const WeightedDifference w =
+        compare_weighted(runs(10, 0.0, rng), runs(10, 0.0, rng), Levels::two_sided(0.05), 400,
+                         100 + static_cast<unsigned>(r));
     alarms += w.p_value <= 0.05;
     passes_null += w.excluded_above <= 0.10;
   }
@@ -121,8 +122,9 @@ BOOST_AUTO_TEST_CASE(weighted_comparison_false_alarm_and_false_pass_rates) {
   // at most at the rate of the band's one-sided miss, alpha / 2 = 0.025 (accept < 0.06).
   int false_passes = 0;
   for (int r = 0; r < repeats; ++r) {
-    const WeightedDifference w = compare_weighted(runs(10, 0.12, rng), runs(10, 0.0, rng), 0.05,
-                                                  400, 900 + static_cast<unsigned>(r));
+    const WeightedDifference w =
+        compare_weighted(runs(10, 0.12, rng), runs(10, 0.0, rng), Levels::two_sided(0.05), 400,
+                         900 + static_cast<unsigned>(r));
     false_passes += w.excluded_above <= 0.10;
   }
   BOOST_TEST_MESSAGE(
@@ -138,7 +140,7 @@ BOOST_AUTO_TEST_CASE(weights_follow_the_scatter) {
   for (auto* set : {&a, &b})
     for (auto& run : *set)
       for (std::size_t k = 10; k < 20; ++k) run[k] *= std::exp(g(rng));  // 5% -> ~11% scatter
-  const WeightedDifference w = compare_weighted(a, b, 0.05, 200);
+  const WeightedDifference w = compare_weighted(a, b, Levels::two_sided(0.05), 200);
   double sum = 0, quiet = 0, noisy = 0;
   for (std::size_t k = 0; k < w.weight.size(); ++k) {
     sum += w.weight[k];

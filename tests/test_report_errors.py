@@ -802,14 +802,14 @@ def case_verdicts_beyond_what_a_report_shows(work):
     path = os.path.join(camp, "checks.json")
     with open(path) as f:
         original = json.load(f)
-    checks = dict(original, verdicts=(original["verdicts"] * 200)[:25_000])
+    checks = dict(original, verdicts=(original["verdicts"] * 25_000)[:25_000])
     with open(path, "w") as f:
         json.dump(checks, f)
     os.remove(os.path.join(camp, "checks.h5"))
     before = tree(work)
     expect_error(report(camp, os.path.join(work, "r")),
                  [path, "25000 verdicts", "more than a report shows"], before, work)
-    checks = dict(original, verdicts=(original["verdicts"] * 20)[:3_000])
+    checks = dict(original, verdicts=(original["verdicts"] * 3_000)[:3_000])
     with open(path, "w") as f:
         json.dump(checks, f)
     out = os.path.join(work, "r")

@@ -133,14 +133,16 @@ BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
   BOOST_TEST(run_jam("check finite_size " + dir + " --set-a size=3 --set-b n=128", &out) != 0);
   BOOST_TEST(out.find("size=3") != std::string::npos, out);
   BOOST_TEST(run_jam("check nonsense " + dir, &out) != 0);
-  // Exit statuses from the command line: 0 all pass (a margin nothing exceeds), 3 only
-  // inconclusive (2 samples are too few for sample pairs), 1 a failure (a baseline whose rerun
-  // sample differs in one value), 2 a usage error naming the option.
-  BOOST_TEST(run_jam("check finite_size " + dir +
-                         " --set-a n=128,phi_init=0.7,rate=-3 --set-b "
-                         "n=256,phi_init=0.7,rate=-3 --margin 5",
-                     &out) == 0,
-             out);
+  // Exit statuses from the command line: 0 all pass (a margin nothing exceeds, at an alpha
+  // that 2 samples against 2 can reach: their 6 splits give no p-value below 1/6), 3 only
+  // inconclusive (2 samples are too few for sample pairs; at alpha 0.05 they exclude
+  // nothing), 1 a failure (a baseline whose rerun sample differs in one value), 2 a usage
+  // error naming the option.
+  const std::string two_sets =
+      " --set-a n=128,phi_init=0.7,rate=-3 --set-b n=256,phi_init=0.7,rate=-3 --margin 5";
+  BOOST_TEST(run_jam("check finite_size " + dir + two_sets + " --alpha 0.4", &out) == 0, out);
+  BOOST_TEST(run_jam("check finite_size " + dir + two_sets, &out) == 3, out);
+  BOOST_TEST(out.find("splits") != std::string::npos, out);
   BOOST_TEST(run_jam("check sample_pairs " + dir, &out) == 3, out);
   const fs::path changed = kDir / "changed";
   fs::create_directories(changed);

@@ -27,8 +27,9 @@ constexpr double kAlpha = 0.05;
 Verdict judged(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b,
                double margin, std::uint64_t seed = 1, int permutations = 400) {
   Verdict v;
-  const RelativeDifference t = compare_run_sets(a, b, kAlpha, permutations, seed);
-  judge(v, t, kAlpha, margin, std::min(a.size(), b.size()));
+  const RelativeDifference t =
+      compare_run_sets(a, b, Levels::two_sided(kAlpha), permutations, seed);
+  judge(v, t, Levels::two_sided(kAlpha), margin, std::min(a.size(), b.size()));
   return v;
 }
 
@@ -152,7 +153,8 @@ BOOST_AUTO_TEST_CASE(a_difference_planted_at_the_start_changes_nothing) {
                a[k].case_name);
   }
   // Without the rule the start decides: the same plant fails the size comparison.
-  const RelativeDifference whole = compare_run_sets(clean.ensembles[0].pressure_at_phi,
-                                                    planted.ensembles[1].pressure_at_phi, kAlpha);
+  const RelativeDifference whole =
+      compare_run_sets(clean.ensembles[0].pressure_at_phi, planted.ensembles[1].pressure_at_phi,
+                       Levels::two_sided(kAlpha));
   BOOST_TEST(whole.p_value <= kAlpha);
 }

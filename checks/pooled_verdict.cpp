@@ -1,0 +1,143 @@
+#include "checks/pooled_verdict.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "checks/margin.hpp"
+
+namespace jam::checks {
+namespace {
+
+/// Fails v at the point where the effect surely exceeds the margin, if there is one: its
+/// simultaneous band (at the detection level) lies wholly beyond it.
+void fail_where_surely_beyond(Verdict& v, const RelativeDifference& r,
+                              const std::vector<double>& grid, const PoolRange& range,
+                              double margin) {
+  std::size_t worst = r.delta.size();
+  double beyond = margin;
+  for (std::size_t k = 0; k < r.delta.size(); ++k) {
+    const double low = std::abs(r.delta[k]) - r.critical * r.sigma[k];
+    if (low > beyond) beyond = low, worst = k;
+  }
+  if (worst == r.delta.size()) return;
+  v.status = "fail";
+  v.samples_needed = NAN;
+  v.reason = fmt::format(
+      "at {} = {:.4f} the effect surely exceeds the margin {:.3g}: Delta p/p = {:+.3g}, at "
+      "least {:.3g} (simultaneous band, p = {:.3g}); the weighted mean: {}",
+      range.variable, grid[r.points[worst]], margin, r.delta[worst], beyond, r.p_value, v.reason);
+}
+
+/// The grid value below which `share` of the weight lies.
+double weight_quantile(const std::vector<double>& grid, const std::vector<double>& weight,
+                       double share) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    sum += weight[k];
+    if (sum >= share) return grid[k];
+  }
+  return grid.empty() ? NAN : grid.back();
+}
+
+}  // namespace
+
+std::optional<PoolRange> phi_range(const StatsData& d, const CheckOptions& o, double compressed,
+                                   bool need_fit, std::string* why_not) {
+  PoolRange r;
+  if (o.phi_min || o.phi_max) {
+    r.min = o.phi_min.value_or(-HUGE_VAL);
+    r.max = o.phi_max.value_or(HUGE_VAL);
+    r.why = "the range given (--phi-min, --phi-max)";
+  } else if (d.fit_window_min) {
+    r.min = *d.fit_window_min;
+    r.max = d.fit_window_max.value_or(HUGE_VAL);
+    r.why = "the campaign's scaling-fit window, the data its fit uses";
+  } else if (need_fit) {
+    if (why_not) {
+      *why_not =
+          "stats.h5 has no scaling fit and no --phi-min was given: the range the fitted data "
+          "need is unknown, and the start's own memory (before it) is not what this check "
+          "asks";
+    }
+    return std::nullopt;
+  } else {
+    r.why = "no scaling fit in stats.h5: the whole compressed range";
+  }
+  if (compressed > r.min) {
+    r.min = compressed;
+    r.why += ", from where the compression sets both sets' pressure";
+  }
+  return r;
+}
+
+PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTables& a,
+                  const EnsembleTables& b, double compressed_z) {
+  PoolRange r;
+  r.variable = "Z";
+  const auto lo = d.fit_z_window_min ? d.fit_z_window_min : d.fit_window_min;
+  const auto hi = d.fit_z_window_max ? d.fit_z_window_max : d.fit_window_max;
+  double phi_lo = -HUGE_VAL, phi_hi = HUGE_VAL;
+  if (o.phi_min || o.phi_max) {
+    phi_lo = o.phi_min.value_or(-HUGE_VAL), phi_hi = o.phi_max.value_or(HUGE_VAL);
+    r.why = "the Z whose mean packing lies in the range given (--phi-min, --phi-max)";
+  } else if (lo) {
+    phi_lo = *lo, phi_hi = hi.value_or(HUGE_VAL);
+    r.why = fmt::format("the Z whose mean packing lies in the {} fit's window",
+                        d.fit_z_window_min ? "constant-Z" : "scaling");
+  } else {
+    r.why = "no scaling fit in stats.h5: the whole compressed range";
+  }
+  // Z values of each set whose mean packing is in [phi_lo, phi_hi]; the range both share.
+  auto span = [&](const EnsembleTables& e, double* zmin, double* zmax) {
+    *zmin = HUGE_VAL, *zmax = -HUGE_VAL;
+    if (e.phi_at_z.size() != e.z_grid.size()) {
+      *zmin = -HUGE_VAL, *zmax = HUGE_VAL;  // no mean packing stored: Z is not limited
+      return;
+    }
+    for (std::size_t k = 0; k < e.z_grid.size(); ++k)
+      if (e.phi_at_z[k] >= phi_lo && e.phi_at_z[k] <= phi_hi)
+        *zmin = std::min(*zmin, e.z_grid[k]), *zmax = std::max(*zmax, e.z_grid[k]);
+  };
+  double amin = 0, amax = 0, bmin = 0, bmax = 0;
+  span(a, &amin, &amax);
+  span(b, &bmin, &bmax);
+  r.min = std::max(amin, bmin);
+  r.max = std::min(amax, bmax);
+  if (compressed_z > r.min) {
+    r.min = compressed_z;
+    r.why += ", from where the compression sets both sets' pressure";
+  }
+  return r;
+}
+
+void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels levels,
+                  double margin, int permutations, std::uint64_t seed) {
+  v.statistic_name = "|weighted mean Delta p/p|";
+  const WeightedDifference w = compare_weighted(al.a, al.b, levels, permutations, seed);
+  judge(v, w, levels, margin, std::min(al.a.size(), al.b.size()));
+  const RelativeDifference r = compare_run_sets(al.a, al.b, levels, permutations, seed);
+  std::vector<double> grid;
+  double at = 0.0;  // where the verdict looks: the weights' mean
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    grid.push_back(al.grid[r.points[i]]);
+    at += w.weight[i] * grid.back();
+  }
+  const double from = weight_quantile(grid, w.weight, 0.1),
+               to = weight_quantile(grid, w.weight, 0.9);
+  v.reason += fmt::format(
+      "; over {} in [{:.4g}, {:.4g}] ({}), weights centred at {} = {:.4g}, 80% "
+      "of them in [{:.4g}, {:.4g}]",
+      range.variable, grid.front(), grid.back(), range.why, range.variable, at, from, to);
+  fail_where_surely_beyond(v, r, al.grid, range, margin);
+  v.values["range_min"] = grid.front();
+  v.values["range_max"] = grid.back();
+  v.values["weighted_at"] = at;
+  v.values["weight_from"] = from;
+  v.values["weight_to"] = to;
+  v.values["pointwise_excluded_above"] = r.excluded_above;
+  v.curves = {{"grid", grid}, {"delta", r.delta}, {"sigma", r.sigma}, {"weight", w.weight}};
+}
+
+}  // namespace jam::checks

@@ -1,0 +1,47 @@
+#pragma once
+// The verdict of every pressure check (finite_size, phi_init, zeta, chain): two run sets
+// judged on one aggregate over a stated range, the inverse-variance weighted mean relative
+// difference D (relative_difference.hpp, compare_weighted), plus the pointwise rule that fails
+// a point whose simultaneous band lies wholly beyond the margin. Why pooled: neighbouring grid
+// points come from the same runs, so the maximum over hundreds of them at a Bonferroni alpha
+// (the former statistic) spends its power on the noisiest point; D is the shift a
+// least-squares fit over the range sees, and its error is that of the whole range.
+//
+// The range is part of the verdict: its edges, why it is that range, and where the weights lie
+// (their mean and the span holding the central 80% of them) are in the reason and the values.
+#include <optional>
+#include <string>
+
+#include "checks/checks.hpp"
+#include "checks/relative_difference.hpp"
+#include "checks/stats_data.hpp"
+
+namespace jam::checks {
+
+struct PoolRange {
+  std::string variable = "phi";  // the grid: "phi" or "Z"
+  double min = -HUGE_VAL, max = HUGE_VAL;
+  std::string why;  // e.g. "the scaling fit's window (phi_J +- 0.01)"
+};
+
+/// The packing range a check at constant phi pools over: --phi-min/--phi-max when given, else
+/// the campaign's scaling-fit window, else (when `need_fit` is false) everything past the
+/// starts' transients; never below `compressed` (where the compression, not the start, sets
+/// both sets' pressure). nullopt, with *why_not, when need_fit and there is no fit.
+std::optional<PoolRange> phi_range(const StatsData& d, const CheckOptions& o, double compressed,
+                                   bool need_fit, std::string* why_not);
+
+/// The same at constant Z: the Z values whose mean packing lies in the constant-Z fit's
+/// window (else the constant-phi fit's) in both sets, never below `compressed_z`.
+PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTables& a,
+                  const EnsembleTables& b, double compressed_z);
+
+/// Judges v on the two run sets of `al` (cut to the range already): D over the range at
+/// `levels`, the pointwise rule at levels.detect. Sets statistic_name, the range and weight
+/// values (range_min, range_max, weighted_at, weight_from, weight_to,
+/// pointwise_excluded_above) and the curves (grid, delta, sigma, weight). Throws
+/// std::invalid_argument as compare_weighted does.
+void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels levels,
+                  double margin, int permutations, std::uint64_t seed = 3);
+
+}  // namespace jam::checks

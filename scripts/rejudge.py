@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""Re-judge a stored result: `jam check all` on its stored stats.h5 (nothing rerun), the new
+checks.json copied back, and provenance.json told when and by which jam.
+
+  scripts/rejudge.py reduced-2d [--jam build/jam]
+
+The stored LAMMPS reference (reference/lammps) serves the lammps check (--no-lmp), so the
+result does not depend on whether lmp is installed. Works in a temporary copy; the stored
+directory changes only when the check ran (exit 0, 1 or 3), by rename.
+"""
+import argparse
+import datetime
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("name", help="a stored result under reference/results/")
+    ap.add_argument("--jam", default=os.path.join(SOURCE, "build", "jam"))
+    args = ap.parse_args()
+    stored = os.path.join(SOURCE, "reference", "results", args.name)
+    if not os.path.isfile(os.path.join(stored, "stats.h5")):
+        sys.exit(f"rejudge: {stored}: no stored stats.h5")
+    version = subprocess.run([args.jam, "--version"], capture_output=True, text=True,
+                             check=True).stdout.splitlines()[0].split()[-1]
+    with tempfile.TemporaryDirectory() as tmp:
+        work = os.path.join(tmp, args.name)
+        os.mkdir(work)
+        for name in ("stats.h5", "campaign.toml"):
+            shutil.copy2(os.path.join(stored, name), work)
+        done = subprocess.run([args.jam, "check", "all", work, "--no-lmp", "--reference-dir",
+                               os.path.join(SOURCE, "reference")])
+        if done.returncode not in (0, 1, 3):
+            sys.exit(f"rejudge: jam check exited {done.returncode}; nothing changed")
+        new = os.path.join(stored, ".checks.json.rejudge")
+        shutil.copy2(os.path.join(work, "checks.json"), new)
+        os.replace(new, os.path.join(stored, "checks.json"))
+    path = os.path.join(stored, "provenance.json")
+    with open(path) as f:
+        provenance = json.load(f)
+    provenance["checks_rejudged"] = {
+        "command": f"scripts/rejudge.py {args.name}",
+        "code_version": version,
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "note": "checks.json judged anew from the stored stats.h5; the runs, stats.h5 and the "
+                "fits are those of the stored result",
+    }
+    with open(path + ".rejudge", "w") as f:
+        json.dump(provenance, f, indent=2)
+        f.write("\n")
+    os.replace(path + ".rejudge", path)
+
+
+if __name__ == "__main__":
+    main()
