@@ -8,6 +8,8 @@
 #include <tuple>
 #include <utility>
 
+#include "app/until_decided.hpp"
+
 namespace jam {
 
 void add_campaign_command(CLI::App& app, CampaignArgs& a) {
@@ -31,6 +33,15 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
                   "share, whatever the array's first index (--array=0-31 or 1-32, steps too)");
   run->add_flag("--force", a.run.force,
                 "Run even runs beyond the per-run limits on steps, output points and memory");
+  run->add_flag("--until-decided", a.until_decided,
+                "Then judge the checks, add samples to the ensembles of undecided verdicts and "
+                "judge again, until every verdict is decided or --budget is spent (alpha "
+                "spent over the looks: docs/statistics-and-checks.md#until-decided)");
+  run->add_option("--budget", a.until.budget_core_hours,
+                  "--until-decided: core-hours all runs of the campaign may take, in all");
+  run->add_option("--alpha", a.until.alpha,
+                  "--until-decided: false-alarm rate of each check over all looks")
+      ->check(CLI::Range(1e-6, 0.5));
   CLI::App* status = campaign->add_subcommand(
       "status", "Print what is done, partial, missing, failed or corrupt in a campaign directory");
   status->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();
@@ -97,6 +108,17 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
   if (campaign->got_subcommand("run")) {
     CampaignRunOptions options = a.run;
     if (!a.shard.empty()) std::tie(options.shard, options.shards) = parse_shard(a.shard);
+    if (a.until_decided) {
+      try {
+        validate_until_decided(a.until);
+      } catch (const std::invalid_argument& e) {
+        throw CLI::ValidationError("--budget", e.what());
+      }
+      return run_until_decided(read_campaign(a.file), options, a.until, ranks);
+    }
+    const CLI::App* run = campaign->get_subcommand("run");
+    if (run->count("--budget") || run->count("--alpha"))
+      throw CLI::ValidationError("--budget", "--budget and --alpha go with --until-decided");
     return run_campaign(read_campaign(a.file), options, ranks);
   }
   if (campaign->got_subcommand("status")) return print_campaign_status(a.directory, a.json);

@@ -1,6 +1,7 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
+#include "app/until_decided.hpp"
 #include "campaign/campaign_runner.hpp"
 
 namespace jam {
@@ -11,6 +12,8 @@ struct CampaignArgs {
   CampaignRunOptions run;
   bool json = false;  // status --json
   std::string shard;  // run --shard K/N
+  bool until_decided = false;
+  UntilDecidedOptions until;  // --budget, --alpha
 };
 
 /// Registers `jam campaign run|status|plan`.

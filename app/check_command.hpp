@@ -27,4 +27,9 @@ void add_check_command(CLI::App& app, CheckArgs& args);
 /// DIR/checks-NAME.{json,xml,h5}; returns checks::exit_status (0 pass, 1 fail, 3 inconclusive).
 int run_check_command(const CheckArgs& args);
 
+/// Writes DIR/checks.{json,xml,h5} (name "all") or DIR/checks-NAME.*, each atomically.
+void write_verdict_files(const std::string& directory, const std::string& name,
+                         const std::vector<checks::Verdict>& verdicts,
+                         const std::string& campaign_name, double seconds);
+
 }  // namespace jam

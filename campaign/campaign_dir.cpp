@@ -162,6 +162,17 @@ void write_run_record(const PlannedRun& run, const RunRecord& r) {
   write_text(record_path(run), text.str());
 }
 
+std::optional<double> recorded_wall_seconds(const PlannedRun& run) {
+  const std::string record = record_path(run);
+  if (!fs::exists(record)) return std::nullopt;
+  check_input_file("run record", record);
+  try {
+    return toml::parse_file(record)["wall_seconds"].value<double>();
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
   toml::table runs;
   for (const auto& run : plan) {

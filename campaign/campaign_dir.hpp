@@ -9,6 +9,7 @@
 //   <output>/chain/<name>.start.h5   chained start of run <name> (chain_phi_init), left by the
 //                                    next faster run of its sample
 // Every file is written atomically, so the directory is consistent after any interruption.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,9 @@ struct RunRecord {
 };
 
 void write_run_record(const PlannedRun& run, const RunRecord& record);
+
+/// The wall seconds the run's last attempt recorded (nullopt: no readable record).
+std::optional<double> recorded_wall_seconds(const PlannedRun& run);
 
 /// Rewrites <output>/manifest.toml from the run files and records.
 void write_manifest(const Campaign& campaign, const std::vector<PlannedRun>& plan);

@@ -9,6 +9,7 @@
 #include <set>
 #include <tuple>
 
+#include "campaign/added_samples.hpp"
 #include "sim/io/chain_start.hpp"
 
 namespace jam {
@@ -109,13 +110,20 @@ std::string chain_directory(const Campaign& campaign) {
 }
 
 std::vector<PlannedRun> plan_runs(const Campaign& c) {
+  return plan_runs(c, read_added_samples(c));
+}
+
+std::vector<PlannedRun> plan_runs(const Campaign& c, const SampleCounts& added) {
   std::vector<PlannedRun> runs;
   std::set<std::string> names;
   const std::string dir = runs_directory(c);
+  // The campaign's samples, and those `--until-decided` added to some ensembles.
+  const SampleCounts samples = samples_per_ensemble(c, added);
   for (auto n : c.sizes) {
     for (double phi : c.phi_init) {
       for (double lr : c.log10_rates) {
-        for (std::int64_t k = c.first_sample; k < c.first_sample + c.samples; ++k) {
+        const std::int64_t count = samples.at({n, phi, lr});
+        for (std::int64_t k = c.first_sample; k < c.first_sample + count; ++k) {
           PlannedRun r;
           r.n = n;
           r.phi_init = phi;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "campaign/added_samples.hpp"
 #include "campaign/campaign_file.hpp"
 #include "sim/run/sim_config.hpp"
 
@@ -36,8 +37,11 @@ std::string run_name(std::int64_t n, double phi_init, double log10_rate, std::in
 SimConfig run_config(const Campaign& campaign, std::int64_t n, double phi_init, double log10_rate,
                      std::int64_t sample);
 
-/// Every run of the campaign, longest (most particle-steps) first.
+/// Every run of the campaign, longest (most particle-steps) first: its samples, and those
+/// added to some ensembles in its directory (campaign/added_samples.hpp).
 std::vector<PlannedRun> plan_runs(const Campaign& campaign);
+/// The same with the added samples given.
+std::vector<PlannedRun> plan_runs(const Campaign& campaign, const SampleCounts& added);
 
 /// Directory holding the run files of a campaign.
 std::string runs_directory(const Campaign& campaign);

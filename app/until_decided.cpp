@@ -1,0 +1,402 @@
+#include "app/until_decided.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+#include "app/check_command.hpp"
+#include "app/stats_command.hpp"
+#include "campaign/added_samples.hpp"
+#include "campaign/campaign_dir.hpp"
+#include "campaign/run_plan.hpp"
+#include "checks/checks.hpp"
+#include "checks/sequential.hpp"
+#include "sim/io/atomic_file.hpp"
+#include "sim/io/output_path.hpp"
+#include "sim/run/stop_signal.hpp"
+
+namespace jam {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// ---- what a verdict compares -------------------------------------------------------------
+
+/// The values that name what a verdict compares (checks' `values`), in a fixed order.
+constexpr const char* kIdentifying[] = {"n",
+                                        "n_a",
+                                        "n_b",
+                                        "phi_init",
+                                        "lowest_phi_init",
+                                        "log10_rate",
+                                        "log10_rate_slow",
+                                        "log10_rate_faster",
+                                        "constant_z"};
+
+/// A verdict's identity across looks: its check and what it compares (its case name can
+/// change between looks, since it names the fit window, which moves as samples are added).
+std::string key_of(const checks::Verdict& v) {
+  std::string key = v.check;
+  for (const char* k : kIdentifying)
+    if (const auto it = v.values.find(k); it != v.values.end())
+      key += fmt::format(" {}={:.9g}", k, it->second);
+  return key;
+}
+
+/// The ensembles a verdict compares (empty: nothing more samples could change, e.g. a single
+/// size).
+std::vector<EnsembleId> ensembles_of(const checks::Verdict& v) {
+  auto get = [&v](const char* k) -> std::optional<double> {
+    const auto it = v.values.find(k);
+    return it == v.values.end() ? std::nullopt : std::optional<double>(it->second);
+  };
+  auto id = [](double n, double phi, double rate) {
+    return EnsembleId{static_cast<std::int64_t>(std::llround(n)), phi, rate};
+  };
+  if (auto na = get("n_a"), nb = get("n_b"), phi = get("phi_init"), r = get("log10_rate");
+      na && nb && phi && r)
+    return {id(*na, *phi, *r), id(*nb, *phi, *r)};
+  if (auto n = get("n"), phi = get("phi_init"), low = get("lowest_phi_init"), r = get("log10_rate");
+      n && phi && low && r)
+    return {id(*n, *phi, *r), id(*n, *low, *r)};
+  if (auto n = get("n"), phi = get("phi_init"), slow = get("log10_rate_slow"),
+      fast = get("log10_rate_faster");
+      n && phi && slow && fast)
+    return {id(*n, *phi, *slow), id(*n, *phi, *fast)};
+  return {};
+}
+
+/// The campaign's own spelling of an ensemble (values come back from stats.h5 as doubles).
+std::optional<EnsembleId> canonical(const Campaign& c, const EnsembleId& e) {
+  auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9; };
+  for (auto n : c.sizes)
+    for (double phi : c.phi_init)
+      for (double r : c.log10_rates)
+        if (n == e.n && near(phi, e.phi_init) && near(r, e.log10_rate))
+          return EnsembleId{n, phi, r};
+  return std::nullopt;
+}
+
+// ---- the state -----------------------------------------------------------------------------
+
+struct State {
+  json looks = json::array();     // {look, alpha, decided, undecided, core_seconds}
+  json decided = json::object();  // key -> {look, verdict (checks.json form)}
+  SampleCounts next;              // the samples the runs of the next look need
+  bool finished = false;
+  std::string outcome;
+};
+
+std::string state_path(const Campaign& c) {
+  return (fs::path(c.output) / "until-decided.json").string();
+}
+
+State read_state(const Campaign& c) {
+  State s;
+  const std::string path = state_path(c);
+  if (!fs::exists(fs::symlink_status(path))) return s;
+  check_input_file("until-decided state", path);
+  std::ifstream in(path);
+  json j;
+  try {
+    j = json::parse(in);
+    s.looks = j.at("looks");
+    s.decided = j.at("decided");
+    s.finished = j.at("finished").get<bool>();
+    s.outcome = j.at("outcome").get<std::string>();
+    for (const auto& e : j.at("samples")) {
+      s.next[{e.at("n").get<std::int64_t>(), e.at("phi_init").get<double>(),
+              e.at("log10_rate").get<double>()}] = e.at("samples").get<std::int64_t>();
+    }
+  } catch (const json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: not an until-decided state ({})", path, e.what()));
+  }
+  if (!s.looks.is_array() || !s.decided.is_object())
+    throw std::runtime_error(fmt::format("{}: not an until-decided state", path));
+  return s;
+}
+
+void write_state(const Campaign& c, const State& s) {
+  json samples = json::array();
+  for (const auto& [id, count] : s.next) {
+    samples.push_back({{"n", id.n},
+                       {"phi_init", id.phi_init},
+                       {"log10_rate", id.log10_rate},
+                       {"samples", count}});
+  }
+  const json j{{"looks", s.looks},
+               {"decided", s.decided},
+               {"samples", samples},
+               {"finished", s.finished},
+               {"outcome", s.outcome}};
+  AtomicFile out(state_path(c));
+  std::fputs((j.dump(1) + "\n").c_str(), out.stream());
+  out.commit();
+  // The planners' file follows the state (never the other way round): resuming rewrites it.
+  write_added_samples(c, s.next);
+}
+
+// ---- cost ----------------------------------------------------------------------------------
+
+struct Cost {
+  double spent_seconds = 0;       // recorded wall seconds of the done runs
+  double seconds_per_step = NAN;  // measured: spent / their estimated particle-steps
+};
+
+Cost measured_cost(const std::vector<PlannedRun>& plan) {
+  Cost c;
+  double steps = 0;
+  for (const auto& run : plan) {
+    if (run_status(run) != RunStatus::kDone) continue;
+    if (const auto w = recorded_wall_seconds(run)) {
+      c.spent_seconds += *w;
+      steps += run.estimated_particle_steps;
+    }
+  }
+  if (steps > 0) c.seconds_per_step = c.spent_seconds / steps;
+  return c;
+}
+
+/// Estimated core-seconds of the runs a plan with `counts` adds to what is done.
+double batch_seconds(const Campaign& c, const SampleCounts& counts, double seconds_per_step) {
+  double steps = 0;
+  for (const auto& run : plan_runs(c, counts))
+    if (run_status(run) != RunStatus::kDone) steps += run.estimated_particle_steps;
+  return steps * seconds_per_step;
+}
+
+/// The exit status of the stored checks.json (a sequence finished by an earlier invocation).
+int stored_exit_status(const Campaign& c) {
+  const std::string path = (fs::path(c.output) / "checks.json").string();
+  check_input_file("checks.json", path);
+  std::ifstream in(path);
+  bool fail = false, open = false;
+  for (const auto& v : checks::verdict_array(json::parse(in))) {
+    const std::string status = v.value("status", "");
+    fail = fail || (status == "fail" && !v.value("expected_failure", false));
+    open = open || status == "inconclusive";
+  }
+  return fail ? 1 : open ? 3 : 0;
+}
+
+// ---- one look ------------------------------------------------------------------------------
+
+/// Judges the look, updates the state, and says whether another look follows.
+bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
+                std::vector<checks::Verdict>* final_verdicts) {
+  const int look = static_cast<int>(s.looks.size()) + 1;
+  const double alpha = checks::look_alpha(o.alpha, look);
+  StatsArgs stats;
+  stats.directory = c.output;
+  if (const int status = run_stats_command(stats); status != 0)
+    throw std::runtime_error(fmt::format("until-decided: jam stats exited {}", status));
+  checks::CheckOptions options;
+  options.alpha = alpha;
+  options.margins = c.margins;
+  std::vector<checks::Verdict> verdicts =
+      checks::run_check("all", checks::read_stats(c.output), options);
+
+  // Verdicts decided at an earlier look stand; the others are this look's.
+  std::vector<checks::Verdict> merged;
+  SampleCounts next = samples_per_ensemble(c, s.next);
+  const SampleCounts present = next;
+  int decided = 0, undecided = 0, not_by_samples = 0;
+  for (auto& v : verdicts) {
+    const std::string key = key_of(v);
+    if (s.decided.contains(key)) {
+      // The verdict of the look that decided it; its curves are this look's data.
+      const json& d = s.decided[key];
+      v.status = d.at("status").get<std::string>();
+      v.reason = d.at("reason").get<std::string>();
+      for (auto [field, value] : {std::pair{"statistic", &v.statistic},
+                                  {"threshold", &v.threshold},
+                                  {"excluded_above", &v.excluded_above},
+                                  {"detectable", &v.detectable}}) {
+        *value = d.at(field).is_number() ? d.at(field).get<double>() : NAN;
+      }
+      v.samples_needed = NAN;
+      v.values["look"] = d.at("look").get<double>();
+      merged.push_back(v);
+      ++decided;
+      continue;
+    }
+    v.values["look"] = look;
+    v.values["look_alpha"] = alpha;
+    if (v.status != "inconclusive") {
+      v.reason += fmt::format(" [look {}, alpha {:.3g}]", look, alpha);
+      auto number = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
+      s.decided[key] = {{"look", look},
+                        {"status", v.status},
+                        {"reason", v.reason},
+                        {"statistic", number(v.statistic)},
+                        {"threshold", number(v.threshold)},
+                        {"excluded_above", number(v.excluded_above)},
+                        {"detectable", number(v.detectable)}};
+      ++decided;
+    } else if (const auto ens = ensembles_of(v); ens.empty()) {
+      ++not_by_samples;
+    } else {
+      ++undecided;
+      for (const auto& e : ens) {
+        const auto id = canonical(c, e);
+        if (!id) continue;
+        auto& n = next[*id];
+        n = std::max(n, checks::next_samples(present.at(*id), v.samples_needed));
+      }
+    }
+    merged.push_back(v);
+  }
+  *final_verdicts = merged;
+  const std::vector<PlannedRun> plan = plan_runs(c);
+  const Cost cost = measured_cost(plan);
+  s.looks.push_back({{"look", look},
+                     {"alpha", alpha},
+                     {"decided", decided},
+                     {"undecided", undecided},
+                     {"not_decidable_by_samples", not_by_samples},
+                     {"core_seconds", cost.spent_seconds}});
+  const double budget = o.budget_core_hours * 3600.0;
+  fmt::print(
+      "until-decided: look {} at alpha {:.3g}: {} decided, {} undecided{}; {:.2f} of "
+      "{:.2f} core-hours spent\n",
+      look, alpha, decided, undecided,
+      not_by_samples ? fmt::format(", {} that samples cannot decide", not_by_samples) : "",
+      cost.spent_seconds / 3600, o.budget_core_hours);
+  if (undecided == 0) {
+    s.finished = true;
+    s.outcome = fmt::format("every verdict decided at look {}", look);
+    return false;
+  }
+  // The next batch, shrunk until it fits what is left of the budget.
+  SampleCounts batch = next;
+  for (double share : {1.0, 0.5, 0.25}) {
+    batch = present;
+    for (const auto& [id, want] : next) {
+      const auto have = present.at(id);
+      batch[id] =
+          have + static_cast<std::int64_t>(std::ceil(share * static_cast<double>(want - have)));
+    }
+    const double seconds = batch_seconds(c, batch, cost.seconds_per_step);
+    if (std::isfinite(seconds) && cost.spent_seconds + seconds <= budget) {
+      fmt::print(
+          "until-decided: adding samples to {} ensembles (about {:.2f} core-hours)\n",
+          [&] {
+            int k = 0;
+            for (const auto& [id, want] : batch) k += want > present.at(id);
+            return k;
+          }(),
+          seconds / 3600);
+      s.next = batch;
+      return true;
+    }
+  }
+  s.finished = true;
+  s.outcome = fmt::format(
+      "budget spent at look {}: {} verdicts undecided; the next batch would exceed the {:g} "
+      "core-hours",
+      look, undecided, o.budget_core_hours);
+  return false;
+}
+
+/// Sleeps `seconds` in short steps; false when a stop was asked for meanwhile.
+bool doze(double seconds) {
+  const auto& stop = install_stop_handlers();
+  for (int k = 0; k < static_cast<int>(seconds * 10); ++k) {
+    if (stop.load()) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return !stop.load();
+}
+
+/// --shard: waits until every run of the plan is done (other shards' too). 0, or 1 when a run
+/// failed, 130 when stopped. A run seen done is not looked at again (each look verifies the
+/// file's checksums).
+int wait_for_runs(const Campaign& c, const UntilDecidedOptions& o) {
+  auto last = std::chrono::steady_clock::now();
+  std::set<std::string> done;
+  for (;;) {
+    std::size_t pending = 0;
+    for (const auto& run : plan_runs(c)) {
+      if (done.count(run.name)) continue;
+      const RunStatus s = run_status(run);
+      if (s == RunStatus::kFailed || s == RunStatus::kCorrupt) return 1;
+      if (s == RunStatus::kDone)
+        done.insert(run.name);
+      else
+        ++pending;
+    }
+    if (pending == 0) return 0;
+    if (std::chrono::steady_clock::now() - last > std::chrono::minutes(5)) {
+      fmt::print("until-decided: waiting for {} runs of other shards\n", pending);
+      std::fflush(stdout);
+      last = std::chrono::steady_clock::now();
+    }
+    if (!doze(o.poll_seconds)) return 130;
+  }
+}
+
+}  // namespace
+
+void validate_until_decided(const UntilDecidedOptions& o) {
+  if (!(std::isfinite(o.budget_core_hours) && o.budget_core_hours > 0)) {
+    throw std::invalid_argument(
+        fmt::format("{}: core-hours must be a finite number > 0", o.budget_core_hours));
+  }
+}
+
+int run_until_decided(const Campaign& c, const CampaignRunOptions& run,
+                      const UntilDecidedOptions& o, const Ranks& ranks) {
+  validate_until_decided(o);
+  const bool decider = ranks.rank == 0 && run.shard == 1;
+  std::vector<checks::Verdict> verdicts;
+  for (;;) {
+    State s = read_state(c);
+    if (s.finished) break;
+    // Restores added-samples.toml from the state (a new directory has neither yet).
+    if (decider && fs::is_directory(c.output)) write_state(c, s);
+    barrier();
+    const int looks_before = static_cast<int>(s.looks.size());
+    int status = run_campaign(c, run, ranks);
+    if (status == 0 && run.shards > 1) status = wait_for_runs(c, o);
+    if (status != 0) return status;
+    std::int64_t more = 0;
+    if (decider) {
+      more = judge_look(c, o, s, &verdicts) ? 1 : 0;
+      write_state(c, s);
+      if (!more) {
+        write_verdict_files(c.output, "all", verdicts, c.name, 0.0);
+        fmt::print("until-decided: {}\n", s.outcome);
+      }
+    } else if (run.shards > 1) {
+      // Shard 1 judges: wait for its state to move past this look.
+      for (;;) {
+        const State now = read_state(c);
+        if (now.finished || static_cast<int>(now.looks.size()) > looks_before) {
+          more = now.finished ? 0 : 1;
+          break;
+        }
+        if (!doze(o.poll_seconds)) return 130;
+      }
+    }
+    more = broadcast_from_root({more}).front();
+    if (!more) break;
+  }
+  if (!decider) return 0;
+  if (verdicts.empty()) {
+    // Finished before this invocation: the stored verdicts are the result.
+    fmt::print("until-decided: {} (verdicts in {}/checks.json)\n", read_state(c).outcome, c.output);
+    return stored_exit_status(c);
+  }
+  return checks::exit_status(verdicts);
+}
+
+}  // namespace jam

@@ -1,0 +1,122 @@
+#include "campaign/added_samples.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "sim/io/atomic_file.hpp"
+#include "sim/io/output_path.hpp"
+
+namespace jam {
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The entry of `values` equal to x (to 1e-9), as the campaign spells it.
+template <class T>
+T member(const std::vector<T>& values, T x, const std::string& path, const char* key) {
+  for (T v : values)
+    if (std::abs(static_cast<double>(v - x)) <= 1e-9) return v;
+  throw CampaignError(fmt::format("{}: ensemble {} = {} is not one of the campaign's", path, key,
+                                  static_cast<double>(x)));
+}
+
+double number(const toml::table& t, const char* key, const std::string& path) {
+  const auto* node = t.get(key);
+  if (node && node->is_integer()) return static_cast<double>(node->value<std::int64_t>().value());
+  if (node && node->is_floating_point()) return node->value<double>().value();
+  throw CampaignError(fmt::format("{}: ensemble needs a number '{}'", path, key));
+}
+
+}  // namespace
+
+std::string added_samples_path(const Campaign& c) {
+  return (fs::path(c.output) / "added-samples.toml").string();
+}
+
+SampleCounts read_added_samples(const Campaign& c) {
+  const std::string path = added_samples_path(c);
+  SampleCounts counts;
+  if (!fs::exists(fs::symlink_status(path))) return counts;
+  check_input_file("added samples", path);
+  toml::table t;
+  try {
+    t = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw CampaignError(fmt::format("{}: {}", path, e.description()));
+  }
+  const toml::array* list = t["ensemble"].as_array();
+  if (!list) return counts;
+  for (const auto& node : *list) {
+    const toml::table* e = node.as_table();
+    if (!e) throw CampaignError(fmt::format("{}: 'ensemble' entries must be tables", path));
+    const double n = number(*e, "n", path), samples = number(*e, "samples", path);
+    if (n != std::floor(n) || samples != std::floor(samples) || !(samples < 1e9)) {
+      throw CampaignError(
+          fmt::format("{}: ensemble n = {}, samples = {}: whole numbers", path, n, samples));
+    }
+    const EnsembleId id{member(c.sizes, static_cast<std::int64_t>(n), path, "n"),
+                        member(c.phi_init, number(*e, "phi_init", path), path, "phi_init"),
+                        member(c.log10_rates, number(*e, "log10_rate", path), path, "log10_rate")};
+    if (samples < static_cast<double>(c.samples)) {
+      throw CampaignError(fmt::format("{}: ensemble samples = {}, fewer than the campaign's {}",
+                                      path, samples, c.samples));
+    }
+    counts[id] = static_cast<std::int64_t>(samples);
+  }
+  double runs = 0;
+  for (const auto& [id, s] : samples_per_ensemble(c, counts)) runs += static_cast<double>(s);
+  if (runs > static_cast<double>(kMaxCampaignRuns)) {
+    throw CampaignError(fmt::format("{}: {} runs with the added samples, more than {}", path, runs,
+                                    kMaxCampaignRuns));
+  }
+  return counts;
+}
+
+void write_added_samples(const Campaign& c, const SampleCounts& counts) {
+  const std::string path = added_samples_path(c);
+  if (counts.empty()) {
+    std::error_code ec;
+    fs::remove(path, ec);
+    return;
+  }
+  toml::array list;
+  for (const auto& [id, samples] : counts) {
+    list.push_back(toml::table{{"n", id.n},
+                               {"phi_init", id.phi_init},
+                               {"log10_rate", id.log10_rate},
+                               {"samples", samples}});
+  }
+  std::ostringstream text;
+  text << "# Samples added by `jam campaign run --until-decided` (jam writes this file).\n"
+       << toml::table{{"ensemble", std::move(list)}} << "\n";
+  AtomicFile out(path);
+  std::fputs(text.str().c_str(), out.stream());
+  out.commit();
+}
+
+SampleCounts samples_per_ensemble(const Campaign& c, const SampleCounts& added) {
+  SampleCounts all;
+  for (auto n : c.sizes)
+    for (double phi : c.phi_init)
+      for (double lr : c.log10_rates) {
+        const auto it = added.find({n, phi, lr});
+        all[{n, phi, lr}] = std::max(c.samples, it == added.end() ? 0 : it->second);
+      }
+  if (c.chain_phi_init.empty()) return all;
+  // Slowest to fastest: a chained rate's samples need the same samples of the faster rate.
+  const std::vector<std::size_t> order = rates_fastest_first(c);
+  for (auto n : c.sizes)
+    for (double phi : c.phi_init)
+      for (std::size_t i = order.size(); i-- > 1;) {
+        if (c.chain_phi_init[order[i]] == 0.0) continue;
+        auto& faster = all[{n, phi, c.log10_rates[order[i - 1]]}];
+        faster = std::max(faster, all[{n, phi, c.log10_rates[order[i]]}]);
+      }
+  return all;
+}
+
+}  // namespace jam

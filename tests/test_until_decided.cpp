@@ -1,0 +1,153 @@
+// `jam campaign run --until-decided --budget H` through the executable: a bad budget is one
+// line naming --budget and nothing is run; a small two-size campaign runs look after look
+// until its verdicts are decided, and the same command in another directory gives the same
+// verdicts and added samples; killed (SIGKILL) in the middle of a later look and run again it
+// ends with the same files; two shards run at once, and under mpirun two ranks, end with the
+// same verdicts too; a tight budget stops it and says so.
+#define BOOST_TEST_MODULE until_decided
+#include <signal.h>
+
+#include <boost/test/unit_test.hpp>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+#include "process.hpp"
+#include "sim/io/process.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-until-" + std::to_string(::getpid()));
+
+using jam::test::Outcome;
+using jam::test::slurp;
+
+struct Cleanup {
+  Cleanup() { fs::create_directories(kDir); }
+  ~Cleanup() { fs::remove_all(kDir); }
+};
+BOOST_GLOBAL_FIXTURE(Cleanup);
+
+Outcome run_jam(const std::string& args) {
+  return jam::test::run_jam_logged(kDir / "output.txt", args);
+}
+
+// Two small sizes at two fast rates: four samples decide little, so the sequence takes several
+// looks (each a few seconds on one core).
+fs::path write_campaign(const std::string& name) {
+  const fs::path file = kDir / (name + ".toml");
+  std::ofstream(file) << "name = \"ud\"\ndim = 2\nsizes = [64, 128]\nphi_init = [0.70]\n"
+                         "log10_rates = [-2.5, -3.0]\nsamples = 4\nphi_stop = 0.86\n"
+                         "phi_step = 0.002\ndt = 0.02\nseed = 5\n"
+                      << "output = \"" << (kDir / name).string() << "\"\n";
+  return file;
+}
+
+/// checks.json without the line that says when it was written.
+std::string verdicts(const std::string& name) {
+  const std::string text = slurp(kDir / name / "checks.json");
+  return std::regex_replace(text, std::regex("\"created\": \"[^\"]*\""), "");
+}
+
+/// What a sequence decided: its verdicts and the samples it added.
+std::string outcome(const std::string& name) {
+  return verdicts(name) + slurp(kDir / name / "added-samples.toml");
+}
+
+const std::string kArgs = " --until-decided --budget 1 --jobs 1 --quiet";
+
+/// The sequence run once, uninterrupted, in directory "a" (the others compare with it).
+const Outcome& uninterrupted() {
+  static const Outcome a = run_jam("campaign run " + write_campaign("a").string() + kArgs);
+  return a;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_bad_budget_is_one_line_and_runs_nothing) {
+  const fs::path file = write_campaign("bad");
+  for (const std::string budget :
+       {"--budget 0", "--budget -1", "--budget nan", "--budget inf", ""}) {
+    const Outcome o = run_jam("campaign run --until-decided " + budget + " " + file.string());
+    BOOST_TEST(o.status == 2, budget << ": " << o.output);
+    BOOST_TEST(o.output.find("--budget") != std::string::npos, budget << ": " << o.output);
+    BOOST_TEST(std::count(o.output.begin(), o.output.end(), '\n') == 1, o.output);
+    BOOST_TEST(!fs::exists(kDir / "bad"), budget);
+  }
+  const Outcome o = run_jam("campaign run --budget 1 " + file.string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(!fs::exists(kDir / "bad"));
+}
+
+BOOST_AUTO_TEST_CASE(decided_deterministically_and_resumed_after_kill) {
+  const std::string& args = kArgs;
+  const Outcome& a = uninterrupted();
+  // 0 all pass, 3: verdicts samples cannot decide (a single phi_init, no fit for zeta) stay.
+  BOOST_TEST_REQUIRE((a.status == 0 || a.status == 3), a.output);
+  BOOST_TEST(a.output.find("every verdict decided at look") != std::string::npos, a.output);
+  BOOST_TEST(a.output.find("look 2 at alpha 0.00833") != std::string::npos, a.output);
+  BOOST_TEST(verdicts("a").find("\"look\": 1.0") != std::string::npos);
+
+  // Killed once the second look's runs have begun, then run again.
+  const fs::path b = write_campaign("b");
+  const pid_t pid = jam::test::spawn_jam("campaign run " + b.string() + args);
+  const fs::path state = kDir / "b" / "until-decided.json";
+  for (int k = 0; k < 6000 && !fs::exists(state); ++k) usleep(10000);
+  BOOST_TEST_REQUIRE(fs::exists(state));
+  jam::test::wrote_since(kDir / "b" / "runs", fs::last_write_time(state), pid);
+  kill(pid, SIGKILL);
+  jam::test::wait_for(pid);
+  const Outcome resumed = run_jam("campaign run " + b.string() + args);
+  BOOST_TEST(resumed.status == a.status, resumed.output);
+  BOOST_TEST(outcome("b") == outcome("a"));
+  // Run once more, it finds the sequence finished and changes nothing.
+  const auto before = fs::last_write_time(kDir / "b" / "checks.json");
+  const Outcome again = run_jam("campaign run " + b.string() + args);
+  BOOST_TEST(again.status == a.status, again.output);
+  BOOST_TEST(again.output.find("every verdict decided") != std::string::npos, again.output);
+  BOOST_TEST((fs::last_write_time(kDir / "b" / "checks.json") == before));
+}
+
+BOOST_AUTO_TEST_CASE(shards_and_ranks_decide_alike) {
+  const std::string& args = kArgs;
+  const Outcome& a = uninterrupted();
+  BOOST_TEST_REQUIRE((a.status == 0 || a.status == 3), a.output);
+  const fs::path s = write_campaign("shards");
+  const pid_t second = jam::test::spawn_jam("campaign run --shard 2/2 " + s.string() + args);
+  const Outcome first = run_jam("campaign run --shard 1/2 " + s.string() + args);
+  BOOST_TEST(first.status == a.status, first.output);
+  BOOST_TEST(jam::test::wait_for(second) == 0);
+  BOOST_TEST(outcome("shards") == outcome("a"));
+  if (jam::find_program("mpirun").empty()) {
+    BOOST_TEST_MESSAGE("mpirun not installed: the MPI part skipped");
+    return;
+  }
+  const fs::path m = write_campaign("mpi");
+  const fs::path log = kDir / "mpi.txt";
+  std::vector<std::string> argv = {"env",
+                                   "OMPI_ALLOW_RUN_AS_ROOT=1",
+                                   "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1",
+                                   "mpirun",
+                                   "-n",
+                                   "2",
+                                   "--oversubscribe",
+                                   JAM_EXECUTABLE,
+                                   "campaign",
+                                   "run",
+                                   m.string()};
+  for (const auto& w : jam::test::words(args)) argv.push_back(w);
+  const int status = jam::test::run_logged(log, argv).status;
+  BOOST_TEST((status == 0 || status == 3), slurp(log));
+  BOOST_TEST(outcome("mpi") == outcome("a"), slurp(log));
+}
+
+BOOST_AUTO_TEST_CASE(a_tight_budget_stops_and_says_so) {
+  const Outcome o = run_jam("campaign run " + write_campaign("tight").string() +
+                            " --until-decided --budget 0.00001 --jobs 1 --quiet");
+  BOOST_TEST(o.status == 3, o.output);
+  BOOST_TEST(o.output.find("budget spent at look 1") != std::string::npos, o.output);
+  BOOST_TEST(fs::exists(kDir / "tight" / "checks.json"));
+}
