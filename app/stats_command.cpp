@@ -37,7 +37,7 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
       "--no-fit", [&a](std::int64_t) { a.options.fit = false; }, "Averages only");
   s->add_flag("--refit", a.refit,
               "Refit the averages already in DIR/stats.h5 instead of reading the runs (for "
-              "stored results whose runs are not kept); jamming points are not carried over");
+              "stored results whose runs are not kept); jamming points carry over");
 }
 
 int run_stats_command(const StatsArgs& a) {

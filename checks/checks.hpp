@@ -44,6 +44,8 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
 std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o);
 /// zeta = p / rate below phi_J at the two slowest rates (zeta_check.cpp).
 std::vector<Verdict> zeta_check(const StatsData& d, const CheckOptions& o);
+/// The fitted phi_J, beta and y of each size and start (fit_parameters_check.cpp).
+std::vector<Verdict> fit_parameters_check(const StatsData& d, const CheckOptions& o);
 
 struct RegressionOptions;
 /// Each chained rate against the same samples compressed without chaining (chain_check.cpp).

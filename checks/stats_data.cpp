@@ -126,6 +126,27 @@ StatsData read_stats(const std::string& directory) {
     d.fit_z_window_max = f.read_attribute_double("phi_max", "fit_z/representative");
   }
   for (const auto& name : f.list_group("ensembles")) d.ensembles.push_back(read_ensemble(f, name));
+  if (f.has_dataset("fit/families")) {
+    for (const auto& name : f.list_group("fit/families")) {
+      const std::string g = "fit/families/" + name;
+      FamilyParameters p;
+      p.n = f.read_attribute_int("n", g);
+      p.phi_init = f.read_attribute_double("family_phi_init", g);
+      if (f.has_attribute("failure", g)) {
+        p.failure = f.read_attribute_string("failure", g);
+      } else {
+        for (auto [key, value] : {std::pair{"phi_j", &p.phi_j},
+                                  {"phi_j_error", &p.phi_j_err},
+                                  {"beta", &p.beta},
+                                  {"beta_error", &p.beta_err},
+                                  {"y", &p.y},
+                                  {"y_error", &p.y_err}})
+          *value = f.read_attribute_double(key, g);
+        p.samples = f.read_attribute_int("samples", g);
+      }
+      d.families.push_back(std::move(p));
+    }
+  }
   return d;
 }
 

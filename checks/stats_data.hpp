@@ -1,5 +1,6 @@
 #pragma once
 // What the checks read: the per-sample tables of DIR/stats.h5 (never the runs themselves).
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -26,6 +27,16 @@ struct EnsembleTables {
   double chain_phi_init = 0;
 };
 
+/// The scaling fit of one (N, phi_init) at the representative fit's window (stats.h5
+/// fit/families): jackknife estimates and errors, or why there is none.
+struct FamilyParameters {
+  std::int64_t n = 0;
+  double phi_init = 0;
+  double phi_j = NAN, phi_j_err = NAN, beta = NAN, beta_err = NAN, y = NAN, y_err = NAN;
+  std::int64_t samples = 0;
+  std::string failure;  // non-empty: no fit
+};
+
 struct StatsData {
   std::string campaign;
   int dim = 2;
@@ -38,6 +49,7 @@ struct StatsData {
   // ... and its phi_J (the zeta check compares below it).
   std::optional<double> fit_phi_j;
   std::vector<EnsembleTables> ensembles;
+  std::vector<FamilyParameters> families;  // empty when stats.h5 has none
 };
 
 /// Sets e.compressed_from_phi and e.compressed_from_z from e's pressure at constant phi and its

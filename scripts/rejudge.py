@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
 """Re-judge a stored result: `jam check all` on its stored stats.h5 (nothing rerun), the new
-checks.json copied back, and provenance.json told when and by which jam.
+checks.json copied back, and provenance.json told when and by which jam. A stats.h5 without
+the per-size fits (fit/families) is first refitted from its own tables (`jam stats --refit`
+at the stored fit's order: the tables, jamming points and representative fit stay as they
+were) and copied back with them.
 
   scripts/rejudge.py reduced-2d [--jam build/jam]
 
@@ -20,6 +23,15 @@ import tempfile
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+def families_missing(stats):
+    """The stored fit's polynomial order when stats.h5 has a fit but no fit/families, else 0."""
+    import h5py
+    with h5py.File(stats, "r") as f:
+        if "fit/representative" not in f or "fit/families" in f:
+            return 0
+        return int(f["fit/representative"].attrs["order"])
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("name", help="a stored result under reference/results/")
@@ -35,13 +47,18 @@ def main():
         os.mkdir(work)
         for name in ("stats.h5", "campaign.toml"):
             shutil.copy2(os.path.join(stored, name), work)
+        refit = families_missing(os.path.join(work, "stats.h5"))
+        if refit:
+            subprocess.run([args.jam, "stats", work, "--refit", "--order", str(refit)],
+                           check=True, stdout=subprocess.DEVNULL)
         done = subprocess.run([args.jam, "check", "all", work, "--no-lmp", "--reference-dir",
                                os.path.join(SOURCE, "reference")])
         if done.returncode not in (0, 1, 3):
             sys.exit(f"rejudge: jam check exited {done.returncode}; nothing changed")
-        new = os.path.join(stored, ".checks.json.rejudge")
-        shutil.copy2(os.path.join(work, "checks.json"), new)
-        os.replace(new, os.path.join(stored, "checks.json"))
+        for name in ("checks.json",) + (("stats.h5",) if refit else ()):
+            new = os.path.join(stored, f".{name}.rejudge")
+            shutil.copy2(os.path.join(work, name), new)
+            os.replace(new, os.path.join(stored, name))
     path = os.path.join(stored, "provenance.json")
     with open(path) as f:
         provenance = json.load(f)
@@ -49,8 +66,9 @@ def main():
         "command": f"scripts/rejudge.py {args.name}",
         "code_version": version,
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "note": "checks.json judged anew from the stored stats.h5; the runs, stats.h5 and the "
-                "fits are those of the stored result",
+        "note": "checks.json judged anew from the stored stats.h5; the runs, the averages and "
+                "the representative fits are those of the stored result (per-size fits added "
+                "by jam stats --refit where missing)",
     }
     with open(path + ".rejudge", "w") as f:
         json.dump(provenance, f, indent=2)

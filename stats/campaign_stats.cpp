@@ -50,17 +50,10 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
     }
     if (std::all_of(runs.begin(), runs.end(),
                     [](const RunCurves& r) { return r.jamming_point.has_value(); })) {
-      JammingStats j;
-      SampleAccumulator acc;
-      for (const auto& r : runs) {
-        j.samples.push_back(*r.jamming_point);
-        j.sample_ids.push_back(r.sample);
-        if (std::isfinite(*r.jamming_point)) acc.add(*r.jamming_point);
-      }
-      j.mean = acc.finalize();
-      j.spread =
-          j.mean.samples > 1 ? j.mean.error * std::sqrt(static_cast<double>(j.mean.samples)) : NAN;
-      e.jamming = std::move(j);
+      std::vector<double> points;
+      std::vector<std::int64_t> ids;
+      for (const auto& r : runs) points.push_back(*r.jamming_point), ids.push_back(r.sample);
+      e.jamming = jamming_stats(std::move(points), std::move(ids));
     }
     s.ensembles.push_back(std::move(e));
   }
@@ -68,6 +61,19 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
   s.runs_skipped = static_cast<std::int64_t>(s.data.skipped.size());
   if (o.fit) fit_campaign(s, directory, o);
   return s;
+}
+
+JammingStats jamming_stats(std::vector<double> samples, std::vector<std::int64_t> sample_ids) {
+  JammingStats j;
+  SampleAccumulator acc;
+  for (double x : samples)
+    if (std::isfinite(x)) acc.add(x);
+  j.samples = std::move(samples);
+  j.sample_ids = std::move(sample_ids);
+  j.mean = acc.finalize();
+  j.spread =
+      j.mean.samples > 1 ? j.mean.error * std::sqrt(static_cast<double>(j.mean.samples)) : NAN;
+  return j;
 }
 
 void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOptions& o) {
@@ -91,6 +97,36 @@ void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOpt
   s.clearance = read_clearance(directory, s.fit_size, s.fit_phi_init, *phi_inits.begin());
   s.fit = scan_fits(at_phi, o, s.clearance, "phi");
   if (!at_z.empty()) s.fit_z = scan_fits(at_z, o, s.clearance, "Z");
+  fit_families(s, o);
+}
+
+void fit_families(CampaignStats& s, const StatsOptions& o) {
+  const ScalingFitResult* representative = s.fit.representative();
+  if (!representative) return;
+  const ScanRow& row = s.fit.rows[*s.fit.chosen];
+  ScalingFitOptions fo;
+  fo.order = o.order;
+  fo.half_window = row.half_window;
+  fo.rate_max = row.rate_max;
+  fo.fixed_phi_j = o.fixed_phi_j;
+  fo.fixed_q = o.fixed_q;
+  fo.fixed_inv_znu = o.fixed_inv_znu;
+  std::set<std::pair<std::int64_t, double>> families;
+  for (const auto& e : s.ensembles) families.insert({e.key.n, e.key.phi_init});
+  for (const auto& [n, phi_init] : families) {
+    if (n == 0) continue;  // pooled sizes
+    FamilyFit f{n, phi_init, std::nullopt, ""};
+    std::vector<FitEnsemble> data;
+    for (const auto& e : s.ensembles)
+      if (e.key.n == n && std::abs(e.key.phi_init - phi_init) <= 1e-9)
+        data.push_back(fit_ensemble(e, e.constant_phi, e.constant_phi.grid));
+    try {
+      f.result = fit_scaling(data, fo);
+    } catch (const FitError& err) {
+      f.failure = err.what();
+    }
+    s.families.push_back(std::move(f));
+  }
 }
 
 }  // namespace jam::stats

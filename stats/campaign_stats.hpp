@@ -30,6 +30,9 @@ struct JammingStats {
   double spread = 0.0;  // standard deviation over samples, Delta phi_J
 };
 
+/// phi_Ji over an ensemble's samples (NaN: a run that did not bracket it): mean, error, spread.
+JammingStats jamming_stats(std::vector<double> samples, std::vector<std::int64_t> sample_ids);
+
 struct EnsembleStats {
   EnsembleKey key;
   GridAverage constant_phi;
@@ -66,11 +69,21 @@ struct RateClearance {
   std::string note;
 };
 
+/// The scaling fit of one (N, phi_init) at the representative fit's window, rate_max and
+/// order, for comparing fitted parameters between sizes and starts (the fit_parameters check).
+struct FamilyFit {
+  std::int64_t n = 0;
+  double phi_init = 0.0;
+  std::optional<ScalingFitResult> result;
+  std::string failure;  // why there is none
+};
+
 struct CampaignStats {
   CampaignData data;
   std::vector<EnsembleStats> ensembles;
   FitScan fit;    // at constant phi
   FitScan fit_z;  // the same fit on the averages at constant Z (phi = <phi> there)
+  std::vector<FamilyFit> families;  // every (N, phi_init) fitted as the representative
   RateClearance clearance;
   double fit_phi_init = 0.0;
   std::int64_t fit_size = 0;  // 0: pooled
@@ -83,6 +96,10 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
 
 /// The fits (fit_scan.hpp) of s's ensembles; directory holds the phi_init verdicts, if any.
 void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOptions& options);
+
+/// s.families: every (N, phi_init) fitted at the representative fit's window and rate_max
+/// (none when there is no representative fit).
+void fit_families(CampaignStats& s, const StatsOptions& options);
 
 /// The averages stored in DIR/stats.h5 (its per-sample tables), refitted with `options`,
 /// without reading a run: for stored results whose runs are not kept. Sizes are pooled only if

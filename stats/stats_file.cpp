@@ -50,6 +50,27 @@ void write_average(h5::File& f, const std::string& group, const GridAverage& a) 
 }
 
 void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r, const ScanRow& row,
+               int order);
+
+/// fit/families/n<N>_phi<phi_init>: each (N, phi_init) fitted as the representative.
+void write_families(h5::File& f, const CampaignStats& s, int order) {
+  if (s.families.empty() || !s.fit.representative()) return;
+  const ScanRow& row = s.fit.rows[*s.fit.chosen];
+  f.create_group("fit/families");
+  for (const auto& family : s.families) {
+    const std::string g = fmt::format("fit/families/n{}_phi{:.4f}", family.n, family.phi_init);
+    if (family.result) {
+      write_fit(f, g, *family.result, row, order);
+    } else {
+      f.create_group(g);
+      f.write_attribute("failure", family.failure, g);
+    }
+    f.write_attribute("n", family.n, g);
+    f.write_attribute("family_phi_init", family.phi_init, g);
+  }
+}
+
+void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r, const ScanRow& row,
                int order) {
   f.create_group(group);
   auto attr = [&](const char* name, double v) { f.write_attribute(name, v, group); };
@@ -221,6 +242,7 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
       if (!scan->failure.empty()) f.write_attribute("failure", scan->failure, group);
       write_scan(f, group + "/scan", *scan);
     }
+    write_families(f, s, o.order);
     f.close();
     AtomicFile::publish(path);
   } catch (...) {

@@ -83,6 +83,14 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
             f, g + "/constant_z",
             no_rattlers ? "contacts_per_particle_no_rattlers" : "contacts_per_particle");
       }
+      if (f.has_dataset(g + "/jamming")) {
+        // The runs' jamming points carry over as they were stored.
+        const std::string jg = g + "/jamming";
+        std::vector<std::int64_t> ids;
+        for (double id : f.read_dataset(jg + "/sample_ids")) ids.push_back(sample_id(f, jg, id));
+        e.jamming = jamming_stats(
+            f.read_dataset(jg + "/packing_fraction_samples", h5::exactly(ids.size())), ids);
+      }
       s.ensembles.push_back(std::move(e));
     }
   }

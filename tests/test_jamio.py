@@ -335,6 +335,12 @@ def stats_flat(s):
         if fit is not None:
             put_attrs(out, f"/{key}", fit.attrs)
             put_group(out, f"/{key}/scan", fit.scan)
+            for name, family in fit.families.items():
+                where = f"/{key}/families/{name}"
+                put_attrs(out, where, family.attrs)
+                if family.coefficients is not None:
+                    out[("data", where + "/coefficients")] = family.coefficients
+                put_group(out, where + "/collapse", family.collapse)
         if fit is not None and fit.representative is not None:
             put_attrs(out, f"/{key}/representative", fit.representative)
             out[("data", f"/{key}/representative/coefficients")] = fit.coefficients

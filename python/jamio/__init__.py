@@ -14,9 +14,9 @@ from .checks import Checks, load_checks
 from .errors import JamioError
 from .hdf5 import Group
 from .runs import Run, load_run, load_runs, run_files
-from .stats import Ensemble, Fit, Stats, load_stats
+from .stats import Ensemble, FamilyFit, Fit, Stats, load_stats
 
 __version__ = "0.1.0"
 
-__all__ = ["Checks", "Ensemble", "Fit", "Group", "JamioError", "Run", "Stats", "load_checks",
+__all__ = ["Checks", "Ensemble", "FamilyFit", "Fit", "Group", "JamioError", "Run", "Stats", "load_checks",
            "load_run", "load_runs", "load_stats", "run_files", "__version__"]

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import h5py
 
@@ -27,17 +27,31 @@ class Ensemble:
 
 
 @dataclass
+class FamilyFit:
+    """`fit/families/<name>/`: one (N, phi_init) fitted at the representative's window.
+    `attrs`: `n`, `family_phi_init`, and the representative's attributes (`phi_j`, `beta`,
+    `y` with `_error` ...) or only `failure`; `coefficients` and `collapse` None on failure."""
+
+    attrs: dict
+    coefficients: object
+    collapse: Group | None
+
+
+@dataclass
 class Fit:
     """`fit/` (at constant phi) or `fit_z/` (at constant Z). `attrs`: of the group itself
     (`phi_init`, `n`, `rates_note`, `failure`); `representative`: the attributes of
     `representative/` (None without a representative fit); `coefficients`: its c_0..c_K;
-    `collapse`, `scan`: Groups (`scan.attrs["failures"]` says why rows failed)."""
+    `collapse`, `scan`: Groups (`scan.attrs["failures"]` says why rows failed);
+    `families`: `families/` (each (N, phi_init) fitted as the representative), name ->
+    FamilyFit."""
 
     attrs: dict
     representative: dict | None
     coefficients: object
     collapse: Group | None
     scan: Group | None
+    families: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -62,12 +76,17 @@ def _fit(f, name):
     if not isinstance(f.get(name), h5py.Group):
         return None
     g = f[name]
+    families = g.get("families")
+    families = {} if not isinstance(families, h5py.Group) else {
+        k: FamilyFit(attrs(v), array(v["coefficients"]) if "coefficients" in v else None,
+                     optional_group(v, "collapse"))
+        for k, v in families.items() if isinstance(v, h5py.Group)}
     rep = g.get("representative")
     if not isinstance(rep, h5py.Group):
-        return Fit(attrs(g), None, None, None, optional_group(g, "scan"))
+        return Fit(attrs(g), None, None, None, optional_group(g, "scan"), families)
     coefficients = array(rep["coefficients"]) if "coefficients" in rep else None
     return Fit(attrs(g), attrs(rep), coefficients, optional_group(rep, "collapse"),
-               optional_group(g, "scan"))
+               optional_group(g, "scan"), families)
 
 
 def _read_stats(path, f):

@@ -1,0 +1,153 @@
+// What physicists compare: the fitted scaling parameters of each size and each start
+// (stats.h5 fit/families: every (N, phi_init) fitted at the representative fit's window,
+// rate_max and order, with jackknife errors). Sizes: the smallest against the largest at each
+// phi_init; starts: each phi_init against the lowest at each N. Two verdicts per comparison:
+//   fit_parameters  the exponents beta and y, relative differences 2 (a - b) / (a + b)
+//                   against the margin (default 10%); the reason names those that differ;
+//   fit_phi_j       phi_J, a difference in packing (default margin 0.002).
+// Each parameter's difference is t = |Delta| / sigma, sigma from both jackknife errors, judged
+// with Student's t at (samples - 1) degrees of freedom (the jackknife's): detected beyond the
+// (1 - detect / 2) quantile, its share of alpha over the check's comparisons (Bonferroni);
+// effects beyond |Delta| + t_(1 - alpha) sigma excluded (two one-sided tests at alpha).
+#include <fmt/format.h>
+#include <gsl/gsl_cdf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "checks/checks.hpp"
+#include "checks/margin.hpp"
+
+namespace jam::checks {
+namespace {
+
+struct Difference {
+  const char* name;
+  double a, b, delta, sigma;  // delta, sigma in the margin's unit
+};
+
+/// Judges one verdict on the differences of its parameters.
+Verdict judge_parameters(const std::string& check, const std::string& case_name,
+                         const std::vector<Difference>& diffs, std::int64_t samples, double detect,
+                         double pass, double margin, const char* unit_words) {
+  Verdict v;
+  v.check = check;
+  v.case_name = case_name;
+  v.statistic_name = "max |Delta| / sigma (Student t)";
+  const double dof = static_cast<double>(std::max<std::int64_t>(samples - 1, 1));
+  const double t_detect = gsl_cdf_tdist_Qinv(detect / 2, dof),
+               t_pass = gsl_cdf_tdist_Qinv(pass, dof);
+  double statistic = 0, bound = 0, detectable = 0;
+  bool detected = false;
+  std::string words, differ;
+  for (const auto& d : diffs) {
+    const double t = d.sigma > 0 ? std::abs(d.delta) / d.sigma : HUGE_VAL;
+    statistic = std::max(statistic, t);
+    bound = std::max(bound, std::abs(d.delta) + t_pass * d.sigma);
+    detectable = std::max(detectable, t_detect * d.sigma);
+    const bool beyond = t > t_detect;
+    detected = detected || beyond;
+    if (beyond) differ += (differ.empty() ? "" : ", ") + std::string(d.name);
+    words += fmt::format("{}{} {:.4g} vs {:.4g}: Delta {:+.3g}{} +- {:.2g}",
+                         words.empty() ? "" : "; ", d.name, d.a, d.b, d.delta, unit_words, d.sigma);
+  }
+  v.statistic = statistic;
+  v.threshold = t_detect;
+  v.detectable = detectable;
+  decide(v, detected, bound, margin);
+  v.reason += fmt::format(" ({}; t at {:.0f} degrees of freedom, alpha {:.3g}{})", words, dof,
+                          detect, differ.empty() ? "" : "; differ: " + differ);
+  return v;
+}
+
+double relative(double a, double b) {
+  return 2 * (a - b) / (a + b);
+}
+double relative_sigma(double a, double ea, double b, double eb) {
+  return 4 / ((a + b) * (a + b)) * std::sqrt(b * b * ea * ea + a * a * eb * eb);
+}
+
+}  // namespace
+
+std::vector<Verdict> fit_parameters_check(const StatsData& d, const CheckOptions& o) {
+  // Nothing to compare: one verdict of each (the check and its part) says why.
+  auto neither = [](const std::string& why) {
+    return std::vector<Verdict>{inconclusive("fit_parameters", "all", why),
+                                inconclusive("fit_phi_j", "all", why)};
+  };
+  if (d.families.empty()) {
+    return neither(
+        "stats.h5 has no per-size fits (fit/families): no representative scaling fit, or "
+        "written by an older jam (rerun `jam stats`)");
+  }
+  std::map<std::pair<std::int64_t, double>, const FamilyParameters*> by;
+  std::set<std::int64_t> sizes;
+  std::set<double> starts;
+  for (const auto& f : d.families) {
+    by[{f.n, f.phi_init}] = &f;
+    sizes.insert(f.n);
+    starts.insert(f.phi_init);
+  }
+  struct Pair {
+    const FamilyParameters *a, *b;
+    std::string what;
+  };
+  std::vector<Pair> pairs;
+  if (sizes.size() >= 2)
+    for (double phi : starts) {
+      const auto a = by.find({*sizes.begin(), phi}), b = by.find({*sizes.rbegin(), phi});
+      if (a != by.end() && b != by.end())
+        pairs.push_back(
+            {a->second, b->second,
+             fmt::format("n{} vs n{}, phi_init {:g}", *sizes.begin(), *sizes.rbegin(), phi)});
+    }
+  if (starts.size() >= 2)
+    for (auto n : sizes)
+      for (double phi : starts) {
+        if (phi == *starts.begin()) continue;
+        const auto a = by.find({n, phi}), b = by.find({n, *starts.begin()});
+        if (a != by.end() && b != by.end())
+          pairs.push_back({a->second, b->second,
+                           fmt::format("n{}: phi_init {:g} vs {:g}", n, phi, *starts.begin())});
+      }
+  if (pairs.empty()) return neither("a single size and a single phi_init: nothing to compare");
+  const double detect = o.alpha / static_cast<double>(pairs.size());
+  std::vector<Verdict> out;
+  for (const auto& p : pairs) {
+    std::map<std::string, double> values = {{"n_a", static_cast<double>(p.a->n)},
+                                            {"n_b", static_cast<double>(p.b->n)},
+                                            {"phi_init_a", p.a->phi_init},
+                                            {"phi_init_b", p.b->phi_init}};
+    if (!p.a->failure.empty() || !p.b->failure.empty()) {
+      const std::string why = fmt::format(
+          "no fit for {}",
+          !p.a->failure.empty()
+              ? fmt::format("n{} phi_init {:g}: {}", p.a->n, p.a->phi_init, p.a->failure)
+              : fmt::format("n{} phi_init {:g}: {}", p.b->n, p.b->phi_init, p.b->failure));
+      out.push_back(inconclusive("fit_parameters", "exponents, " + p.what, why));
+      out.push_back(inconclusive("fit_phi_j", "phi_J, " + p.what, why));
+      continue;
+    }
+    const std::int64_t samples = std::min(p.a->samples, p.b->samples);
+    Verdict exponents =
+        judge_parameters("fit_parameters", "exponents, " + p.what,
+                         {{"beta", p.a->beta, p.b->beta, relative(p.a->beta, p.b->beta),
+                           relative_sigma(p.a->beta, p.a->beta_err, p.b->beta, p.b->beta_err)},
+                          {"y", p.a->y, p.b->y, relative(p.a->y, p.b->y),
+                           relative_sigma(p.a->y, p.a->y_err, p.b->y, p.b->y_err)}},
+                         samples, detect, o.alpha, o.margin("fit_parameters"), " (relative)");
+    Verdict phi_j = judge_parameters("fit_phi_j", "phi_J, " + p.what,
+                                     {{"phi_J", p.a->phi_j, p.b->phi_j, p.a->phi_j - p.b->phi_j,
+                                       std::hypot(p.a->phi_j_err, p.b->phi_j_err)}},
+                                     samples, detect, o.alpha, o.margin("fit_phi_j"), "");
+    exponents.values = values;
+    phi_j.values = values;
+    out.push_back(std::move(exponents));
+    out.push_back(std::move(phi_j));
+  }
+  return out;
+}
+
+}  // namespace jam::checks
