@@ -48,6 +48,23 @@ NullDistribution null_of(std::size_t n_a, std::size_t n_b,
   return d;
 }
 
+/// The statistic of every relabelling of the members of a and b (rows or values).
+template <class Member, class Stat>
+NullDistribution relabelled(const std::vector<Member>& a, const std::vector<Member>& b,
+                            const Stat& stat, double alpha, int minimum, std::uint64_t seed) {
+  std::vector<Member> all = a;
+  all.insert(all.end(), b.begin(), b.end());
+  std::vector<Member> pa(a.size()), pb(b.size());
+  return null_of(
+      a.size(), b.size(),
+      [&](const std::vector<std::size_t>& order) {
+        for (std::size_t i = 0; i < all.size(); ++i)
+          (i < a.size() ? pa[i] : pb[i - a.size()]) = all[order[i]];
+        return stat(pa, pb);
+      },
+      alpha, minimum, seed);
+}
+
 }  // namespace
 
 double distinct_splits(std::size_t n_a, std::size_t n_b) {
@@ -94,42 +111,14 @@ double NullDistribution::smallest_p() const {
 NullDistribution permutation_null(const Rows& a, const Rows& b,
                                   const std::function<double(const Rows&, const Rows&)>& stat,
                                   double alpha, int minimum, std::uint64_t seed) {
-  Rows all = a;
-  all.insert(all.end(), b.begin(), b.end());
-  Rows pa(a.size()), pb(b.size());
-  return null_of(
-      a.size(), b.size(),
-      [&](const std::vector<std::size_t>& order) {
-        for (std::size_t i = 0; i < all.size(); ++i) {
-          if (i < a.size())
-            pa[i] = all[order[i]];
-          else
-            pb[i - a.size()] = all[order[i]];
-        }
-        return stat(pa, pb);
-      },
-      alpha, minimum, seed);
+  return relabelled(a, b, stat, alpha, minimum, seed);
 }
 
 NullDistribution permutation_null(
     const std::vector<double>& a, const std::vector<double>& b,
     const std::function<double(const std::vector<double>&, const std::vector<double>&)>& stat,
     double alpha, int minimum, std::uint64_t seed) {
-  std::vector<double> all = a;
-  all.insert(all.end(), b.begin(), b.end());
-  std::vector<double> pa(a.size()), pb(b.size());
-  return null_of(
-      a.size(), b.size(),
-      [&](const std::vector<std::size_t>& order) {
-        for (std::size_t i = 0; i < all.size(); ++i) {
-          if (i < a.size())
-            pa[i] = all[order[i]];
-          else
-            pb[i - a.size()] = all[order[i]];
-        }
-        return stat(pa, pb);
-      },
-      alpha, minimum, seed);
+  return relabelled(a, b, stat, alpha, minimum, seed);
 }
 
 }  // namespace jam::checks
