@@ -75,17 +75,6 @@ std::vector<EnsembleId> ensembles_of(const checks::Verdict& v) {
   return {};
 }
 
-/// The campaign's own spelling of an ensemble (values come back from stats.h5 as doubles).
-std::optional<EnsembleId> canonical(const Campaign& c, const EnsembleId& e) {
-  auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9; };
-  for (auto n : c.sizes)
-    for (double phi : c.phi_init)
-      for (double r : c.log10_rates)
-        if (n == e.n && near(phi, e.phi_init) && near(r, e.log10_rate))
-          return EnsembleId{n, phi, r};
-  return std::nullopt;
-}
-
 // ---- the state -----------------------------------------------------------------------------
 
 struct State {
@@ -150,6 +139,7 @@ void write_state(const Campaign& c, const State& s) {
 struct Cost {
   double spent_seconds = 0;       // recorded wall seconds of the done runs
   double seconds_per_step = NAN;  // measured: spent / their estimated particle-steps
+  std::set<std::string> done;     // the runs done (each file verified once per look)
 };
 
 Cost measured_cost(const std::vector<PlannedRun>& plan) {
@@ -157,6 +147,7 @@ Cost measured_cost(const std::vector<PlannedRun>& plan) {
   double steps = 0;
   for (const auto& run : plan) {
     if (run_status(run) != RunStatus::kDone) continue;
+    c.done.insert(run.name);
     if (const auto w = recorded_wall_seconds(run)) {
       c.spent_seconds += *w;
       steps += run.estimated_particle_steps;
@@ -167,11 +158,11 @@ Cost measured_cost(const std::vector<PlannedRun>& plan) {
 }
 
 /// Estimated core-seconds of the runs a plan with `counts` adds to what is done.
-double batch_seconds(const Campaign& c, const SampleCounts& counts, double seconds_per_step) {
+double batch_seconds(const Campaign& c, const SampleCounts& counts, const Cost& cost) {
   double steps = 0;
   for (const auto& run : plan_runs(c, counts))
-    if (run_status(run) != RunStatus::kDone) steps += run.estimated_particle_steps;
-  return steps * seconds_per_step;
+    if (!cost.done.count(run.name)) steps += run.estimated_particle_steps;
+  return steps * cost.seconds_per_step;
 }
 
 /// The exit status of the stored checks.json (a sequence finished by an earlier invocation).
@@ -247,7 +238,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
     } else {
       ++undecided;
       for (const auto& e : ens) {
-        const auto id = canonical(c, e);
+        const auto id = campaign_ensemble(c, e);
         if (!id) continue;
         auto& n = next[*id];
         n = std::max(n, checks::next_samples(present.at(*id), v.samples_needed));
@@ -285,7 +276,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
       batch[id] =
           have + static_cast<std::int64_t>(std::ceil(share * static_cast<double>(want - have)));
     }
-    const double seconds = batch_seconds(c, batch, cost.seconds_per_step);
+    const double seconds = batch_seconds(c, batch, cost);
     if (std::isfinite(seconds) && cost.spent_seconds + seconds <= budget) {
       fmt::print(
           "until-decided: adding samples to {} ensembles (about {:.2f} core-hours)\n",

@@ -15,15 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// The entry of `values` equal to x (to 1e-9), as the campaign spells it.
-template <class T>
-T member(const std::vector<T>& values, T x, const std::string& path, const char* key) {
-  for (T v : values)
-    if (std::abs(static_cast<double>(v - x)) <= 1e-9) return v;
-  throw CampaignError(fmt::format("{}: ensemble {} = {} is not one of the campaign's", path, key,
-                                  static_cast<double>(x)));
-}
-
 double number(const toml::table& t, const char* key, const std::string& path) {
   const auto* node = t.get(key);
   if (node && node->is_integer()) return static_cast<double>(node->value<std::int64_t>().value());
@@ -32,6 +23,16 @@ double number(const toml::table& t, const char* key, const std::string& path) {
 }
 
 }  // namespace
+
+std::optional<EnsembleId> campaign_ensemble(const Campaign& c, const EnsembleId& e) {
+  auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9; };
+  for (auto n : c.sizes)
+    for (double phi : c.phi_init)
+      for (double r : c.log10_rates)
+        if (n == e.n && near(phi, e.phi_init) && near(r, e.log10_rate))
+          return EnsembleId{n, phi, r};
+  return std::nullopt;
+}
 
 std::string added_samples_path(const Campaign& c) {
   return (fs::path(c.output) / "added-samples.toml").string();
@@ -54,13 +55,20 @@ SampleCounts read_added_samples(const Campaign& c) {
     const toml::table* e = node.as_table();
     if (!e) throw CampaignError(fmt::format("{}: 'ensemble' entries must be tables", path));
     const double n = number(*e, "n", path), samples = number(*e, "samples", path);
-    if (n != std::floor(n) || samples != std::floor(samples) || !(samples < 1e9)) {
+    if (n != std::floor(n) || !(std::abs(n) < 1e15) || samples != std::floor(samples) ||
+        !(samples < 1e9)) {
       throw CampaignError(
           fmt::format("{}: ensemble n = {}, samples = {}: whole numbers", path, n, samples));
     }
-    const EnsembleId id{member(c.sizes, static_cast<std::int64_t>(n), path, "n"),
-                        member(c.phi_init, number(*e, "phi_init", path), path, "phi_init"),
-                        member(c.log10_rates, number(*e, "log10_rate", path), path, "log10_rate")};
+    const EnsembleId given{static_cast<std::int64_t>(n), number(*e, "phi_init", path),
+                           number(*e, "log10_rate", path)};
+    const std::optional<EnsembleId> found = campaign_ensemble(c, given);
+    if (!found) {
+      throw CampaignError(fmt::format(
+          "{}: ensemble n = {}, phi_init = {}, log10_rate = {} is not one of the campaign's", path,
+          given.n, given.phi_init, given.log10_rate));
+    }
+    const EnsembleId id = *found;
     if (samples < static_cast<double>(c.samples)) {
       throw CampaignError(fmt::format("{}: ensemble samples = {}, fewer than the campaign's {}",
                                       path, samples, c.samples));

@@ -15,6 +15,7 @@
 #include <compare>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "campaign/campaign_file.hpp"
@@ -29,6 +30,10 @@ struct EnsembleId {
 
 /// Samples per ensemble, for the ensembles that have more than the campaign's `samples`.
 using SampleCounts = std::map<EnsembleId, std::int64_t>;
+
+/// The campaign's own spelling of an ensemble given by values read back from a file (sizes
+/// exactly, phi_init and rate to 1e-9); nullopt when it is not one of the campaign's.
+std::optional<EnsembleId> campaign_ensemble(const Campaign& c, const EnsembleId& e);
 
 /// <output>/added-samples.toml.
 std::string added_samples_path(const Campaign& c);
