@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "checks/relative_difference.hpp"
 #include "checks/stats_data.hpp"
 #include "checks/verdict.hpp"
 
@@ -33,6 +34,13 @@ struct CheckOptions {
   std::optional<double> phi_min, phi_max;
   std::optional<RunSetSelector> set_a, set_b;  // finite-size check of two named run sets
   std::map<std::string, double> margins;       // per check; default_margin() otherwise
+  // The alpha the samples estimates aim at (until-decided: the next look's); alpha when unset.
+  std::optional<double> estimate_alpha;
+  /// A check's levels scaled to estimate_alpha, for its samples estimates.
+  Levels for_estimate(Levels judged) const {
+    const double f = estimate_alpha ? *estimate_alpha / alpha : 1.0;
+    return {judged.detect * f, judged.pass * f};
+  }
   double margin(const std::string& check) const {
     const auto it = margins.find(check);
     return it != margins.end() ? it->second : default_margin(check);

@@ -9,11 +9,13 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "checks/checks.hpp"
 #include "checks/margin.hpp"
 #include "checks/pooled_verdict.hpp"
 #include "checks/relative_difference.hpp"
+#include "checks/window_scatter.hpp"
 
 namespace jam::checks {
 namespace {
@@ -109,7 +111,19 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
   }
   std::vector<Verdict> out;
   const Levels levels{o.alpha / static_cast<double>(comparisons.size()), o.alpha};
-  for (const auto& c : comparisons) out.push_back(compare(c, levels, d, o));
+  // The samples estimate pools each series' scatter over its rates (window_scatter.hpp); a
+  // sample costs in proportion to N at one rate.
+  std::vector<ScatterSeries> series;
+  std::map<std::tuple<std::int64_t, std::int64_t, double, bool>, int> series_of;
+  for (const auto& c : comparisons) {
+    out.push_back(compare(c, levels, d, o));
+    const auto key = std::tuple{c.a->n, c.b->n, c.a->phi_init, c.at_z};
+    const int id = series_of.emplace(key, static_cast<int>(series_of.size())).first->second;
+    series.push_back({out.size() - 1, id, c.a->log10_rate, static_cast<double>(c.a->n),
+                      static_cast<double>(c.b->n), fmt::format("N = {}", c.a->n),
+                      fmt::format("N = {}", c.b->n)});
+  }
+  pool_window_scatter(out, series, o.for_estimate(levels), o.margin("finite_size"));
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "checks/margin.hpp"
 #include "checks/pooled_verdict.hpp"
 #include "checks/relative_difference.hpp"
+#include "checks/window_scatter.hpp"
 
 namespace jam::checks {
 namespace {
@@ -43,6 +44,8 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
     return {inconclusive("phi_init", "all", "the campaign has a single phi_init")};
   const Levels levels{o.alpha / static_cast<double>(comparisons), o.alpha};
   std::vector<Verdict> out;
+  std::vector<ScatterSeries> series;  // the samples estimate pools over rates
+  std::map<std::pair<std::int64_t, double>, int> series_of;
   for (const auto& [key, starts] : by) {
     const auto* low = starts.begin()->second;
     double largest_consistent = low->phi_init;
@@ -79,6 +82,12 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
         all_consistent_so_far = false;
       }
       out.push_back(v);
+      // One series per (N, phi_init pair): the same samples' cost in both sets.
+      const auto id =
+          series_of.emplace(std::pair{key.first, e->phi_init}, static_cast<int>(series_of.size()));
+      series.push_back({out.size() - 1, id.first->second, key.second, 1.0, 1.0,
+                        fmt::format("phi_init {:g}", e->phi_init),
+                        fmt::format("phi_init {:g}", low->phi_init)});
       // The jamming points themselves, when the runs looked for them.
       if (!e->jamming_points.empty() && !low->jamming_points.empty()) {
         Verdict j;
@@ -113,6 +122,7 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
                               {"largest_consistent_phi_init", largest_consistent},
                               {"compression_time_saved", saved}});
   }
+  pool_window_scatter(out, series, o.for_estimate(levels), margin);
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "checks/margin.hpp"
+#include "checks/window_scatter.hpp"
 
 namespace jam::checks {
 namespace {
@@ -117,6 +118,10 @@ void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels 
   v.statistic_name = "|weighted mean Delta p/p|";
   const WeightedDifference w = compare_weighted(al.a, al.b, levels, permutations, seed);
   judge(v, w, levels, margin, std::min(al.a.size(), al.b.size()));
+  // The estimate of samples comes from the window scatter (window_scatter.hpp), not from the
+  // band of this one verdict: its words are replaced below.
+  strip_samples_words(v.reason);
+  v.samples_needed = NAN;
   const RelativeDifference r = compare_run_sets(al.a, al.b, levels, permutations, seed);
   std::vector<double> grid;
   double at = 0.0;  // where the verdict looks: the weights' mean
@@ -131,6 +136,19 @@ void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels 
       "of them in [{:.4g}, {:.4g}]",
       range.variable, grid.front(), grid.back(), range.why, range.variable, at, from, to);
   fail_where_surely_beyond(v, r, al.grid, range, margin);
+  const WindowScatter scatter = window_scatter(al, w.points, w.weight);
+  const auto n_a = static_cast<double>(al.a.size()), n_b = static_cast<double>(al.b.size());
+  v.values["difference"] = w.difference;
+  v.values["scatter_a"] = scatter.a;
+  v.values["scatter_b"] = scatter.b;
+  v.values["samples_a"] = n_a;
+  v.values["samples_b"] = n_b;
+  if (v.status == "inconclusive") {
+    const SamplesNeeded n =
+        samples_needed(w.difference, scatter.a, scatter.b, 1, 1, n_a, n_b, levels, margin);
+    v.samples_needed = n.equal;
+    v.reason += samples_words(n, "A", "B", false);
+  }
   v.values["range_min"] = grid.front();
   v.values["range_max"] = grid.back();
   v.values["weighted_at"] = at;

@@ -29,4 +29,12 @@ inline long next_samples(long present, double samples_needed) {
                                            : static_cast<long>(want + 0.999999);
 }
 
+/// The same for one set of a verdict whose estimate names each set's samples (the cheapest
+/// split, window_scatter.hpp): a set that has its share already gets none.
+inline long next_samples_of_set(long present, double samples_needed) {
+  if (samples_needed == samples_needed && samples_needed <= static_cast<double>(present))
+    return present;
+  return next_samples(present, samples_needed);
+}
+
 }  // namespace jam::checks
