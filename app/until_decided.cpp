@@ -193,6 +193,8 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
   checks::CheckOptions options;
   options.alpha = alpha;
   options.margins = c.margins;
+  // Undecided verdicts are judged again at the next look's alpha: the samples aim at it.
+  options.estimate_alpha = checks::look_alpha(o.alpha, look + 1);
   std::vector<checks::Verdict> verdicts =
       checks::run_check("all", checks::read_stats(c.output), options);
 
@@ -237,11 +239,16 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
       ++not_by_samples;
     } else {
       ++undecided;
-      for (const auto& e : ens) {
-        const auto id = campaign_ensemble(c, e);
+      for (std::size_t i = 0; i < ens.size(); ++i) {
+        const auto id = campaign_ensemble(c, ens[i]);
         if (!id) continue;
         auto& n = next[*id];
-        n = std::max(n, checks::next_samples(present.at(*id), v.samples_needed));
+        // The cheapest split when the verdict names one (the larger, costlier size gets
+        // fewer), else the same samples for both sets.
+        const auto split = v.values.find(i == 0 ? "samples_needed_a" : "samples_needed_b");
+        n = std::max(n, split != v.values.end() && i < 2
+                            ? checks::next_samples_of_set(present.at(*id), split->second)
+                            : checks::next_samples(present.at(*id), v.samples_needed));
       }
     }
     merged.push_back(v);
@@ -308,15 +315,18 @@ bool doze(double seconds) {
   return !stop.load();
 }
 
-/// --shard: waits until every run of the plan is done (other shards' too). 0, or 1 when a run
-/// failed, 130 when stopped. A run seen done is not looked at again (each look verifies the
-/// file's checksums).
-int wait_for_runs(const Campaign& c, const UntilDecidedOptions& o) {
+/// --shard: waits until every run of this look's plan (`added`: the state's, read when the
+/// look began) is done, other shards' too. Never the plan in added-samples.toml: shard 1 may
+/// already have judged this look and written the next one there, whose runs no shard is
+/// running yet. 0, or 1 when a run failed, 130 when stopped. A run seen done is not looked at
+/// again (each look verifies the file's checksums).
+int wait_for_runs(const Campaign& c, const UntilDecidedOptions& o, const SampleCounts& added) {
   auto last = std::chrono::steady_clock::now();
   std::set<std::string> done;
+  const std::vector<PlannedRun> plan = plan_runs(c, added);
   for (;;) {
     std::size_t pending = 0;
-    for (const auto& run : plan_runs(c)) {
+    for (const auto& run : plan) {
       if (done.count(run.name)) continue;
       const RunStatus s = run_status(run);
       if (s == RunStatus::kFailed || s == RunStatus::kCorrupt) return 1;
@@ -332,6 +342,21 @@ int wait_for_runs(const Campaign& c, const UntilDecidedOptions& o) {
       last = std::chrono::steady_clock::now();
     }
     if (!doze(o.poll_seconds)) return 130;
+  }
+}
+
+/// --shard, shards other than 1: waits until added-samples.toml holds `next` (the state's
+/// plan for this look); false when stopped.
+bool wait_for_plan(const Campaign& c, const UntilDecidedOptions& o, const SampleCounts& state) {
+  SampleCounts next;  // in the campaign's own spelling, as the file is read
+  for (const auto& [id, count] : state) next[campaign_ensemble(c, id).value_or(id)] = count;
+  for (;;) {
+    try {
+      if (read_added_samples(c) == next) return true;
+    } catch (const CampaignError&) {
+      // Being replaced (atomically, but a reader may see none): look again.
+    }
+    if (!doze(o.poll_seconds)) return false;
   }
 }
 
@@ -355,9 +380,12 @@ int run_until_decided(const Campaign& c, const CampaignRunOptions& run,
     // Restores added-samples.toml from the state (a new directory has neither yet).
     if (decider && fs::is_directory(c.output)) write_state(c, s);
     barrier();
+    // The other shards run this look's plan, which shard 1 writes to added-samples.toml after
+    // the state: wait until the file says what the state says.
+    if (!decider && run.shards > 1 && !wait_for_plan(c, o, s.next)) return 130;
     const int looks_before = static_cast<int>(s.looks.size());
     int status = run_campaign(c, run, ranks);
-    if (status == 0 && run.shards > 1) status = wait_for_runs(c, o);
+    if (status == 0 && run.shards > 1) status = wait_for_runs(c, o, s.next);
     if (status != 0) return status;
     std::int64_t more = 0;
     if (decider) {
