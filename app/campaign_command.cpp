@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <tuple>
 #include <utility>
 
+#include "app/plan_decidability.hpp"
 #include "app/until_decided.hpp"
 
 namespace jam {
@@ -52,6 +54,13 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
+  plan->add_option("--scatter-from", a.scatter_from,
+                   "Judged campaign directories (DIR/checks.json, e.g. a pilot with few samples "
+                   "of this design) whose runs' scatter predicts what the checks can decide; "
+                   "default: the stored reduced result of the campaign's dimension");
+  plan->footer(
+      "Exit status: 0; 3 when a check's comparisons cannot all be decided with the planned "
+      "samples (each named in a warning line); 2 on a usage error.");
 }
 
 namespace {
@@ -101,6 +110,14 @@ std::pair<int, int> parse_shard(const std::string& shard) {
   return {k, n};
 }
 
+/// DIR/checks.json of each judged campaign directory.
+std::vector<std::string> checks_files_of(const std::vector<std::string>& directories) {
+  std::vector<std::string> out;
+  for (const auto& d : directories)
+    out.push_back((std::filesystem::path(d) / "checks.json").string());
+  return out;
+}
+
 }  // namespace
 
 int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks& ranks) {
@@ -122,7 +139,17 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
     return run_campaign(read_campaign(a.file), options, ranks);
   }
   if (campaign->got_subcommand("status")) return print_campaign_status(a.directory, a.json);
-  return print_campaign_plan(read_campaign(a.file));
+  const Campaign c = read_campaign(a.file);
+  double speed = 0;
+  print_campaign_plan(c, &speed);
+  ScatterModel model;
+  try {
+    model = fit_scatter_model(a.scatter_from.empty() ? default_scatter_sources(c.run.dim)
+                                                     : checks_files_of(a.scatter_from));
+  } catch (const std::exception& e) {
+    throw CLI::ValidationError("--scatter-from", e.what());
+  }
+  return print_decidability(c, model, speed) > 0 ? 3 : 0;
 }
 
 }  // namespace jam

@@ -13,7 +13,8 @@ struct CampaignArgs {
   bool json = false;  // status --json
   std::string shard;  // run --shard K/N
   bool until_decided = false;
-  UntilDecidedOptions until;  // --budget, --alpha
+  UntilDecidedOptions until;              // --budget, --alpha
+  std::vector<std::string> scatter_from;  // plan --scatter-from DIR...
 };
 
 /// Registers `jam campaign run|status|plan`.

@@ -363,7 +363,7 @@ int print_campaign_status(const std::string& directory, bool json) {
   return status;
 }
 
-int print_campaign_plan(const Campaign& c) {
+int print_campaign_plan(const Campaign& c, double* measured_speed) {
   const std::vector<PlannedRun> plan = plan_runs(c);
   double total = 0.0;
   std::map<std::int64_t, double> by_size;
@@ -372,6 +372,7 @@ int print_campaign_plan(const Campaign& c) {
     by_size[run.n] += run.estimated_particle_steps;
   }
   const double speed = measure_throughput(c.run.dim);
+  if (measured_speed) *measured_speed = speed;
   const double core_hours = total / speed / 3600.0;
   fmt::print("campaign {}: {}D, {} runs ({} sizes x {} phi_init x {} rates x {} samples)\n", c.name,
              c.run.dim, plan.size(), c.sizes.size(), c.phi_init.size(), c.log10_rates.size(),

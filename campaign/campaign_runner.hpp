@@ -33,6 +33,6 @@ int campaign_status_code(const std::map<RunStatus, std::size_t>& totals);
 int print_campaign_status(const std::string& directory, bool json = false);
 
 /// Prints the cost of a campaign before it runs, from the measured throughput of this build.
-int print_campaign_plan(const Campaign& campaign);
+int print_campaign_plan(const Campaign& campaign, double* measured_speed = nullptr);
 
 }  // namespace jam

@@ -1,0 +1,235 @@
+#include "app/plan_decidability.hpp"
+
+#include <fmt/format.h>
+#include <gsl/gsl_cdf.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <tuple>
+
+#include "campaign/run_plan.hpp"
+#include "checks/checks.hpp"
+#include "checks/verdict.hpp"
+#include "checks/window_scatter.hpp"
+#include "sim/io/install_paths.hpp"
+#include "sim/io/output_path.hpp"
+
+namespace jam {
+namespace {
+
+struct ScatterPoint {
+  double ln_n, log10_rate, ln_s2, dof;
+};
+
+ScatterFit fit(const std::vector<ScatterPoint>& p) {
+  ScatterFit f;
+  f.points = static_cast<int>(p.size());
+  if (p.size() < 3) return f;
+  Eigen::MatrixXd x(p.size(), 3);
+  Eigen::VectorXd y(p.size()), w(p.size());
+  f.n_min = f.rate_min = HUGE_VAL, f.n_max = f.rate_max = -HUGE_VAL;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    x.row(static_cast<Eigen::Index>(i)) << 1.0, p[i].ln_n, p[i].log10_rate;
+    y(static_cast<Eigen::Index>(i)) = p[i].ln_s2;
+    w(static_cast<Eigen::Index>(i)) = std::sqrt(p[i].dof);
+    f.n_min = std::min(f.n_min, std::exp(p[i].ln_n)),
+    f.n_max = std::max(f.n_max, std::exp(p[i].ln_n));
+    f.rate_min = std::min(f.rate_min, p[i].log10_rate);
+    f.rate_max = std::max(f.rate_max, p[i].log10_rate);
+  }
+  const Eigen::MatrixXd xw = w.asDiagonal() * x;
+  const Eigen::VectorXd c = xw.colPivHouseholderQr().solve(w.asDiagonal() * y);
+  f.c0 = c(0), f.c1 = c(1), f.c2 = c(2);
+  const Eigen::VectorXd r = y - x * c;
+  double ss = 0, sw = 0;
+  for (Eigen::Index i = 0; i < r.size(); ++i) ss += w(i) * w(i) * r(i) * r(i), sw += w(i) * w(i);
+  f.residual =
+      std::sqrt(ss / sw * static_cast<double>(p.size()) / static_cast<double>(p.size() - 3));
+  return f;
+}
+
+double number(const nlohmann::json& values, const char* key) {
+  return values.contains(key) && values[key].is_number() ? values[key].get<double>() : NAN;
+}
+
+}  // namespace
+
+double ScatterFit::scatter(double n, double log10_rate) const {
+  return std::sqrt(std::exp(c0 + c1 * std::log(n) + c2 * log10_rate));
+}
+
+std::vector<std::string> default_scatter_sources(int dim) {
+  return {data_path(fmt::format("reference/results/reduced-{}d/checks.json", dim)).string()};
+}
+
+ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files) {
+  std::vector<ScatterPoint> at_phi, at_z;
+  ScatterModel m;
+  for (const auto& path : checks_files) {
+    check_input_file("--scatter-from", path);
+    std::ifstream in(path);
+    nlohmann::json verdicts;
+    try {
+      verdicts = checks::verdict_array(nlohmann::json::parse(in));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
+    }
+    const std::size_t before = at_phi.size() + at_z.size();
+    for (const auto& v : verdicts) {
+      if (!v.is_object() || !v.contains("values") || !v["values"].is_object()) continue;
+      const auto& x = v["values"];
+      const double rate = number(x, "log10_rate");
+      const double na = std::isfinite(number(x, "n_a")) ? number(x, "n_a") : number(x, "n");
+      const double nb = std::isfinite(number(x, "n_b")) ? number(x, "n_b") : number(x, "n");
+      auto& into = number(x, "constant_z") == 1.0 ? at_z : at_phi;
+      for (auto [n, s, k] : {std::tuple{na, number(x, "scatter_a"), number(x, "samples_a")},
+                             std::tuple{nb, number(x, "scatter_b"), number(x, "samples_b")}}) {
+        if (n > 0 && s > 0 && std::isfinite(s) && k >= 2 && std::isfinite(rate))
+          into.push_back({std::log(n), rate, std::log(s * s), k - 1});
+      }
+    }
+    if (at_phi.size() + at_z.size() == before) {
+      throw std::runtime_error(fmt::format(
+          "{}: no verdict with window scatter values (judge it with this jam: jam check all)",
+          path));
+    }
+    m.sources.push_back(path);
+  }
+  m.at_phi = fit(at_phi);
+  m.at_z = fit(at_z);
+  return m;
+}
+
+namespace {
+
+/// One comparison a check of the campaign will make.
+struct Planned {
+  std::string check;  // "finite_size" or "phi_init"
+  bool at_z = false;
+  std::int64_t n_a = 0, n_b = 0;
+  double phi_a = 0, phi_b = 0, log10_rate = 0;
+};
+
+std::vector<Planned> planned_comparisons(const Campaign& c) {
+  std::vector<Planned> out;
+  if (c.sizes.size() >= 2) {
+    const auto [lo, hi] = std::minmax_element(c.sizes.begin(), c.sizes.end());
+    for (double phi : c.phi_init)
+      for (double r : c.log10_rates)
+        for (bool z : {false, true}) out.push_back({"finite_size", z, *lo, *hi, phi, phi, r});
+  }
+  if (c.phi_init.size() >= 2) {
+    const double low = *std::min_element(c.phi_init.begin(), c.phi_init.end());
+    for (auto n : c.sizes)
+      for (double r : c.log10_rates)
+        for (double phi : c.phi_init)
+          if (phi != low) out.push_back({"phi_init", false, n, n, phi, low, r});
+  }
+  return out;
+}
+
+using EnsembleKey = std::tuple<std::int64_t, double, double>;  // n, phi_init, log10 rate
+
+std::string kind_of(const Planned& p) {
+  if (p.check != "finite_size") return p.check;
+  return p.check + (p.at_z ? ", constant Z" : ", constant phi");
+}
+
+}  // namespace
+
+int print_decidability(const Campaign& c, const ScatterModel& model, double speed) {
+  const std::vector<Planned> planned = planned_comparisons(c);
+  if (planned.empty()) {
+    fmt::print("  what it can decide: no size or phi_init comparison (one size, one phi_init)\n");
+    return 0;
+  }
+  fmt::print(
+      "  what it can decide (window scatter ln s^2 = {:.2f} {:+.2f} ln N {:+.2f} log10 rate at "
+      "constant phi, residual factor {:.2f} on s, from {}):\n",
+      model.at_phi.c0, model.at_phi.c1, model.at_phi.c2, std::exp(model.at_phi.residual / 2),
+      fmt::join(model.sources, ", "));
+  // Per-sample particle-steps of every ensemble, and the faster rate a chained one continues.
+  std::map<EnsembleKey, double> steps, runs;
+  for (const auto& r : plan_runs(c)) {
+    steps[{r.n, r.phi_init, r.log10_rate}] += r.estimated_particle_steps;
+    runs[{r.n, r.phi_init, r.log10_rate}] += 1;
+  }
+  for (auto& [k, s] : steps) s /= runs[k];
+  std::map<std::string, int> count, decided;
+  std::map<std::string, std::map<EnsembleKey, double>> want;  // samples per ensemble
+  std::map<std::string, double> most;
+  const auto samples = static_cast<double>(c.samples);
+  for (const auto& p : planned) ++count[kind_of(p)];
+  int warnings = 0;
+  for (const auto& p : planned) {
+    const std::string kind = kind_of(p);
+    const ScatterFit& f = p.at_z ? model.at_z : model.at_phi;
+    const double margin =
+        c.margins.contains(p.check) ? c.margins.at(p.check) : checks::default_margin(p.check);
+    const checks::Levels levels{0.05 / count[kind], 0.05};
+    const double z_pass = gsl_cdf_ugaussian_Qinv(levels.pass);
+    const double sa = f.scatter(static_cast<double>(p.n_a), p.log10_rate),
+                 sb = f.scatter(static_cast<double>(p.n_b), p.log10_rate);
+    // With no effect, D ~ N(0, sigma) passes when |D| <= M - z_pass sigma: with probability
+    // kPlanPower when sigma <= M / (z_pass + z), z the two-sided quantile of that power.
+    const double target =
+        margin / (z_pass + gsl_cdf_ugaussian_Qinv((1 - checks::kEstimatePower) / 2));
+    if (std::sqrt((sa * sa + sb * sb) / samples) <= target) {
+      ++decided[kind];
+      continue;
+    }
+    const checks::SamplesNeeded n =
+        checks::samples_for_sigma(target, sa, sb, steps[{p.n_a, p.phi_a, p.log10_rate}],
+                                  steps[{p.n_b, p.phi_b, p.log10_rate}], samples, samples);
+    most[kind] = std::max(most[kind], n.equal);
+    auto& w = want[kind];
+    w[{p.n_a, p.phi_a, p.log10_rate}] = std::max(w[{p.n_a, p.phi_a, p.log10_rate}], n.a);
+    w[{p.n_b, p.phi_b, p.log10_rate}] = std::max(w[{p.n_b, p.phi_b, p.log10_rate}], n.b);
+  }
+  for (const auto& [kind, total] : count) {
+    const int yes = decided[kind];
+    if (yes == total) {
+      fmt::print("    {}: all {} comparisons decide with {} samples\n", kind, total, c.samples);
+      continue;
+    }
+    // The extra runs: each ensemble's added samples, and on a chained campaign the same
+    // samples at every faster rate of its (N, phi_init), which its runs continue from.
+    std::map<EnsembleKey, double> w = want[kind];
+    if (!c.chain_phi_init.empty()) {
+      for (const auto& [k, n] : want[kind])
+        for (double r : c.log10_rates)
+          if (r > std::get<2>(k)) {
+            auto& x = w[{std::get<0>(k), std::get<1>(k), r}];
+            x = std::max(x, n);
+          }
+    }
+    double extra = 0;
+    for (const auto& [k, n] : w) extra += std::max(0.0, n - samples) * steps[k];
+    ++warnings;
+    fmt::print(
+        "    warning: {}: {} of {} comparisons decide with {} samples; the other {} need up to "
+        "{:.0f} samples per set (or the cheapest split per ensemble), about {:.2g} core-hours "
+        "more\n",
+        kind, yes, total, c.samples, total - yes, most[kind], extra / speed / 3600.0);
+  }
+  for (const ScatterFit* f : {&model.at_phi, &model.at_z}) {
+    const auto [lo, hi] = std::minmax_element(c.sizes.begin(), c.sizes.end());
+    const auto [rlo, rhi] = std::minmax_element(c.log10_rates.begin(), c.log10_rates.end());
+    if (static_cast<double>(*lo) < f->n_min || static_cast<double>(*hi) > f->n_max ||
+        *rlo < f->rate_min - 1e-9 || *rhi > f->rate_max + 1e-9) {
+      fmt::print(
+          "    (extrapolated: the model's data span N {:.0f}-{:.0f} and rates 1e{:g}-1e{:g}; a "
+          "pilot at this design, --scatter-from DIR, measures it)\n",
+          f->n_min, f->n_max, f->rate_min, f->rate_max);
+      break;
+    }
+  }
+  return warnings;
+}
+
+}  // namespace jam

@@ -1,0 +1,49 @@
+#pragma once
+// What a campaign can decide, before it runs (`jam campaign plan`): for each pooled pressure
+// check it will run (finite_size at constant phi and at constant Z, phi_init), whether its
+// verdicts can decide at their margins with the planned samples, and what the rest would need.
+//
+// The variance model: the window scatter s of an ensemble (checks/window_scatter.hpp; the
+// runs' scatter of their weighted window mean, which sets sigma_D^2 = s_a^2/n_a + s_b^2/n_b)
+// fitted as
+//   ln s^2 = c0 + c1 ln N + c2 log10(rate)
+// by least squares weighted by degrees of freedom, one fit at constant phi and one at constant
+// Z, over the verdicts of judged campaigns (their checks.json): by default the stored result
+// of the campaign's dimension (reference/results/reduced-2d or -3d), or a pilot's
+// (`--scatter-from DIR`). Its residual scatter is printed as the model's uncertainty.
+//
+// A verdict is expected to decide when, with no effect present, it passes with probability
+// at least 0.8 (checks::kEstimatePower): sigma_D <= M / (z_pass + 1.28).
+#include <string>
+#include <vector>
+
+#include "campaign/campaign_file.hpp"
+
+namespace jam {
+
+struct ScatterFit {
+  double c0 = 0, c1 = 0, c2 = 0;  // ln s^2 = c0 + c1 ln N + c2 log10 rate
+  double residual = 0;            // weighted residual standard deviation of ln s^2
+  int points = 0;
+  double n_min = 0, n_max = 0, rate_min = 0, rate_max = 0;  // the data's span
+  double scatter(double n, double log10_rate) const;
+};
+
+struct ScatterModel {
+  ScatterFit at_phi, at_z;
+  std::vector<std::string> sources;
+};
+
+/// Fits the model to the pooled verdicts of the given checks.json files; throws naming the
+/// file when one cannot be read or holds no verdict with window scatter values.
+ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files);
+
+/// The default sources for a dimension: the stored reduced result's checks.json.
+std::vector<std::string> default_scatter_sources(int dim);
+
+/// Prints, after the cost lines of `jam campaign plan`, what each check can decide; `speed`
+/// is the measured particle-steps per core-second. Returns the number of checks with
+/// comparisons the design cannot decide (each also printed as a warning).
+int print_decidability(const Campaign& c, const ScatterModel& model, double speed);
+
+}  // namespace jam
