@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -71,6 +72,8 @@ ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files) {
   std::vector<ScatterPoint> at_phi, at_z;
   ScatterModel m;
   for (const auto& path : checks_files) {
+    if (!std::filesystem::exists(path))
+      throw std::runtime_error(path + ": not found (judge the campaign first: jam check all DIR)");
     check_input_file("--scatter-from", path);
     std::ifstream in(path);
     nlohmann::json verdicts;

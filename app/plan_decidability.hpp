@@ -43,7 +43,7 @@ std::vector<std::string> default_scatter_sources(int dim);
 
 /// Prints, after the cost lines of `jam campaign plan`, what each check can decide; `speed`
 /// is the measured particle-steps per core-second. Returns the number of checks with
-/// comparisons the design cannot decide (each also printed as a warning).
+/// comparisons the design cannot decide (each printed as a warning line).
 int print_decidability(const Campaign& c, const ScatterModel& model, double speed);
 
 }  // namespace jam
