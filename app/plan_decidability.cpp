@@ -223,8 +223,9 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
   for (const ScatterFit* f : {&model.at_phi, &model.at_z}) {
     const auto [lo, hi] = std::minmax_element(c.sizes.begin(), c.sizes.end());
     const auto [rlo, rhi] = std::minmax_element(c.log10_rates.begin(), c.log10_rates.end());
-    if (static_cast<double>(*lo) < f->n_min || static_cast<double>(*hi) > f->n_max ||
-        *rlo < f->rate_min - 1e-9 || *rhi > f->rate_max + 1e-9) {
+    if (static_cast<double>(*lo) < f->n_min * (1 - 1e-9) ||
+        static_cast<double>(*hi) > f->n_max * (1 + 1e-9) || *rlo < f->rate_min - 1e-9 ||
+        *rhi > f->rate_max + 1e-9) {
       fmt::print(
           "    (extrapolated: the model's data span N {:.0f}-{:.0f} and rates 1e{:g}-1e{:g}; a "
           "pilot at this design, --scatter-from DIR, measures it)\n",
