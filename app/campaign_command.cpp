@@ -9,6 +9,7 @@
 #include <tuple>
 #include <utility>
 
+#include "app/pilot.hpp"
 #include "app/plan_decidability.hpp"
 #include "app/until_decided.hpp"
 
@@ -58,6 +59,11 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
                    "Judged campaign directories (DIR/checks.json, e.g. a pilot with few samples "
                    "of this design) whose runs' scatter predicts what the checks can decide; "
                    "default: the stored reduced result of the campaign's dimension");
+  plan->add_option("--pilot", a.pilot,
+                   "Run K samples of every ensemble first (in <output>-pilot-K: the campaign's "
+                   "first K samples, same seeds), judge them, and plan from their scatter")
+      ->check(CLI::Range(2, 1000))
+      ->excludes("--scatter-from");
 }
 
 namespace {
@@ -141,10 +147,18 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
   ScatterModel model;
   std::string no_model;
   try {
-    model = fit_scatter_model(a.scatter_from.empty() ? default_scatter_sources(c.run.dim)
-                                                     : checks_files_of(a.scatter_from));
+    std::vector<std::string> sources = a.scatter_from.empty() ? default_scatter_sources(c.run.dim)
+                                                              : checks_files_of(a.scatter_from);
+    if (a.pilot > 0) {
+      const Campaign pilot = pilot_campaign(c, a.pilot);
+      fmt::print("pilot: {} samples of every ensemble in {}\n", a.pilot, pilot.output);
+      sources = checks_files_of({run_pilot(pilot, a.run, ranks)});
+      if (ranks.rank != 0) return 0;
+    }
+    model = fit_scatter_model(sources);
   } catch (const std::exception& e) {
     // A file the user named is an error; the stored default missing is only a gap.
+    if (a.pilot > 0) throw std::runtime_error(e.what());
     if (!a.scatter_from.empty()) throw CLI::ValidationError("--scatter-from", e.what());
     no_model = e.what();
   }

@@ -15,6 +15,7 @@ struct CampaignArgs {
   bool until_decided = false;
   UntilDecidedOptions until;              // --budget, --alpha
   std::vector<std::string> scatter_from;  // plan --scatter-from DIR...
+  int pilot = 0;                          // plan --pilot K
 };
 
 /// Registers `jam campaign run|status|plan`.

@@ -1,0 +1,91 @@
+// `jam campaign plan` on what a design can decide (app/plan_decidability.hpp), through the
+// executable: the stored 2D variance model says that two samples of N = 256 against N = 1024
+// cannot decide the pressure at constant phi, and warns with the samples needed; with 400
+// samples every comparison decides; a --scatter-from that is missing is one line and no plan;
+// --pilot K runs the campaign's first K samples in <output>-pilot-K and plans from them.
+#define BOOST_TEST_MODULE campaign_plan
+#include <boost/test/unit_test.hpp>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "process.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kDir = fs::temp_directory_path() / ("jam-plan-" + std::to_string(::getpid()));
+
+jam::test::Outcome run_jam(const std::string& args) {
+  return jam::test::run_jam_logged(kDir / "output.txt", args);
+}
+
+fs::path write_campaign(const std::string& name, const std::string& body) {
+  fs::create_directories(kDir);
+  const fs::path file = kDir / (name + ".toml");
+  std::ofstream(file) << "name = \"" << name << "\"\n"
+                      << body << "output = \"" << (kDir / name).string() << "\"\n";
+  return file;
+}
+
+struct Cleanup {
+  ~Cleanup() { fs::remove_all(kDir); }
+} cleanup;
+
+const std::string kSizes =
+    "dim = 2\nsizes = [256, 1024]\nphi_init = [0.4]\nlog10_rates = [-4.0, -5.0]\n"
+    "phi_stop = 0.86\nseed = 1\n";
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(few_samples_warn_and_many_decide) {
+  const auto few =
+      run_jam("campaign plan " + write_campaign("few", kSizes + "samples = 2\n").string());
+  BOOST_TEST(few.status == 0, few.output);
+  BOOST_TEST(few.output.find("what it can decide") != std::string::npos, few.output);
+  // N = 256 near jamming scatters by 10-30% per run (reduced-2d): two samples cannot exclude 10%.
+  BOOST_TEST(
+      std::regex_search(few.output, std::regex("warning: finite_size, constant phi: [0-1] of 2 "
+                                               "comparisons decide with 2 samples; the other [1-2] "
+                                               "need up to [0-9]+ samples per set")),
+      few.output);
+  const auto many =
+      run_jam("campaign plan " + write_campaign("many", kSizes + "samples = 400\n").string());
+  BOOST_TEST(many.status == 0, many.output);
+  BOOST_TEST(many.output.find("finite_size, constant phi: all 2 comparisons decide with 400") !=
+                 std::string::npos,
+             many.output);
+  BOOST_TEST(many.output.find("warning") == std::string::npos, many.output);
+}
+
+BOOST_AUTO_TEST_CASE(a_missing_model_is_one_line_and_no_plan) {
+  const auto o = run_jam("campaign plan " + write_campaign("m", kSizes + "samples = 2\n").string() +
+                         " --scatter-from " + (kDir / "nothing").string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(o.output.find("--scatter-from") != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("particle-steps") == std::string::npos, o.output);
+}
+
+BOOST_AUTO_TEST_CASE(a_pilot_runs_the_first_samples_and_plans_from_them) {
+  const fs::path file = write_campaign(
+      "p",
+      "dim = 2\nsizes = [64, 128]\nphi_init = [0.70]\nlog10_rates = [-2.5, -3.0]\nsamples = 20\n"
+      "phi_stop = 0.86\nphi_step = 0.002\ndt = 0.02\nseed = 5\n");
+  const auto o = run_jam("campaign plan " + file.string() + " --pilot 3");
+  BOOST_TEST(o.status == 0, o.output);
+  const fs::path pilot = kDir / "p-pilot-3";
+  BOOST_TEST(fs::exists(pilot / "checks.json"));
+  BOOST_TEST(o.output.find((pilot / "checks.json").string()) != std::string::npos, o.output);
+  // Its runs are the campaign's samples 0-2: the same names, and only those.
+  int runs = 0;
+  for (const auto& e : fs::directory_iterator(pilot / "runs")) {
+    if (e.path().extension() != ".h5") continue;
+    ++runs;
+    BOOST_TEST(std::regex_search(e.path().filename().string(), std::regex("_s00[0-2]\\.h5$")),
+               e.path());
+  }
+  BOOST_TEST(runs == 2 * 2 * 3);
+  // The campaign itself is untouched.
+  BOOST_TEST(!fs::exists(kDir / "p"));
+}
