@@ -3,7 +3,8 @@
 // measured within each size. Statistic R = mean over points of <Delta_pair^2> / (v_a + v_b),
 // v the relative sample variance within a size: about 1 when the pairs differ only by
 // sample-to-sample noise, above 1 when the sizes differ systematically, below when samples
-// are not independent. Its two-sided acceptance band comes from permuting whole runs.
+// are not independent. Its two-sided acceptance band comes from a bootstrap under the null
+// that keeps each size's own scatter (pair_ratio_null).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -40,6 +41,47 @@ double pair_ratio(const std::vector<const std::vector<double>*>& a,
     sum += d2 / (relative_variance(a, k) + relative_variance(b, k));
   }
   return sum / static_cast<double>(m);
+}
+
+/// R's distribution when the sizes do not differ systematically, each keeping its own scatter
+/// (a bootstrap under the null, Efron and Tibshirani ch. 16): every run of a set rescaled
+/// pointwise to the mean of both sets, then each set resampled with replacement on its own,
+/// pair i the i-th draw of each. Relabelling runs between the sizes instead (the former null)
+/// gave both the pooled scatter: with hundreds of samples it detected N = 128 scattering more
+/// than N = 1024, which is no difference of the pressures. Sorted; seeded, so deterministic.
+std::vector<double> pair_ratio_null(const std::vector<const std::vector<double>*>& a,
+                                    const std::vector<const std::vector<double>*>& b, int draws) {
+  const std::size_t m = a.front()->size();
+  auto centred = [m](const std::vector<const std::vector<double>*>& set,
+                     const std::vector<double>& target) {
+    std::vector<double> mean(m, 0.0);
+    for (const auto* r : set)
+      for (std::size_t k = 0; k < m; ++k) mean[k] += (*r)[k] / static_cast<double>(set.size());
+    std::vector<std::vector<double>> out;
+    for (const auto* r : set) {
+      std::vector<double> x(m);
+      for (std::size_t k = 0; k < m; ++k) x[k] = (*r)[k] * target[k] / mean[k];
+      out.push_back(std::move(x));
+    }
+    return out;
+  };
+  std::vector<double> both(m, 0.0);
+  for (const auto* set : {&a, &b})
+    for (const auto* r : *set)
+      for (std::size_t k = 0; k < m; ++k)
+        both[k] += (*r)[k] / static_cast<double>(a.size() + b.size());
+  const auto ca = centred(a, both), cb = centred(b, both);
+  std::mt19937_64 rng(2);
+  std::uniform_int_distribution<std::size_t> pick_a(0, ca.size() - 1), pick_b(0, cb.size() - 1);
+  std::vector<double> null;
+  std::vector<const std::vector<double>*> pa(a.size()), pb(b.size());
+  for (int d = 0; d < draws; ++d) {
+    for (auto& r : pa) r = &ca[pick_a(rng)];
+    for (auto& r : pb) r = &cb[pick_b(rng)];
+    null.push_back(pair_ratio(pa, pb));
+  }
+  std::sort(null.begin(), null.end());
+  return null;
 }
 
 }  // namespace
@@ -102,19 +144,8 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     std::vector<const std::vector<double>*> a, b;
     for (std::size_t i = 0; i < rows.size(); ++i) (i < al.a.size() ? a : b).push_back(&rows[i]);
     v.statistic = pair_ratio(a, b);
-    std::mt19937_64 rng(2);
-    std::vector<std::size_t> order(rows.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::vector<double> null;
-    const int count = permutations_for(alpha / 2, o.permutations);
-    for (int p = 0; p < count; ++p) {
-      std::shuffle(order.begin(), order.end(), rng);
-      std::vector<const std::vector<double>*> pa, pb;
-      for (std::size_t i = 0; i < rows.size(); ++i)
-        (i < al.a.size() ? pa : pb).push_back(&rows[order[i]]);
-      null.push_back(pair_ratio(pa, pb));
-    }
-    std::sort(null.begin(), null.end());
+    const std::vector<double> null =
+        pair_ratio_null(a, b, permutations_for(alpha / 2, o.permutations));
     const auto quantile = [&](double q) {
       return null[std::min(null.size() - 1,
                            static_cast<std::size_t>(q * static_cast<double>(null.size())))];
@@ -149,9 +180,11 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
       v.reason = "pairs more alike than independent samples (R below its band)";
     }
     v.reason += fmt::format(
-        " (R = {:.3g}, permutation band [{:.3g}, {:.3g}], alpha {:.3g}; over phi in [{:.4g}, "
+        " (R = {:.3g}, band [{:.3g}, {:.3g}] of {} bootstrap draws under the null, alpha {:.3g}; "
+        "over phi in [{:.4g}, "
         "{:.4g}], {})",
-        v.statistic, lo, hi, alpha, al.grid[keep.front()], al.grid[keep.back()], range.why);
+        v.statistic, lo, hi, null.size(), alpha, al.grid[keep.front()], al.grid[keep.back()],
+        range.why);
     if (v.status == "inconclusive") {
       // The band's half-width shrinks as 1/sqrt(samples); R - 1 stays.
       const double room = margin * margin / v_mean - (v.statistic - 1.0);
