@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "campaign/campaign_file.hpp"
 #include "checks/check_registry.hpp"
@@ -190,9 +191,20 @@ int run_check_command(const CheckArgs& a) {
   in.lammps.regenerate = a.regenerate;
   std::vector<checks::Verdict> verdicts = checks::run_checks(a.name, in);
   mark_expected_failures(verdicts, expected);
-  fmt::print("{}", checks::format_table(verdicts));
+  // The table, unless another table follows (the main job's report prints it with the
+  // headlines): then one line of counts.
+  if (a.table) {
+    fmt::print("{}", checks::format_table(verdicts));
+  } else {
+    std::map<std::string, int> counts;
+    for (const auto& v : verdicts) ++counts[v.status];
+    fmt::print(
+        "checks: {} verdicts: {} pass, {} fail, {} inconclusive (the table: the report's "
+        "summary below)\n",
+        verdicts.size(), counts["pass"], counts["fail"], counts["inconclusive"]);
+  }
   for (const auto& v : verdicts) {
-    if (!v.expected_failure) continue;
+    if (!v.expected_failure || !a.table) continue;
     // An expected failure that did not fail says what it did instead.
     fmt::print("{} {}: {}\n",
                v.status == "fail"   ? std::string("expected failure:")

@@ -16,6 +16,7 @@ struct CheckArgs {
   std::string reference_dir = data_path("reference").string();
   bool no_lmp = false, regenerate = false;
   bool list_json = false;  // --list --json
+  bool table = true;       // print the verdict table (the main job leaves it to the report)
   std::string against;     // regression: baseline directory
   checks::RegressionOptions regression;
 };

@@ -74,6 +74,7 @@ int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
     CheckArgs check;
     check.name = "all";
     check.directory = dir.string();
+    check.table = false;       // the report's summary prints it, with a headline per check
     run_check_command(check);  // its verdicts are the report's to show, whatever they are
   } else {
     fmt::print("checks: {} is up to date\n", (dir / "checks.json").string());
