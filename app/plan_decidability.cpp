@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "campaign/added_samples.hpp"
 #include "campaign/run_plan.hpp"
 #include "checks/checks.hpp"
 #include "checks/verdict.hpp"
@@ -156,15 +157,17 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
       "constant phi, residual factor {:.2f} on s, from {}):\n",
       model.at_phi.c0, model.at_phi.c1, model.at_phi.c2, std::exp(model.at_phi.residual / 2),
       fmt::join(model.sources, ", "));
-  // Per-sample particle-steps of every ensemble, and the faster rate a chained one continues.
+  // Per-sample particle-steps of every ensemble (the cost of one more sample there).
   std::map<EnsembleKey, double> steps, runs;
-  for (const auto& r : plan_runs(c)) {
+  double planned_steps = 0;
+  for (const auto& r : plan_runs(c, SampleCounts{})) {  // the file's design, not the directory's
     steps[{r.n, r.phi_init, r.log10_rate}] += r.estimated_particle_steps;
     runs[{r.n, r.phi_init, r.log10_rate}] += 1;
+    planned_steps += r.estimated_particle_steps;
   }
   for (auto& [k, s] : steps) s /= runs[k];
   std::map<std::string, int> count, decided;
-  std::map<std::string, std::map<EnsembleKey, double>> want;  // samples per ensemble
+  std::map<std::string, SampleCounts> want;  // samples per ensemble, per check
   std::map<std::string, double> most;
   const auto samples = static_cast<double>(c.samples);
   for (const auto& p : planned) ++count[kind_of(p)];
@@ -174,8 +177,8 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
     const ScatterFit& f = p.at_z ? model.at_z : model.at_phi;
     const double margin =
         c.margins.contains(p.check) ? c.margins.at(p.check) : checks::default_margin(p.check);
-    const checks::Levels levels{0.05 / count[kind], 0.05};
-    const double z_pass = gsl_cdf_ugaussian_Qinv(levels.pass);
+    // Only the pass level matters here (a TOST at the check's alpha).
+    const double z_pass = gsl_cdf_ugaussian_Qinv(checks::CheckOptions{}.alpha);
     const double sa = f.scatter(static_cast<double>(p.n_a), p.log10_rate),
                  sb = f.scatter(static_cast<double>(p.n_b), p.log10_rate);
     // With no effect, D ~ N(0, sigma) passes when |D| <= M - z_pass sigma: with probability
@@ -190,9 +193,11 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
         checks::samples_for_sigma(target, sa, sb, steps[{p.n_a, p.phi_a, p.log10_rate}],
                                   steps[{p.n_b, p.phi_b, p.log10_rate}], samples, samples);
     most[kind] = std::max(most[kind], n.equal);
-    auto& w = want[kind];
-    w[{p.n_a, p.phi_a, p.log10_rate}] = std::max(w[{p.n_a, p.phi_a, p.log10_rate}], n.a);
-    w[{p.n_b, p.phi_b, p.log10_rate}] = std::max(w[{p.n_b, p.phi_b, p.log10_rate}], n.b);
+    for (const auto& [id, needed] : {std::pair{EnsembleId{p.n_a, p.phi_a, p.log10_rate}, n.a},
+                                     std::pair{EnsembleId{p.n_b, p.phi_b, p.log10_rate}, n.b}}) {
+      auto& x = want[kind][id];
+      x = std::max(x, static_cast<std::int64_t>(needed));
+    }
   }
   for (const auto& [kind, total] : count) {
     const int yes = decided[kind];
@@ -200,19 +205,11 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
       fmt::print("    {}: all {} comparisons decide with {} samples\n", kind, total, c.samples);
       continue;
     }
-    // The extra runs: each ensemble's added samples, and on a chained campaign the same
-    // samples at every faster rate of its (N, phi_init), which its runs continue from.
-    std::map<EnsembleKey, double> w = want[kind];
-    if (!c.chain_phi_init.empty()) {
-      for (const auto& [k, n] : want[kind])
-        for (double r : c.log10_rates)
-          if (r > std::get<2>(k)) {
-            auto& x = w[{std::get<0>(k), std::get<1>(k), r}];
-            x = std::max(x, n);
-          }
-    }
-    double extra = 0;
-    for (const auto& [k, n] : w) extra += std::max(0.0, n - samples) * steps[k];
+    // The extra runs: the plan with these samples (on a chained campaign the faster rates
+    // its runs continue from follow, samples_per_ensemble) less the plan as it is.
+    double extra = -planned_steps;
+    for (const auto& r : plan_runs(c, samples_per_ensemble(c, want[kind])))
+      extra += r.estimated_particle_steps;
     ++warnings;
     fmt::print(
         "    warning: {}: {} of {} comparisons decide with {} samples; the other {} need up to "
