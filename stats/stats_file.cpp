@@ -8,6 +8,7 @@
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/io/run_file.hpp"
 #include "sim/model/paper_values.hpp"
 #include "sim/version.hpp"
 #include "stats/campaign_stats.hpp"
@@ -20,6 +21,27 @@ std::string ensemble_name(const EnsembleKey& k) {
                      k.phi_init, k.log10_rate);
 }
 
+// Units of the datasets (attribute `units`, as the run files carry theirs, sim/io/run_file.cpp):
+// every number is in the paper's units (d_s = k_e = t0 = 1, docs/model.md), so the attribute
+// says what a value is a multiple of, for readers that put units on their tables.
+constexpr const char* kDimensionless = "1";
+constexpr const char* kPressureUnit = "k_e/d_s^D";
+constexpr const char* kRateUnit = "1/t0";
+// The collapse's axes: x = (phi - phi_J) / rate^(1/(z nu)), p / rate^q (q, 1/(z nu) the fit's).
+constexpr const char* kScalingVariableUnit = "t0^(1/(z nu))";
+constexpr const char* kScaledPressureUnit = "k_e/d_s^D t0^q";
+
+/// Pressure is the one averaged observable with a unit; packing fraction and Z are numbers.
+const char* unit_of(const std::string& observable) {
+  return observable == "pressure" ? kPressureUnit : kDimensionless;
+}
+
+void write_dataset(h5::File& f, const std::string& path, const std::vector<double>& values,
+                   const char* unit, const std::vector<hsize_t>& shape = {}) {
+  f.write_dataset(path, values, shape);
+  f.write_attribute("units", std::string(unit), path);
+}
+
 std::vector<double> flatten(const std::vector<std::vector<double>>& table) {
   std::vector<double> v;
   for (const auto& row : table) v.insert(v.end(), row.begin(), row.end());
@@ -28,11 +50,11 @@ std::vector<double> flatten(const std::vector<std::vector<double>>& table) {
 
 void write_average(h5::File& f, const std::string& group, const GridAverage& a) {
   f.create_group(group);
-  f.write_dataset(group + "/" + a.grid_name, a.grid);
+  write_dataset(f, group + "/" + a.grid_name, a.grid, unit_of(a.grid_name));
   // float64: pooled sizes number their samples n * 10^7 + sample (run_curves.hpp), beyond 32
   // bits; every such integer is exact in a double.
   std::vector<double> ids(a.sample_ids.begin(), a.sample_ids.end());
-  f.write_dataset(group + "/sample_ids", ids);
+  write_dataset(f, group + "/sample_ids", ids, kDimensionless);
   for (std::size_t o = 0; o < a.names.size(); ++o) {
     std::vector<double> mean, error, relative;
     for (const auto& m : a.means[o]) {
@@ -41,10 +63,12 @@ void write_average(h5::File& f, const std::string& group, const GridAverage& a) 
       relative.push_back(m.error / std::abs(m.mean));
     }
     const std::string base = group + "/" + a.names[o];
-    f.write_dataset(base + "_mean", mean);
-    f.write_dataset(base + "_error", error);
-    f.write_dataset(base + "_relative_error", relative);
-    f.write_dataset(base + "_samples", flatten(a.tables[o]), {a.tables[o].size(), a.grid.size()});
+    const char* unit = unit_of(a.names[o]);
+    write_dataset(f, base + "_mean", mean, unit);
+    write_dataset(f, base + "_error", error, unit);
+    write_dataset(f, base + "_relative_error", relative, kDimensionless);
+    write_dataset(f, base + "_samples", flatten(a.tables[o]), unit,
+                  {a.tables[o].size(), a.grid.size()});
   }
   f.write_attribute("error_method", std::string(SampleMean::kMethod), group);
 }
@@ -105,7 +129,8 @@ void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r,
   f.write_attribute("order", std::int64_t{order}, group);
   f.write_attribute("fixed", r.fixed.empty() ? std::string("none") : r.fixed, group);
   f.write_attribute("error_method", r.error_method, group);
-  f.write_dataset(group + "/coefficients", r.coefficients);
+  // c_k of ln f(x), fitted to the numbers in the paper's units (ln p, ln rate): numbers.
+  write_dataset(f, group + "/coefficients", r.coefficients, kDimensionless);
   std::vector<double> rate, phi, x, scaled, scaled_err, in_fit;
   for (const auto& c : r.collapse) {
     rate.push_back(c.rate);
@@ -115,12 +140,12 @@ void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r,
     scaled_err.push_back(c.scaled_error);
     in_fit.push_back(c.in_fit ? 1.0 : 0.0);
   }
-  f.write_dataset(group + "/collapse/compression_rate", rate);
-  f.write_dataset(group + "/collapse/packing_fraction", phi);
-  f.write_dataset(group + "/collapse/x", x);
-  f.write_dataset(group + "/collapse/scaled_pressure", scaled);
-  f.write_dataset(group + "/collapse/scaled_pressure_error", scaled_err);
-  f.write_dataset(group + "/collapse/in_fit", in_fit);
+  write_dataset(f, group + "/collapse/compression_rate", rate, kRateUnit);
+  write_dataset(f, group + "/collapse/packing_fraction", phi, kDimensionless);
+  write_dataset(f, group + "/collapse/x", x, kScalingVariableUnit);
+  write_dataset(f, group + "/collapse/scaled_pressure", scaled, kScaledPressureUnit);
+  write_dataset(f, group + "/collapse/scaled_pressure_error", scaled_err, kScaledPressureUnit);
+  write_dataset(f, group + "/collapse/in_fit", in_fit, kDimensionless);
 }
 
 void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
@@ -175,7 +200,11 @@ void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
                               row.failure);
     }
   }
-  for (std::size_t c = 0; c < columns; ++c) f.write_dataset(group + "/" + names[c], cols[c]);
+  // rate_max is a rate; every other column (packings, exponents, chi^2, counts, flags) a number.
+  for (std::size_t c = 0; c < columns; ++c) {
+    const bool rate = std::string(names[c]) == "rate_max";
+    write_dataset(f, group + "/" + names[c], cols[c], rate ? kRateUnit : kDimensionless);
+  }
   f.write_attribute("failures", failures.empty() ? std::string("none") : failures, group);
 }
 
@@ -196,6 +225,10 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
     f.write_attribute("z_step", o.z_step);
     f.write_attribute("constant_z_without_rattlers", std::int64_t{o.no_rattlers});
     f.write_attribute("wall_time", s.wall_time);
+    f.write_attribute("units", std::string(kRunFileUnits));
+    // The output grid's spacing as the campaign file gives it, so that readers can put the
+    // constant-phi grid on exact values k * phi_step (NaN: a refit of a file without it).
+    if (std::isfinite(s.data.phi_step)) f.write_attribute("phi_step", s.data.phi_step);
     // The published values, for reports to compare with (one source: paper_values.hpp).
     const PaperValues paper = paper_values(s.data.dim);
     f.create_group("paper");
@@ -219,9 +252,11 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
       if (e.jamming) {
         const std::string jg = g + "/jamming";
         f.create_group(jg);
-        f.write_dataset(jg + "/packing_fraction_samples", e.jamming->samples);
-        f.write_dataset(jg + "/sample_ids", std::vector<double>(e.jamming->sample_ids.begin(),
-                                                                e.jamming->sample_ids.end()));
+        write_dataset(f, jg + "/packing_fraction_samples", e.jamming->samples, kDimensionless);
+        write_dataset(f, jg + "/sample_ids",
+                      std::vector<double>(e.jamming->sample_ids.begin(),
+                                          e.jamming->sample_ids.end()),
+                      kDimensionless);
         f.write_attribute("mean", e.jamming->mean.mean, jg);
         f.write_attribute("error", e.jamming->mean.error, jg);
         f.write_attribute("spread", e.jamming->spread, jg);

@@ -66,6 +66,9 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
     s.data.dim = static_cast<int>(dim);
     s.runs_averaged = f.read_attribute_int("runs");
     s.runs_skipped = f.read_attribute_int("runs_skipped");
+    // Carried over for readers of the new file; unknown (not written) when the old one lacks it.
+    s.data.phi_step =
+        f.has_attribute("phi_step") ? f.read_attribute_double("phi_step") : std::nan("");
     for (const auto& name : f.list_group("ensembles")) {
       const std::string g = "ensembles/" + name;
       EnsembleStats e;

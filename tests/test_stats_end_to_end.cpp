@@ -76,6 +76,28 @@ BOOST_AUTO_TEST_CASE(schema_shapes_and_means) {
   BOOST_TEST(f.read_dataset("fit/scan/phi_j").size() == f.read_dataset("fit/scan/rate_max").size());
 }
 
+BOOST_AUTO_TEST_CASE(every_dataset_says_its_unit_and_refit_keeps_the_grid_spacing) {
+  const std::string dir = (kDir / "ci").string();
+  for (const char* command : {"stats ", "stats --refit "}) {
+    std::string out;
+    BOOST_TEST_REQUIRE(run_jam(command + dir, &out) == 0, out);
+    const jam::h5::File f = jam::h5::File::open_read((kDir / "ci" / "stats.h5").string());
+    const std::string g = "ensembles/n256_phi0.7000_r-3.00";
+    const auto unit = [&](const std::string& path) { return f.read_attribute_string("units", path); };
+    BOOST_TEST(unit(g + "/constant_phi/packing_fraction") == "1");
+    BOOST_TEST(unit(g + "/constant_phi/pressure_mean") == "k_e/d_s^D");
+    BOOST_TEST(unit(g + "/constant_phi/pressure_samples") == "k_e/d_s^D");
+    BOOST_TEST(unit(g + "/constant_phi/pressure_relative_error") == "1");
+    BOOST_TEST(unit(g + "/constant_z/packing_fraction_error") == "1");
+    BOOST_TEST(unit(g + "/constant_z/pressure_error") == "k_e/d_s^D");
+    BOOST_TEST(unit(g + "/jamming/packing_fraction_samples") == "1");
+    BOOST_TEST(unit("fit/scan/rate_max") == "1/t0");
+    BOOST_TEST(unit("fit/scan/phi_j") == "1");
+    BOOST_TEST(f.read_attribute_double("phi_step") == 0.002, command);
+    BOOST_TEST(f.read_attribute_string("units").find("k_e/d_s^D") != std::string::npos);
+  }
+}
+
 BOOST_AUTO_TEST_CASE(pooled_sizes_and_held_exponents) {
   std::string out;
   BOOST_TEST_REQUIRE(
