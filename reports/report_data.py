@@ -242,10 +242,27 @@ def _fit(fit, where="/fit"):
         out["coefficients"] = fit.coefficients
         if fit.collapse is not None:
             out["collapse"] = _datasets(fit.collapse, COLLAPSE, where + "/representative/collapse")
+    families = _families(getattr(fit, "families", None) or {}, where + "/families")
+    if families:
+        out["families"] = families
     if fit.scan is not None:
         out["scan"] = _datasets(fit.scan, SCAN, where + "/scan", ("half_window", "chosen"))
         out["scan_failures"] = require(fit.scan.attrs, where + "/scan",
                                        strings=("failures",)).get("failures", "")
+    return out
+
+
+def _families(families, where):
+    """The per-(N, phi_init) fits that have a collapse: name -> {attrs..., 'collapse': arrays};
+    a family whose fit failed (attribute `failure`) is left out."""
+    out = {}
+    for name, family in sorted(families.items()):
+        here = f"{where}/{name}"
+        attrs = _typed(dict(family.attrs), here, FIT_TEXT + ("failure",))
+        if "failure" in attrs or family.collapse is None:
+            continue
+        require(attrs, here, numbers=("n", "family_phi_init", "phi_j", "q", "inv_znu"))
+        out[name] = dict(attrs, collapse=_datasets(family.collapse, COLLAPSE, here + "/collapse"))
     return out
 
 

@@ -4,94 +4,21 @@ Each function writes one figure into the output directory (PNG, SVG and the CSV 
 numbers, one stem: report_plot.save) and returns a Figure record (file name, title, caption),
 or None when the campaign has nothing to draw for it; a panel with nothing to draw is left out
 of its figure. Only drawing happens here: every number comes from stats.h5 or checks.h5.
-This file: the averages (pressure, relative errors) and the jamming points; the checks' and
-the fit's figures are in report_figures_checks.py and report_figures_fit.py; ALL lists them in
-page order.
+This file: the relative errors and the jamming points; the pressure figures are in
+report_figures_pressure.py, the checks' in report_figures_checks.py, the fit's in
+report_figures_fit.py; ALL lists them in page order.
 """
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from report_figures_checks import finite_size_figure, lammps_figure, sample_pairs_figure
+from report_figures_checks import (finite_size_figure, finite_size_z_figure, lammps_figure,
+                                   sample_pairs_figure)
 from report_figures_fit import collapse_figure, scan_figure
 from report_figures_jamming import jamming_width_figure
+from report_figures_pressure import pressure_figure, rate_figure
 from report_plot import (Figure, Plotted, decorate, rate_colors, rate_label, rate_text,
-                         representative_phi_init, save, shade)
-
-MARKERS = ["o", "s", "^", "D", "v", "P", "X"]
-
-
-def _pressure_style(chosen):
-    """style(e): one hue per phi_init, a lighter shade and another marker per slower rate,
-    solid symbols for the smallest size and open ones for the others."""
-    starts = sorted({e.phi_init for e in chosen})
-    rates = sorted({e.log10_rate for e in chosen}, reverse=True)
-    smallest = min(e.n for e in chosen)
-    hues = plt.get_cmap("tab10")
-
-    def style(e):
-        k = rates.index(e.log10_rate)
-        color = shade(hues(starts.index(e.phi_init) % 10), k, len(rates))
-        return dict(marker=MARKERS[k % len(MARKERS)], ms=4, lw=0.8, capsize=0, color=color,
-                    mfc=color if e.n == smallest else "none")
-    return style
-
-
-def _pressure_curve(axes, e, style, plotted):
-    """One ensemble on both panels; the 5th percentile of its positive p/rate (for the floor)."""
-    a = e.constant_phi
-    phi, p, dp = a["packing_fraction"], a["pressure_mean"], a["pressure_error"]
-    keep = p > 0
-    label = f"N={e.n}, phi_init {e.phi_init:g}, {rate_label(e.log10_rate)}"
-    series = f"N={e.n}, phi_init {e.phi_init:g}, {rate_text(e.log10_rate)}"
-    every = dict(markevery=max(1, int(keep.sum()) // 30), errorevery=max(1, len(p) // 30))
-    rate = e.compression_rate
-    for ax, panel, scale in zip(axes, ("pressure", "bulk viscosity"), (1.0, rate)):
-        ax.errorbar(phi[keep], p[keep] / scale, yerr=dp[keep] / scale, label=label, **every,
-                    **style(e))
-        plotted.add(panel, series, phi[keep], p[keep] / scale, dp[keep] / scale)
-    return np.percentile(p[keep], 5) / rate if keep.any() else np.inf
-
-
-def pressure_figure(c, out_dir):
-    """The paper's Fig. 1: pressure and bulk viscosity against phi, every rate, every size,
-    every phi_init."""
-    chosen = [e for e in c.ensembles if e.constant_phi]
-    if not chosen:
-        return None
-    sizes = sorted({e.n for e in chosen})
-    starts = sorted({e.phi_init for e in chosen})
-    style = _pressure_style(chosen)
-    # The legend has a column of its own: with every phi_init, rate and size it is long.
-    fig, (*axes, key) = plt.subplots(1, 3, layout="constrained", figsize=(13, 4.4),
-                                     width_ratios=[1, 1, 0.45])
-    plotted = Plotted()
-    labels = ["pressure $p$", r"bulk viscosity $\eta_p = p/\dot\epsilon$"]
-    for panel, label in zip(("pressure", "bulk viscosity"), ("pressure p", "p / rate")):
-        plotted.panel(panel, "packing fraction phi", label)
-    lowest = [_pressure_curve(axes, e, style, plotted) for e in chosen]
-    # The first points after the start carry the relaxed start's residual pressure, orders of
-    # magnitude below the compression's: the vertical range starts near the compression's.
-    floor = 0.3 * min(lowest)
-    if np.isfinite(floor):
-        axes[1].set_ylim(bottom=floor)
-        axes[0].set_ylim(bottom=floor * min(e.compression_rate for e in chosen))
-    for ax, label in zip(axes, labels):
-        ax.set_yscale("log")
-        ax.set_xlabel(r"packing fraction $\phi$")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3, which="both")
-    key.axis("off")
-    key.legend(*axes[1].get_legend_handles_labels(), fontsize=7, loc="center left",
-               ncol=1 + len(chosen) // 24, borderaxespad=0)
-    file = save(fig, out_dir, "pressure.png", plotted)
-    return Figure(file, "Pressure and bulk viscosity",
-                  "Averages at constant phi over samples; one colour per phi_init "
-                  f"({', '.join(f'{s:g}' for s in starts)}; the fit uses "
-                  f"{representative_phi_init(c):g}), lighter shades and other markers for "
-                  f"slower rates; solid symbols N = {sizes[0]}, open symbols larger sizes; error "
-                  "bars are standard errors (the paper's Fig. 1). The residual pressure of the "
-                  "relaxed start, right after phi_init, is below the vertical range.")
+                         representative_phi_init, save)
 
 
 def _relative_errors(ax, e, color, plotted):
@@ -211,5 +138,8 @@ def jamming_figure(c, out_dir):
                   caption[:1].upper() + caption[1:])
 
 
-ALL = [pressure_figure, finite_size_figure, sample_pairs_figure, relative_error_figure,
-       jamming_figure, jamming_width_figure, scan_figure, collapse_figure, lammps_figure]
+# Page order: the paper's figures first (Fig. 1, the size comparison, the rate dependence, the
+# collapse of Fig. 3 and the scan of Fig. 2), then the supplement's and the cross-check.
+ALL = [pressure_figure, finite_size_figure, rate_figure, collapse_figure, scan_figure,
+       finite_size_z_figure, relative_error_figure, jamming_figure, jamming_width_figure,
+       sample_pairs_figure, lammps_figure]

@@ -1,10 +1,11 @@
 """The figures of the checks' curves (checks.h5): finite size, sample pairs, LAMMPS."""
 
+import matplotlib.patches
 import matplotlib.pyplot as plt
 import numpy as np
 
-from report_plot import (Figure, Plotted, decorate, label, rate_colors, rate_label, rate_text,
-                         save)
+from report_plot import (Figure, Plotted, decorate, label, panels_with_key, rate_colors,
+                         rate_label, rate_text, save)
 
 
 def _offset_step(curves):
@@ -13,62 +14,108 @@ def _offset_step(curves):
     return float(np.clip(2.2 * max(spans, default=0.1), 0.02, 2.0))
 
 
-def _finite_size_panels(found):
-    """(phi_init, at_z, verdicts) for each panel that has verdicts: rows of phi_init, constant
-    phi beside constant Z."""
-    panels = []
-    for phi_init in sorted({v.values.get("phi_init", 0.0) for v in found}):
-        for at_z in (0.0, 1.0):
-            mine = [v for v in found if v.values.get("phi_init", 0.0) == phi_init
-                    and v.values.get("constant_z", 0.0) == at_z]
-            if mine:
-                mine.sort(key=lambda v: -v.values.get("log10_rate", 0.0))
-                panels.append((phi_init, at_z, mine))
-    return panels
+# A panel's title gives each phi_init's verdict, shortened to fit.
+SHORT = {"pass": "pass", "fail": "FAIL", "inconclusive": "inconcl."}
+# Each panel's vertical range, in margins: at least +-2 (the band and some room), at most +-6
+# (so that a difference of one margin still takes a sixth of the axis); points beyond the
+# range are left in the CSV and said so in the caption.
+MARGINS_SHOWN = (2.0, 6.0)
 
 
-def _finite_size_panel(ax, phi_init, at_z, mine, colors, plotted):
-    step = _offset_step([(v.curves["delta"], v.curves["sigma"]) for v in mine])
-    n_a, n_b = int(mine[0].values.get("n_a", 0)), int(mine[0].values.get("n_b", 0))
-    panel = (f"N={n_a} vs N={n_b}, phi_init {phi_init:g}, constant "
-             f"{'Z' if at_z else 'phi'}")
-    plotted.panel(panel, "contacts per particle Z" if at_z else "packing fraction phi",
-                  "Delta p/p + offset")
-    for k, v in enumerate(mine):
-        r = v.values.get("log10_rate", 0.0)
-        offset = k * step
-        label = f"{rate_label(r)} (+{offset:.2g}), {v.status}"
-        ax.axhline(offset, color=colors[r], lw=0.6, ls="--")
-        ax.errorbar(v.curves["grid"], v.curves["delta"] + offset, yerr=v.curves["sigma"],
-                    marker="o", ms=2.5, lw=0.8, color=colors[r], label=label)
-        plotted.add(panel, f"{rate_text(r)} (offset +{offset:.2g}), {v.status}",
-                    v.curves["grid"], v.curves["delta"] + offset, v.curves["sigma"])
-    ax.set_title(panel, fontsize=9)
-    decorate(ax, "contacts per particle $Z$" if at_z else r"packing fraction $\phi$",
-             r"$\Delta p/p$ + offset")
+def _series(v):
+    """What tells curves of one rate panel apart: the pair of sizes and phi_init."""
+    n_a, n_b = int(v.values.get("n_a", 0)), int(v.values.get("n_b", 0))
+    return f"N={n_a} vs {n_b}, phi_init {v.values.get('phi_init', 0.0):g}"
+
+
+def _y_range(mine, margin):
+    """+-(2..6) margins, wide enough for the curves inside the judged range."""
+    spans = []
+    for v in mine:
+        g, d, s = v.curves["grid"], v.curves["delta"], v.curves["sigma"]
+        inside = (g >= v.values.get("range_min", -np.inf)) & (g <= v.values.get("range_max", np.inf))
+        inside &= np.isfinite(d) & np.isfinite(s)
+        if inside.any():
+            spans.append(np.percentile(np.abs(d[inside]) + s[inside], 90))
+    lo, hi = MARGINS_SHOWN
+    return margin * float(np.clip(max(spans, default=0) / margin * 1.15, lo, hi))
+
+
+def _finite_size_panel(ax, rate, mine, colors, plotted, panel_name):
+    margin = mine[0].margin or 0.1
+    ax.axhspan(-margin, margin, color="tab:green", alpha=0.12, lw=0)
+    ax.axhline(0, color="k", lw=0.5)
+    judged = [v for v in mine if "range_min" in v.values]
+    if judged:
+        ax.axvspan(min(v.values["range_min"] for v in judged),
+                   max(v.values["range_max"] for v in judged), color="tab:blue", alpha=0.07, lw=0)
+    for v in mine:
+        name = _series(v)
+        g, d, s = v.curves["grid"], v.curves["delta"], v.curves["sigma"]
+        ax.errorbar(g, d, yerr=s, marker="o", ms=2, lw=0.8, elinewidth=0.5, color=colors[name],
+                    errorevery=max(1, len(g) // 40), markevery=max(1, len(g) // 40))
+        plotted.add(panel_name, f"{rate_text(rate)}, {name}, {v.status}", g, d, s)
+    shown = _y_range(mine, margin)
+    ax.set_ylim(-shown, shown)
+    words = ", ".join(f"{v.values.get('phi_init', 0):g} {SHORT.get(v.status, v.status)}"
+                      for v in mine)
+    ax.set_title(f"{rate_label(rate)}: {words}", fontsize=8)
+    ax.grid(alpha=0.3)
+
+
+def _finite_size_grid(c, found, at_z, out_dir):
+    """One panel per rate, Delta p/p of every pair and phi_init on one scale, no offsets."""
+    mine = [v for v in found if v.values.get("constant_z", 0.0) == at_z]
+    if not mine:
+        return None
+    rates = sorted({v.values.get("log10_rate", 0.0) for v in mine}, reverse=True)
+    names = sorted({_series(v) for v in mine})
+    palette = plt.get_cmap("tab10")
+    colors = {name: palette(k % 10) for k, name in enumerate(names)}
+    columns = min(len(rates), 5)
+    rows = (len(rates) + columns - 1) // columns
+    fig, axes, key = panels_with_key(rows, columns, (2.9, 2.5), key_width=2.2)
+    plotted = Plotted()
+    x_name = "contacts per particle Z" if at_z else "packing fraction phi"
+    panel_name = "Delta p/p at constant " + ("Z" if at_z else "phi")
+    plotted.panel(panel_name, x_name, "Delta p/p (fraction)")
+    for ax, rate in zip(axes.ravel(), rates):
+        here = [v for v in mine if v.values.get("log10_rate", 0.0) == rate]
+        _finite_size_panel(ax, rate, here, colors, plotted, panel_name)
+    for ax in axes.ravel()[len(rates):]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel("contacts per particle $Z$" if at_z else r"packing fraction $\phi$")
+    for ax in axes[:, 0]:
+        ax.set_ylabel(r"$\Delta p/p$")
+    handles = [plt.Line2D([], [], color=colors[n], marker="o", ms=3, lw=0.8, label=n)
+               for n in names]
+    handles += [matplotlib.patches.Patch(color="tab:green", alpha=0.25,
+                                         label=f"margin +-{100 * (mine[0].margin or 0.1):g}%"),
+                matplotlib.patches.Patch(color="tab:blue", alpha=0.15, label="range judged")]
+    key.legend(handles=handles, loc="center left", fontsize=8, borderaxespad=0)
+    stem = "finite_size_z" if at_z else "finite_size"
+    file = save(fig, out_dir, stem + ".png", plotted)
+    what = "Z" if at_z else "phi"
+    return Figure(file, f"Finite size: Delta p/p at constant {what}",
+                  "Delta p/p = 2(p_a - p_b)/(p_a + p_b) of the sample means against "
+                  + ("Z" if at_z else "phi") + ", one panel per rate, all on one scale without "
+                  "offsets; error bars: the errors the finite-size check uses; green band: the "
+                  "margin; blue: the range the pooled verdict judges; each panel's title gives "
+                  "each phi_init's verdict (phi_init, then pass, FAIL or inconcl.). Vertical range 2 to 6 margins: points beyond it "
+                  "(far from phi_J, where p is small and Delta p/p noisy) are in the CSV.")
 
 
 def finite_size_figure(c, out_dir):
-    """The supplement's relE-p figures: Delta p/p between sizes against phi and Z per rate."""
+    """The supplement's relE-p figures at constant phi, as small multiples per rate."""
     found = [v for v in c.verdicts if v.figure == "finite_size" and "delta" in v.curves]
-    if not found:
-        return None
-    panels = _finite_size_panels(found)
-    columns = 2 if len(panels) > 1 else 1
-    rows = (len(panels) + columns - 1) // columns
-    fig, axes = plt.subplots(rows, columns, layout="constrained", squeeze=False,
-                             figsize=(5.5 * columns, 3.6 * rows))
-    colors = rate_colors([v.values.get("log10_rate", 0.0) for v in found])
-    plotted = Plotted()
-    for ax, (phi_init, at_z, mine) in zip(axes.ravel(), panels):
-        _finite_size_panel(ax, phi_init, at_z, mine, colors, plotted)
-    for ax in axes.ravel()[len(panels):]:
-        ax.set_visible(False)
-    file = save(fig, out_dir, "finite_size.png", plotted)
-    return Figure(file, "Finite size: Delta p/p between the two sizes",
-                  "Delta p/p = 2(p_a - p_b)/(p_a + p_b) of the sample means, against phi "
-                  "and against Z (each panel's title says which), each rate offset vertically "
-                  "(dashed line: its zero); error bars are the errors the finite-size check uses.")
+    return _finite_size_grid(c, found, 0.0, out_dir) if found else None
+
+
+def finite_size_z_figure(c, out_dir):
+    """The same at constant Z."""
+    found = [v for v in c.verdicts if v.figure == "finite_size" and "delta" in v.curves]
+    return _finite_size_grid(c, found, 1.0, out_dir) if found else None
 
 
 def sample_pairs_figure(c, out_dir):

@@ -3,10 +3,9 @@ Fig. 2) and the collapse (Fig. 3). The paper's values are shown for comparison o
 scaling function is not published as a formula, and nothing here is fitted with them."""
 
 import matplotlib.pyplot as plt
-import matplotlib.transforms
 import numpy as np
 
-from report_plot import Figure, Plotted, rate_colors, rate_label, rate_text, save
+from report_plot import Figure, Plotted, panels_with_key, rate_colors, rate_label, rate_text, save
 
 MARKERS = ["o", "s", "^", "D", "v"]
 PARAMETERS = [("phi_j", r"$\phi_J$", "phi_J"), ("beta", r"$\beta$", "beta"), ("y", "$y$", "y")]
@@ -39,23 +38,25 @@ def _x_axis(log_rate, index, widths):
     return (index.astype(float), list(range(len(widths))), [f"±{w:g}" for w in widths], label)
 
 
+def _usable(scan):
+    """Rows whose fit converged and passed its own quality test (`quality_ok`; files written
+    before it carry none: every converged row)."""
+    ok = np.isfinite(scan["phi_j"])
+    if "quality_ok" in scan:
+        ok &= scan["quality_ok"] == 1
+    return ok
+
+
 def _scan_panel(ax, scan, name, text, geometry, plotted):
     index, widths, x, log_rate = geometry
     chosen = scan.get("chosen", np.zeros(len(scan["rate_max"])))
-    bottom = matplotlib.transforms.blended_transform_factory(ax.transData, ax.transAxes)
-    failed_label = "fit failed"
+    usable = _usable(scan)
     for k, w in enumerate(widths):
-        ok = (index == k) & np.isfinite(scan[name])
-        failed = (index == k) & ~np.isfinite(scan[name])
+        ok = (index == k) & usable & np.isfinite(scan[name])
         series = f"phi_J ± {w:g}"
         ax.errorbar(x[ok], scan[name][ok], yerr=scan[name + "_error"][ok], capsize=3,
                     marker=MARKERS[k % len(MARKERS)], ls="-", lw=0.8, label=f"$\\phi_J \\pm {w:g}$")
-        plotted.add(text, series, log_rate[index == k], scan[name][index == k],
-                    scan[name + "_error"][index == k])
-        if failed.any():
-            ax.plot(x[failed], np.full(failed.sum(), 0.04), "x", color="tab:red", ms=8,
-                    transform=bottom, label=failed_label)
-            failed_label = None
+        plotted.add(text, series, log_rate[ok], scan[name][ok], scan[name + "_error"][ok])
         pick = ok & (chosen == 1)
         if pick.any():
             ax.plot(x[pick], scan[name][pick], marker="*", ms=16, color="black", ls="none",
@@ -73,7 +74,8 @@ def _failure_reasons(text):
     """The distinct reasons in fit/scan's `failures` (one line per failed row)."""
     reasons = []
     for line in str(text or "").splitlines():
-        reason = line.split(": ", 1)[-1].strip()
+        # The reason without its numbers in brackets: one entry per kind of failure.
+        reason = line.split(": ", 1)[-1].split(" (")[0].strip()
         if reason and reason not in reasons:
             reasons.append(reason)
     return reasons
@@ -112,9 +114,15 @@ def _scan_caption(c, rates):
                "values, for comparison only (nothing is fitted with them).")
     if len(rates) < 2 and len(c.fit["scan"]["rate_max"]):
         caption += " The scan has a single rate_max, so the windows stand side by side."
-    reasons = _failure_reasons(c.fit.get("scan_failures"))
-    if reasons:
-        caption += " Red crosses: fits that failed (" + "; ".join(reasons) + ")."
+    scan = c.fit["scan"]
+    failed = int(np.sum(~np.isfinite(scan["phi_j"])))
+    poor = int(np.sum(np.isfinite(scan["phi_j"]) & ~_usable(scan)))
+    if failed or poor:
+        reasons = _failure_reasons(c.fit.get("scan_failures"))
+        caption += (f" Left out: {failed} fits that failed"
+                    + (f" ({'; '.join(reasons)})" if reasons else "")
+                    + f" and {poor} that failed their own quality test (stats.h5 fit/scan "
+                    "keeps every row).")
     return caption
 
 
@@ -130,19 +138,9 @@ def _paper_citation(c):
     return f"Peshkov & Teitel ({c.dim}D): " + ", ".join(values) if values else ""
 
 
-def _collapse_key(key, ax, c):
-    """The legend in a column of its own, titled with the paper's values (cited only)."""
-    key.axis("off")
-    values = _paper_values(c)
-    title = (f"Peshkov & Teitel ({c.dim}D), cited,\nnothing drawn from them:\n" +
-             "\n".join(values)) if values else None
-    key.legend(*ax.get_legend_handles_labels(), fontsize=7, loc="center left", title=title,
-               title_fontsize=7, alignment="left", borderaxespad=0)
-
-
-def _collapse_points(ax, collapse, plotted):
+def _collapse_points(ax, collapse, plotted, colors, marker, size):
+    """One size's collapse: a colour per rate, open symbols outside the fit window."""
     log_rates = np.round(np.log10(collapse["compression_rate"]), 2)
-    colors = rate_colors(log_rates)
     # Far below the window the pressure is that of the start (~0); not drawn, it says nothing.
     floor = 1e-3 * np.min(collapse["scaled_pressure"][collapse["in_fit"] == 1], initial=np.inf)
     for r in sorted(set(log_rates), reverse=True):
@@ -153,39 +151,78 @@ def _collapse_points(ax, collapse, plotted):
                 continue
             suffix = "" if in_fit else " (not fitted)"
             ax.errorbar(collapse["x"][sel], collapse["scaled_pressure"][sel],
-                        yerr=collapse["scaled_pressure_error"][sel], marker="o", ms=3, ls="none",
-                        color=colors[r], mfc=colors[r] if in_fit else "none",
-                        alpha=1 if in_fit else 0.5, label=f"{rate_label(r)}{suffix}")
-            plotted.add("collapse", rate_text(r) + suffix, collapse["x"][sel],
+                        yerr=collapse["scaled_pressure_error"][sel], marker=marker, ms=3.5,
+                        ls="none", color=colors[r], mfc=colors[r] if in_fit else "none",
+                        alpha=1 if in_fit else 0.45, elinewidth=0.6)
+            plotted.add("collapse", f"N={size}, {rate_text(r)}{suffix}", collapse["x"][sel],
                         collapse["scaled_pressure"][sel], collapse["scaled_pressure_error"][sel])
 
 
-def collapse_figure(c, out_dir):
-    """The paper's Fig. 3: the scaling collapse, fitted and unfitted points distinguished; the
-    paper's values cited in the legend (its scaling function is not available as a formula:
-    nothing is drawn from them)."""
-    collapse = (c.fit or {}).get("collapse")
-    if not collapse or not len(collapse.get("x", [])):
-        return None
+def _collapse_sets(c):
+    """(N, fit attributes, collapse) to draw: each size's own fit at the representative's
+    phi_init and window (fit/families), else the representative fit alone."""
     rep = c.fit["representative"]
-    fig, (ax, key) = plt.subplots(1, 2, layout="constrained", figsize=(9.5, 4.8),
-                                  width_ratios=[1, 0.32])
+    phi_init = c.fit["attrs"].get("phi_init")
+    families = [f for f in (c.fit.get("families") or {}).values()
+                if phi_init is None or abs(f["family_phi_init"] - phi_init) < 1e-9]
+    if len(families) > 1:
+        return [(int(f["n"]), f, f["collapse"]) for f in sorted(families, key=lambda f: f["n"])]
+    collapse = c.fit.get("collapse")
+    if not collapse or not len(collapse.get("x", [])):
+        return []
+    return [(int(c.fit["attrs"].get("n", 0)), rep, collapse)]
+
+
+def _collapse_legend(key, c, colors):
+    handles = [plt.Line2D([], [], color=colors[r], marker="o", ls="none", label=rate_label(r))
+               for r in sorted(colors, reverse=True)]
+    handles.append(plt.Line2D([], [], color="grey", marker="o", mfc="none", ls="none",
+                              label="open: not in the fit window"))
+    values = _paper_values(c)
+    title = (f"Peshkov & Teitel ({c.dim}D), cited,\nnothing drawn from them:\n" +
+             "\n".join(values)) if values else None
+    key.legend(handles=handles, fontsize=7, loc="center left", title=title, title_fontsize=7,
+               alignment="left", borderaxespad=0)
+
+
+def collapse_figure(c, out_dir):
+    """The paper's Fig. 3: the scaling collapse, one panel per size, sharing p/rate^q (each size
+    scaled with its own fit at the representative's window), fitted and unfitted points
+    distinguished; the paper's values cited in the legend (its scaling function is not
+    available as a formula: nothing is drawn from them)."""
+    if not (c.fit or {}).get("representative"):
+        return None
+    sets = _collapse_sets(c)
+    if not sets:
+        return None
+    rates = np.concatenate([np.round(np.log10(col["compression_rate"]), 2) for _, _, col in sets])
+    colors = rate_colors(rates)
+    # x is not shared: each size's own 1/(z nu) stretches its axis differently.
+    fig, axes, key = panels_with_key(1, len(sets), (3.8, 4.4), key_width=2.3, sharey="all")
     plotted = Plotted()
     plotted.panel("collapse", "x = (phi - phi_J)/rate^(1/(z nu))", "p / rate^q")
-    _collapse_points(ax, collapse, plotted)
-    ax.axvline(0, color="k", lw=0.5)
-    ax.set_yscale("log")
-    ax.set_xlabel(r"$x = (\phi - \phi_J)/\dot\epsilon^{1/z\nu}$")
-    ax.set_ylabel(r"$p / \dot\epsilon^{q}$")
-    ax.grid(alpha=0.3, which="both")
-    _collapse_key(key, ax, c)
+    for ax, (n, fit, collapse) in zip(axes[0], sets):
+        _collapse_points(ax, collapse, plotted, colors, "o", n)
+        ax.axvline(0, color="k", lw=0.5)
+        ax.set_yscale("log")
+        ax.set_xlabel(r"$x = (\phi - \phi_J)/\dot\epsilon^{1/z\nu}$")
+        ax.grid(alpha=0.3, which="both")
+        ax.set_title(f"N = {n}: $\\phi_J$ {fit['phi_j']:.4f}, q {fit['q']:.3f}, "
+                     f"1/z$\\nu$ {fit['inv_znu']:.3f}", fontsize=8)
+    axes[0, 0].set_ylabel(r"$p / \dot\epsilon^{q}$")
+    _collapse_legend(key, c, colors)
     file = save(fig, out_dir, "collapse.png", plotted)
-    return Figure(file, "Scaling collapse", _collapse_caption(rep, _paper_citation(c)))
+    return Figure(file, "Scaling collapse",
+                  _collapse_caption(c.fit["representative"], _paper_citation(c), len(sets)))
 
 
-def _collapse_caption(rep, citation):
+def _collapse_caption(rep, citation, sizes=1):
     nan = float("nan")
-    caption = (f"phi_J = {rep.get('phi_j', nan):.5f}, q = {rep.get('q', nan):.4f}, "
+    caption = ("One panel per size (vertical axis shared), each scaled with its own fit "
+               "(fit/families: the same window and order as the representative; parameters "
+               "in the panel titles), so a size that collapses differently shows in its "
+               "parameters and its curve. Representative fit: " if sizes > 1 else "")
+    caption += (f"phi_J = {rep.get('phi_j', nan):.5f}, q = {rep.get('q', nan):.4f}, "
                f"1/(z nu) = {rep.get('inv_znu', nan):.4f} (held fixed: "
                f"{rep.get('fixed', 'none')}); solid symbols were in the fit window "
                f"phi in [{rep.get('phi_min', 0):.4f}, {rep.get('phi_max', 0):.4f}], rates up to "

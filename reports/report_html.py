@@ -20,14 +20,20 @@ tr.pass td.status { background: #d8f0d8; }
 tr.fail td.status { background: #f6caca; font-weight: bold; }
 tr.inconclusive td.status { background: #f3ecd0; color: #665; }
 tr.expected td.status { background: #eadcf2; }
-ul.headlines { font-size: 1.05em; }
+ul.headlines { font-size: 1.05em; margin: 0.3em 0; }
 .reason { color: #555; font-size: 0.9em; }
-figure { margin: 1.5em 0; }
+figure { margin: 0.5em 0 1em; }
+h2 { margin: 1.2em 0 0.3em; font-size: 1.25em; }
 figure img { max-width: 100%; border: 1px solid #ddd; }
 figcaption { font-size: 0.9em; color: #444; }
 pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 0.85em; }
 .summary { font-size: 1.1em; }
-nav.contents ol { columns: 2; font-size: 0.95em; }
+nav.contents { font-size: 0.85em; color: #444; margin: 0.5em 0 1em; }
+details.check { margin: 0.4em 0; }
+details.check summary { cursor: pointer; padding: 3px 6px; }
+details.fail summary { background: #f6caca; }
+details.inconclusive summary { background: #f3ecd0; }
+details.pass summary { background: #d8f0d8; }
 p.files { font-size: 0.85em; margin-top: 0.2em; }
 """
 
@@ -133,14 +139,12 @@ def headline(check, verdicts):
 
 
 def headlines(verdicts):
-    by_check = {}
-    for v in verdicts:
-        by_check.setdefault(v.check, []).append(v)
-    return [headline(check, vs) for check, vs in by_check.items()]
+    return [headline(check, vs) for check, vs in by_check(verdicts).items()]
 
 
 def verdict_table_html(verdicts):
-    rows = ["<table id='verdicts'><tr><th>status</th><th>check</th><th>case</th>"
+    """One check's verdicts as a table: status, case (with its reason), the numbers."""
+    rows = ["<table class='verdicts'><tr><th>status</th><th>case</th>"
             "<th>statistic</th><th>value</th><th>threshold</th>"
             "<th>smallest detectable effect</th><th>effects excluded above</th>"
             "<th>margin</th></tr>"]
@@ -149,8 +153,7 @@ def verdict_table_html(verdicts):
         css = "expected" if v.expected_failure else v.status
         rows.append(
             f"<tr class='{text(css)}'><td class='status'>{text(status)}</td>"
-            f"<td>{text(v.check)}</td><td>{text(v.case)}"
-            f"<div class='reason'>{text(v.reason)}</div></td>"
+            f"<td>{text(v.case)}<div class='reason'>{text(v.reason)}</div></td>"
             f"<td>{text(v.statistic_name)}</td><td class='num'>{num(v.statistic, '.4g')}</td>"
             f"<td class='num'>{num(v.threshold, '.4g')}</td>"
             f"<td class='num'>{num(v.detectable, '.4g')}</td>"
@@ -159,6 +162,29 @@ def verdict_table_html(verdicts):
             "</tr>")
     rows.append("</table>")
     return "\n".join(rows)
+
+
+def by_check(verdicts):
+    """check name -> its verdicts, in the order the checks first appear."""
+    out = {}
+    for v in verdicts:
+        out.setdefault(v.check, []).append(v)
+    return out
+
+
+def verdicts_html(verdicts):
+    """The verdicts folded per check: a line of counts each, the table on demand (a
+    <details> element: no script)."""
+    parts = []
+    for check, mine in by_check(verdicts).items():
+        n = counts(mine)
+        css = "fail" if n["fail"] else ("inconclusive" if n["inconclusive"] else "pass")
+        parts.append(f"<details class='check {css}' id='verdicts-{text(check)}'><summary>"
+                     f"<b>{text(check)}</b>: {text(counts_text(n))} "
+                     f"({num(len(mine))} verdicts)</summary>{verdict_table_html(mine)}"
+                     "</details>")
+    return ("<p>Each check folded: its counts, then every verdict with its reason on a click. "
+            "The same in checks.json and summary.txt.</p>" + "\n".join(parts))
 
 
 def fit_rows(c):
@@ -230,9 +256,10 @@ def _figure_section(f):
 
 
 def sections(c, figures, provenance):
-    """(anchor, title, HTML) of every section in page order: the verdicts, the figures with
-    the fit's table before the fit's first figure (else after the others), the provenance."""
-    out = [_section("section-verdicts", "Verdicts", verdict_table_html(c.verdicts))]
+    """(anchor, title, HTML) of every section in page order: the figures (the fit's table
+    before the fit's first figure, else after the others), the verdicts folded per check, the
+    provenance."""
+    out = []
     fit = _section("section-fit", "Scaling fit (Eq. 1)", fit_table_html(c))
     for f in figures:
         if f.file in ("fit_scan.png", "collapse.png") and fit:
@@ -241,14 +268,15 @@ def sections(c, figures, provenance):
         out.append(_figure_section(f))
     if fit:
         out.append(fit)
+    out.append(_section("section-verdicts", "Verdicts", verdicts_html(c.verdicts)))
     out.append(_section("section-provenance", "Provenance", provenance_html(c, provenance)))
     return out
 
 
 def contents_html(parts):
-    items = "".join(f"<li><a href='#{text(anchor)}'>{text(title)}</a></li>"
-                    for anchor, title, _ in parts)
-    return f"<nav class='contents'><h2>Contents</h2><ol>{items}</ol></nav>"
+    items = " &middot; ".join(f"<a href='#{text(anchor)}'>{text(title)}</a>"
+                              for anchor, title, _ in parts)
+    return f"<nav class='contents'>Contents: {items}</nav>"
 
 
 def page(c, figures, provenance):

@@ -121,10 +121,24 @@ def rate_colors(log10_rates):
     return {r: cmap(0.85 * k / max(1, len(rates) - 1)) for k, r in enumerate(rates)}
 
 
-def shade(color, k, count):
-    """The k-th of `count` shades of `color`, from the colour itself towards white."""
-    rgb = np.array(matplotlib.colors.to_rgb(color))
-    return tuple(rgb + (1 - rgb) * 0.6 * k / max(1, count - 1))
+def panels_with_key(rows, columns, panel_size, key_width=1.9, sharex=False, sharey=None):
+    """A figure of rows x columns panels (each panel_size inches) and a column on the right
+    for the figure's one legend (matplotlib 3.6, Debian 12's, has no legend placed outside by
+    the layout). sharey: None, "row" or "all". Returns (fig, axes as a 2-D array, key axes)."""
+    width, height = panel_size
+    fig = plt.figure(layout="constrained", figsize=(width * columns + key_width, height * rows))
+    grid = fig.add_gridspec(rows, columns + 1,
+                            width_ratios=[width] * columns + [key_width])
+    axes = np.empty((rows, columns), dtype=object)
+    for r in range(rows):
+        for k in range(columns):
+            share_y = {"row": axes[r, 0] if k else None,
+                       "all": axes[0, 0] if (r or k) else None}.get(sharey)
+            axes[r, k] = fig.add_subplot(grid[r, k], sharex=axes[0, 0] if sharex and (r or k)
+                                         else None, sharey=share_y)
+    key = fig.add_subplot(grid[:, -1])
+    key.axis("off")
+    return fig, axes, key
 
 
 def rate_label(log10_rate):

@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """The report end to end: the tiny CI campaign -> stats -> checks -> `jam report`, then the page
 is checked the way a reader would meet it: every figure it references exists and is a non-empty
-PNG with something drawn on it, the verdict table has one row per verdict of checks.json, and
-the page opens in headless Chromium without console errors and renders non-blank.
+PNG with something drawn on it, the verdicts are folded per check with one row per verdict of
+checks.json, and the page opens in headless Chromium without console errors, renders non-blank,
+and shows a figure, loaded, within the first screen (1280 x 800) with the verdict tables folded.
 
-The two detectors this relies on (console errors, a blank screenshot) are themselves tested on
-pages with a planted fault, so a detector that can never fire would fail here.
+The detectors this relies on (console errors, a blank screenshot, the layout probe) are
+themselves tested on pages with a planted fault, so a detector that can never fire would fail
+here.
 
 Usage (ctest runs it): test_report.py --jam build/jam --source .
 """
@@ -14,6 +16,7 @@ import argparse
 import html.parser
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -58,6 +61,48 @@ def render(url, screenshot, workdir):
     return [line for line in r.stderr.splitlines() if ":CONSOLE" in line]
 
 
+# The layout probe: a copy of the page with this script added reports, once everything has
+# loaded, where the first figure's image lies, whether it loaded, and how tall the visible rows
+# of the verdict tables are, into the body's attributes, which --dump-dom prints. The report
+# itself has no script; only the probe's copy does.
+PROBE = """<script>
+window.addEventListener('load', () => {
+  const img = document.querySelector('figure img');
+  const r = img ? img.getBoundingClientRect() : null;
+  let rows = 0;
+  for (const tr of document.querySelectorAll('table.verdicts tr'))
+    if (tr.checkVisibility()) rows += tr.getBoundingClientRect().height;
+  document.body.setAttribute('data-figure-top', r ? r.top : -1);
+  document.body.setAttribute('data-figure-height', r ? r.height : -1);
+  document.body.setAttribute('data-figure-loaded', img && img.complete && img.naturalWidth > 0 ? 1 : 0);
+  document.body.setAttribute('data-verdict-rows-height', rows);
+  document.body.setAttribute('data-screen', window.innerHeight);
+});
+</script>"""
+
+
+def layout(page_path, workdir):
+    """The probe's numbers for the page at page_path, rendered 1280 x 800 by Chromium."""
+    with open(page_path) as f:
+        page = f.read()
+    probe = os.path.join(os.path.dirname(page_path), "probe-copy.html")
+    with open(probe, "w") as f:
+        f.write(page.replace("</body>", PROBE + "</body>"))
+    profile = tempfile.mkdtemp(dir=workdir, prefix="chromium-profile-")
+    try:
+        r = subprocess.run([chromium(), *CHROMIUM_FLAGS, f"--user-data-dir={profile}",
+                            "--window-size=1280,800", "--virtual-time-budget=10000",
+                            "--dump-dom", "file://" + probe],
+                           capture_output=True, text=True, timeout=120)
+    finally:
+        os.remove(probe)
+    found = dict(re.findall(r'data-([a-z-]+)="([-0-9.e]+)"', r.stdout))
+    if "figure-top" not in found:
+        raise AssertionError(f"the layout probe reported nothing (exit {r.returncode}):\n"
+                             f"{r.stderr[-2000:]}")
+    return {k: float(v) for k, v in found.items()}
+
+
 def drawn_fraction(png):
     """Fraction of pixels that are not (nearly) the background colour of the image."""
     image = matplotlib.image.imread(png)[..., :3]
@@ -69,12 +114,15 @@ class PageParser(html.parser.HTMLParser):
     def __init__(self):
         super().__init__()
         self.images, self.verdict_rows, self._in_verdicts = [], 0, False
+        self.folds = []  # (id, open) of each <details> of the verdicts
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
         if tag == "img":
             self.images.append(a.get("src", ""))
-        if tag == "table" and a.get("id") == "verdicts":
+        if tag == "details":
+            self.folds.append((a.get("id", ""), "open" in a))
+        if tag == "table" and a.get("class") == "verdicts":
             self._in_verdicts = True
         if tag == "tr" and self._in_verdicts and a.get("class") in ("pass", "fail", "inconclusive",
                                                                         "expected"):
@@ -112,8 +160,9 @@ class Report(unittest.TestCase):
         # The CI campaign has 2 samples per ensemble: sample_pairs needs 3 and is inconclusive, so its
         # figure is absent; the collapse is drawn only when the fit found a representative row
         # (two fast rates rarely give one); every other section of the report must be there.
-        expected = {"pressure.png", "finite_size.png", "relative_errors.png",
-                    "jamming_points.png", "jamming_width.png", "fit_scan.png", "lammps.png"}
+        expected = {"pressure.png", "finite_size.png", "finite_size_z.png", "pressure_rate.png",
+                    "relative_errors.png", "jamming_points.png", "jamming_width.png",
+                    "fit_scan.png", "lammps.png"}
         with h5py.File(os.path.join(self.work, "runs", "ci", "stats.h5"), "r") as f:
             if "fit/representative" in f:
                 expected.add("collapse.png")
@@ -136,13 +185,43 @@ class Report(unittest.TestCase):
         self.assertIn("feel the finite size" if fitted else "the rate&#x27;s scale is not drawn",
                       self.page)
 
-    def test_verdict_table_has_every_verdict(self):
+    def test_verdicts_folded_per_check_after_the_figures(self):
         with open(os.path.join(self.work, "runs", "ci", "checks.json")) as f:
             verdicts = json.load(f)["verdicts"]
         self.assertGreater(len(verdicts), 10)
         self.assertEqual(self.parser.verdict_rows, len(verdicts))
-        # The table comes first, before any figure.
-        self.assertLess(self.page.index("id='verdicts'"), self.page.index("<img"))
+        checks = list(dict.fromkeys(v["check"] for v in verdicts))
+        self.assertEqual(self.parser.folds, [(f"verdicts-{c}", False) for c in checks])
+        # Figures first: the first image before the verdicts, the headline before both.
+        self.assertLess(self.page.index("<img"), self.page.index("class='verdicts'"))
+        self.assertLess(self.page.index("class=\"headlines\""), self.page.index("<img"))
+
+    def test_a_figure_is_in_the_first_screen_and_the_verdicts_folded(self):
+        seen = layout(os.path.join(self.out, "index.html"), self.work)
+        self.assertEqual(seen["figure-loaded"], 1, seen)
+        # The image starts within the first screen and at least 200 px of it show there.
+        self.assertLess(seen["figure-top"] + 200, seen["screen"], seen)
+        self.assertGreater(seen["figure-height"], 200, seen)
+        self.assertEqual(seen["verdict-rows-height"], 0, seen)
+
+    def test_layout_probe_fires_on_planted_faults(self):
+        # The old layout's fault: a long table before the first figure; and an image that
+        # does not load; and verdict tables left open.
+        with open(os.path.join(self.out, "index.html")) as f:
+            page = f.read()
+        planted = os.path.join(self.out, "planted.html")
+        rows = "".join(f"<tr><td>row {k}</td></tr>" for k in range(200))
+        with open(planted, "w") as f:
+            f.write(page.replace("<h2>", f"<table>{rows}</table><h2>", 1)
+                    .replace("<details ", "<details open ")
+                    .replace("src='pressure.png'", "src='missing.png'"))
+        try:
+            seen = layout(planted, self.work)
+        finally:
+            os.remove(planted)
+        self.assertGreater(seen["figure-top"], seen["screen"], seen)
+        self.assertEqual(seen["figure-loaded"], 0, seen)
+        self.assertGreater(seen["verdict-rows-height"], 0, seen)
 
     def test_text_summary_and_provenance(self):
         self.assertIn("passed", self.result.stdout)
