@@ -306,20 +306,20 @@ def compare(got, path):
         same(got[key], want[key], f"{path} {key}")
 
 
-def put_attrs(out, where, attrs):
+def put_attrs(out, where, attrs, units=()):
     out.update({("attr", where, k): v for k, v in attrs.items()})
+    out.update({("attr", f"{where.rstrip('/')}/{k}", "units"): u for k, u in dict(units).items()})
 
 
 def put_group(out, where, group):
     if group is not None:
-        put_attrs(out, where, group.attrs)
+        put_attrs(out, where, group.attrs, group.units)
         out.update({("data", f"{where}/{k}"): v for k, v in group.items()})
 
 
 def run_flat(r):
     out = {("data", f"/{k}"): v for k, v in r.data.items()}
-    put_attrs(out, "/", r.attrs)
-    out.update({("attr", f"/{k}", "units"): u for k, u in r.units.items()})
+    put_attrs(out, "/", r.attrs, r.units)
     return out
 
 
@@ -337,12 +337,12 @@ def stats_flat(s):
             put_group(out, f"/{key}/scan", fit.scan)
             for name, family in fit.families.items():
                 where = f"/{key}/families/{name}"
-                put_attrs(out, where, family.attrs)
+                put_attrs(out, where, family.attrs, family.units)
                 if family.coefficients is not None:
                     out[("data", where + "/coefficients")] = family.coefficients
                 put_group(out, where + "/collapse", family.collapse)
         if fit is not None and fit.representative is not None:
-            put_attrs(out, f"/{key}/representative", fit.representative)
+            put_attrs(out, f"/{key}/representative", fit.representative, fit.units)
             out[("data", f"/{key}/representative/coefficients")] = fit.coefficients
             put_group(out, f"/{key}/representative/collapse", fit.collapse)
     return out

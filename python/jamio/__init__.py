@@ -1,22 +1,34 @@
 """jamio: readers for the files jam writes (reference/schema.md).
 
     load_run(path)            one run file -> Run (attrs, data, units)
-    load_runs(campaign_dir)   every run of a campaign -> one table (pandas DataFrame if
-                              pandas is installed, else a dict of numpy arrays)
+    load_runs(campaign_dir)   every run of a campaign -> one table of the run files' values
+                              (pandas DataFrame if pandas is installed, else numpy arrays)
     load_stats(dir_or_file)   stats.h5 -> Stats (attrs, paper, ensembles, fit, fit_z)
     load_checks(dir_or_file)  checks.json (schema 1 or 2) and checks.h5 -> Checks
+
+Tables on the campaign's nominal coordinates (n, phi_init, log10_rate, sample, and phi on the
+output grid as exact values), with units; they need pandas, the Datasets xarray:
+
+    runs_frame(campaign_dir), runs_dataset(campaign_dir)      every output point of every run
+    stats_frame(stats), stats_dataset(stats)                  every ensemble's averages
 
 Strings come back as str, numbers as int and float, datasets as numpy arrays. A file that is
 missing or cannot be read raises JamioError (a ValueError) whose message starts with its path.
 """
 
+from .campaign import Design, load_design
 from .checks import Checks, load_checks
 from .errors import JamioError
+from .frames import runs_dataset, runs_frame, stats_dataset, stats_frame
+from .grid import grid_value
 from .hdf5 import Group
 from .runs import Run, load_run, load_runs, run_files
-from .stats import Ensemble, FamilyFit, Fit, Stats, load_stats
+from .stats import Ensemble, EnsembleKey, FamilyFit, Fit, Stats, load_stats
+from .units import unit_of
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
-__all__ = ["Checks", "Ensemble", "FamilyFit", "Fit", "Group", "JamioError", "Run", "Stats", "load_checks",
-           "load_run", "load_runs", "load_stats", "run_files", "__version__"]
+__all__ = ["Checks", "Design", "Ensemble", "EnsembleKey", "FamilyFit", "Fit", "Group",
+           "JamioError", "Run", "Stats", "grid_value", "load_checks", "load_design", "load_run",
+           "load_runs", "load_stats", "run_files", "runs_dataset", "runs_frame", "stats_dataset",
+           "stats_frame", "unit_of", "__version__"]

@@ -2,6 +2,7 @@
 low-level failures (h5py, json, the operating system) into it."""
 
 import contextlib
+import importlib
 import os
 import stat
 
@@ -117,3 +118,13 @@ def require_file(path, what):
     the path itself."""
     with open_regular(path, what):
         pass
+
+
+def optional_module(module):
+    """The optional `module` (pandas, xarray) imported, or an ImportError of one line naming it
+    and its Debian package: jamio's readers need neither, only its tables do."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise ImportError(f"jamio: this table needs {module}, which cannot be imported; install "
+                          f"python3-{module} (Debian) or pip install 'jamio[{module}]'") from None

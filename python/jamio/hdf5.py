@@ -18,11 +18,14 @@ from .errors import cause, reading, require_file, shown
 
 
 class Group(dict):
-    """The datasets of one HDF5 group (name -> numpy array), with its attributes in `attrs`."""
+    """The datasets of one HDF5 group (name -> numpy array), with its attributes in `attrs` and
+    each dataset's attribute `units` in `units` (dataset -> unit, for the datasets that have
+    one)."""
 
-    def __init__(self, data=(), attrs=None):
+    def __init__(self, data=(), attrs=None, units=None):
         super().__init__(data)
         self.attrs = dict(attrs or {})
+        self.units = dict(units or {})
 
     def __repr__(self):
         return f"Group({list(self)}, attrs={list(self.attrs)})"
@@ -151,9 +154,16 @@ def array(dataset):
         raise ValueError(f"dataset {shown(dataset.name)}: {cause(e)}") from e
 
 
+def units(datasets):
+    """The attribute `units` of each dataset that has one (name -> str)."""
+    return {k: attrs(v)["units"] for k, v in datasets.items() if "units" in v.attrs}
+
+
 def group(g):
-    """The datasets directly inside `g` and its attributes (subgroups are not included)."""
-    return Group({k: array(v) for k, v in g.items() if isinstance(v, h5py.Dataset)}, attrs(g))
+    """The datasets directly inside `g`, its attributes and the datasets' units (subgroups are
+    not included)."""
+    datasets = {k: v for k, v in g.items() if isinstance(v, h5py.Dataset)}
+    return Group({k: array(v) for k, v in datasets.items()}, attrs(g), units(datasets))
 
 
 def optional_group(parent, name):

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 import h5py
 import numpy as np
 
-from .errors import JamioError, reading
-from .hdf5 import array, attrs, read_hdf5, require
+from .errors import JamioError, optional_module, reading
+from .hdf5 import array, attrs, read_hdf5, require, units
 
 # The datasets every run file has (one entry per output point) and those only some have.
 SERIES = ("packing_fraction", "pressure", "contacts_per_particle", "energy_per_particle", "time")
@@ -20,7 +20,7 @@ OPTIONAL_SERIES = ("contacts_per_particle_no_rattlers", "rattler_fraction")
 PARAMETERS = ("n", "phi_init", "compression_rate", "seed")
 
 
-@dataclass
+@dataclass(repr=False)
 class Run:
     """One run file. `attrs`: every root attribute (str, int, float); `data`: every dataset
     (numpy arrays); `units`: each dataset's unit where the file stores one (schema 2).
@@ -41,6 +41,15 @@ class Run:
     def schema_version(self):
         """2 for files with the attribute `schema_version`, 1 for older files."""
         return int(self.attrs.get("schema_version", 1))
+
+    def __repr__(self):
+        """One line: what the run is, not its arrays."""
+        a, phi = self.attrs, self.data.get("packing_fraction")
+        where = "" if phi is None or not len(phi) else f" (phi {phi[0]:.6g} to {phi[-1]:.6g})"
+        sample = f", sample {a['sample']}" if "sample" in a else ""
+        return (f"Run {self.name}: N {a.get('n')}, phi_init {a.get('phi_init', float('nan')):.6g}, "
+                f"rate {a.get('compression_rate', float('nan')):.4g}{sample}, "
+                f"{0 if phi is None else len(phi)} points{where}")
 
     def __getitem__(self, key):
         return self.data[key]
@@ -75,8 +84,7 @@ def _check(run):
 
 def _read_run(path, f):
     datasets = {k: v for k, v in f.items() if isinstance(v, h5py.Dataset)}
-    units = {k: attrs(v)["units"] for k, v in datasets.items() if "units" in v.attrs}
-    run = Run(path, attrs(f), {k: array(v) for k, v in datasets.items()}, units)
+    run = Run(path, attrs(f), {k: array(v) for k, v in datasets.items()}, units(datasets))
     _check(run)
     return run
 
@@ -146,14 +154,18 @@ def load_runs(campaign_dir, as_frame=None, skip_unreadable=False):
     `contacts_per_particle_no_rattlers`, `rattler_fraction` when a run has them, NaN in the
     others). A pandas DataFrame when pandas can be imported (as_frame=None) or as_frame=True,
     else a dict of numpy arrays (the same columns). An unreadable run file is a JamioError, or
-    with skip_unreadable=True a warning naming it."""
+    with skip_unreadable=True a warning naming it.
+
+    The values are the run files' own: `phi_init` is the packing each run's box had at t = 0
+    (0.5999999999999998 for the campaign's 0.6; a chained run's start), `packing_fraction`
+    where each point was taken. To group by the campaign's values and grid, use runs_frame."""
     table = _table(_load_each(run_files(campaign_dir), skip_unreadable))
     if as_frame is False:
         return table
+    if as_frame:
+        return optional_module("pandas").DataFrame(table)
     try:
         import pandas
     except ImportError:
-        if as_frame:
-            raise
         return table
     return pandas.DataFrame(table)

@@ -4,20 +4,35 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import h5py
 
-from .hdf5 import Group, array, attrs, optional_group, read_hdf5, require
+from .hdf5 import Group, array, attrs, optional_group, read_hdf5, require, units
 
 # The root attributes every stats.h5 has.
 REQUIRED = ("campaign", "dim", "version")
 
 
-@dataclass
+class EnsembleKey(NamedTuple):
+    """An ensemble's nominal coordinates, as the campaign file gives them (n 0: sizes pooled).
+    A tuple: (128, 0.7, -3.0) finds the same ensemble."""
+
+    n: int
+    phi_init: float
+    log10_rate: float
+
+
+# Two keys name the same ensemble when they agree to this (relative) round-off: the file's
+# values are the campaign file's, and a key may be typed as -3 for -3.0.
+_SAME = 1e-12
+
+
+@dataclass(repr=False)
 class Ensemble:
     """`ensembles/<name>/`: one (size, phi_init, rate) average. `attrs`: `n`, `phi_init`,
     `log10_rate`, `compression_rate`, `samples`; `constant_phi`, `constant_z`, `jamming`: Groups
-    (dicts of arrays with `.attrs`), None where the file has no such group."""
+    (dicts of arrays with `.attrs` and `.units`), None where the file has no such group."""
 
     name: str
     attrs: dict
@@ -25,26 +40,64 @@ class Ensemble:
     constant_z: Group | None
     jamming: Group | None
 
+    @property
+    def key(self):
+        """(n, phi_init, log10_rate) as the file stores them: the campaign file's values."""
+        a = self.attrs
+        return EnsembleKey(int(a["n"]), float(a["phi_init"]), float(a["log10_rate"]))
 
-@dataclass
+    def __repr__(self):
+        """One line: the ensemble's coordinates and sizes, not its arrays."""
+        a = self.attrs
+        points = [f"{len(g['pressure_mean'])} points at constant {what}"
+                  for g, what in ((self.constant_phi, "phi"), (self.constant_z, "Z"))
+                  if g is not None and "pressure_mean" in g]
+        return (f"Ensemble {self.name}: N {a.get('n') or 'pooled'}, phi_init "
+                f"{_number(a.get('phi_init'))}, log10_rate {_number(a.get('log10_rate'))}, "
+                f"{a.get('samples')} samples, {', '.join(points) or 'no averages'}")
+
+
+def _number(v, spec="g"):
+    """A number for a repr; anything else (from a damaged file) as its repr."""
+    return format(v, spec) if isinstance(v, (int, float)) else repr(v)
+
+
+def _fitted(a):
+    """phi_J, beta, y of a fit's attributes with their errors, or why there is no fit: a line
+    of at most about 100 characters."""
+    if "phi_j" not in a:
+        why = str(a.get("failure", "no failure stated"))
+        return f"none ({why if len(why) <= 80 else why[:77] + '...'})"
+    return ", ".join(f"{name} {_number(a[key], '.5g')} +- {_number(a.get(key + '_error'), '.2g')}"
+                     for name, key in (("phi_J", "phi_j"), ("beta", "beta"), ("y", "y"))
+                     if key in a)
+
+
+@dataclass(repr=False)
 class FamilyFit:
     """`fit/families/<name>/`: one (N, phi_init) fitted at the representative's window.
     `attrs`: `n`, `family_phi_init`, and the representative's attributes (`phi_j`, `beta`,
-    `y` with `_error` ...) or only `failure`; `coefficients` and `collapse` None on failure."""
+    `y` with `_error` ...) or only `failure`; `coefficients` and `collapse` None on failure;
+    `units`: the unit of `coefficients` where the file states one."""
 
     attrs: dict
     coefficients: object
     collapse: Group | None
+    units: dict = field(default_factory=dict)
+
+    def __repr__(self):
+        a = self.attrs
+        return f"FamilyFit N {a.get('n')}, phi_init {a.get('family_phi_init')}: {_fitted(a)}"
 
 
-@dataclass
+@dataclass(repr=False)
 class Fit:
     """`fit/` (at constant phi) or `fit_z/` (at constant Z). `attrs`: of the group itself
     (`phi_init`, `n`, `rates_note`, `failure`); `representative`: the attributes of
     `representative/` (None without a representative fit); `coefficients`: its c_0..c_K;
     `collapse`, `scan`: Groups (`scan.attrs["failures"]` says why rows failed);
     `families`: `families/` (each (N, phi_init) fitted as the representative), name ->
-    FamilyFit."""
+    FamilyFit; `units`: the unit of `coefficients` where the file states one."""
 
     attrs: dict
     representative: dict | None
@@ -52,12 +105,20 @@ class Fit:
     collapse: Group | None
     scan: Group | None
     families: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
+
+    def __repr__(self):
+        rows = 0 if self.scan is None else len(next(iter(self.scan.values()), []))
+        return (f"Fit: {_fitted(self.representative or self.attrs)}; {rows} scan rows, "
+                f"{len(self.families)} families")
 
 
-@dataclass
+@dataclass(repr=False)
 class Stats:
     """stats.h5: root `attrs`, `paper` (the paper's published values, attributes of `paper/`),
-    `ensembles` (name -> Ensemble, in the file's order), `fit` and `fit_z` (None when absent)."""
+    `ensembles` (name -> Ensemble, in the file's order), `fit` and `fit_z` (None when absent).
+    `ensemble(n, phi_init, log10_rate)` and `by_coordinates` find ensembles by their nominal
+    coordinates; `frame()` and `dataset()` give the averages as pandas and xarray tables."""
 
     path: str
     attrs: dict
@@ -65,6 +126,40 @@ class Stats:
     ensembles: dict
     fit: Fit | None
     fit_z: Fit | None
+
+    def __repr__(self):
+        """Two lines: what the file holds, not its arrays."""
+        a, fit = self.attrs, ""
+        if self.fit is not None:
+            fit = f"\n  fit at constant phi: {_fitted(self.fit.representative or self.fit.attrs)}"
+        return (f"Stats {self.path}: campaign {a.get('campaign')!r}, {a.get('dim')}D, "
+                f"{len(self.ensembles)} ensembles of {a.get('runs')} runs{fit}")
+
+    @property
+    def by_coordinates(self):
+        """The ensembles keyed by EnsembleKey (n, phi_init, log10_rate), a plain tuple."""
+        return {e.key: e for e in self.ensembles.values()}
+
+    def ensemble(self, n, phi_init, log10_rate):
+        """The ensemble of these nominal coordinates (n 0: sizes pooled), matched to round-off
+        (log10_rate -3 finds -3.0); a KeyError of one line naming those there are."""
+        want = (float(n), float(phi_init), float(log10_rate))
+        for key, e in self.by_coordinates.items():
+            if all(abs(a - b) <= _SAME * max(1.0, abs(b)) for a, b in zip(want, key)):
+                return e
+        have = ", ".join(str(tuple(k)) for k in self.by_coordinates)
+        raise KeyError(f"no ensemble (n, phi_init, log10_rate) = {tuple(want)} in "
+                       f"{self.path}; there are {have}"[:1000])
+
+    def frame(self, average="constant_phi", samples=False):
+        """jamio.stats_frame of this file: a pandas DataFrame."""
+        from .frames import stats_frame
+        return stats_frame(self, average, samples)
+
+    def dataset(self, average="constant_phi"):
+        """jamio.stats_dataset of this file: an xarray Dataset."""
+        from .frames import stats_dataset
+        return stats_dataset(self, average)
 
 
 def _ensemble(name, g):
@@ -79,14 +174,20 @@ def _fit(f, name):
     families = g.get("families")
     families = {} if not isinstance(families, h5py.Group) else {
         k: FamilyFit(attrs(v), array(v["coefficients"]) if "coefficients" in v else None,
-                     optional_group(v, "collapse"))
+                     optional_group(v, "collapse"), _coefficient_units(v))
         for k, v in families.items() if isinstance(v, h5py.Group)}
     rep = g.get("representative")
     if not isinstance(rep, h5py.Group):
         return Fit(attrs(g), None, None, None, optional_group(g, "scan"), families)
     coefficients = array(rep["coefficients"]) if "coefficients" in rep else None
     return Fit(attrs(g), attrs(rep), coefficients, optional_group(rep, "collapse"),
-               optional_group(g, "scan"), families)
+               optional_group(g, "scan"), families, _coefficient_units(rep))
+
+
+def _coefficient_units(g):
+    """{"coefficients": unit} when the fit's coefficients state one."""
+    c = g.get("coefficients")
+    return units({"coefficients": c}) if isinstance(c, h5py.Dataset) else {}
 
 
 def _read_stats(path, f):

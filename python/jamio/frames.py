@@ -1,0 +1,222 @@
+"""A campaign as tables for pandas and xarray, on its nominal coordinates.
+
+runs_frame / runs_dataset: one row per output point of every run, coordinates n, phi_init,
+log10_rate (the campaign file's values), sample and phi (the grid value of the point,
+grid.py). stats_frame / stats_dataset: one row per grid point of every ensemble of stats.h5,
+averages at constant phi (coordinate phi) or at constant Z (coordinate z), with their errors,
+or with samples=True every sample's value. Units: DataFrame.attrs["units"] and each xarray
+variable's attrs["units"] (column -> unit), `units_source` says whether they come from the
+files or from jamio's table (files written before they stated units).
+
+pandas and xarray are imported here only, when a table is asked for, so that jamio's readers
+need nothing beyond numpy and h5py (xarray brings pandas; both are extras of the package).
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from .campaign import load_design
+from .errors import JamioError, optional_module
+from .grid import run_coordinates, run_grid, snap
+from .runs import OPTIONAL_SERIES, SERIES, _load_each, run_files
+from .stats import Stats, load_stats
+from .units import column_units
+
+RUN_COORDINATES = ("n", "phi_init", "log10_rate", "sample", "phi")
+ENSEMBLE_COORDINATES = ("n", "phi_init", "log10_rate")
+# The averages of stats.h5 and the coordinate of their grids.
+AVERAGES = {"constant_phi": "phi", "constant_z": "z"}
+
+
+def _frame(columns, units, source, campaign):
+    frame = optional_module("pandas").DataFrame(columns)
+    frame.attrs.update(units=units, units_source=source, campaign=campaign)
+    return frame
+
+
+def _dataset(frame, index):
+    """frame as an xarray Dataset on the coordinates `index`, its units on each variable."""
+    optional_module("xarray")
+    units = frame.attrs["units"]
+    ds = frame.set_index(list(index)).to_xarray()
+    for name in list(ds.variables):
+        if name in units:
+            ds[name].attrs["units"] = units[name]
+    ds.attrs.update(units_source=frame.attrs["units_source"], campaign=frame.attrs["campaign"])
+    return ds
+
+
+def _unique(keys, names, what):
+    """A JamioError naming the first two rows with the same coordinates."""
+    seen = {}
+    for key, name in zip(keys, names):
+        if key in seen:
+            raise JamioError(name, f"has the coordinates {key} of {seen[key]} ({what})")
+        seen[key] = name
+
+
+def _run_columns(run, design, optional):
+    n, phi_init, log10_rate, sample = run_coordinates(run, design)
+    phi = run_grid(run, design, phi_init, log10_rate)
+    m = len(phi)
+    out = {"run": np.full(m, run.name, dtype=object), "n": np.full(m, n, dtype=np.int64),
+           "phi_init": np.full(m, phi_init), "log10_rate": np.full(m, log10_rate),
+           "sample": np.full(m, sample, dtype=np.int64), "phi": phi}
+    for name in SERIES + optional:
+        out[name] = np.asarray(run.data.get(name, np.full(m, np.nan)), dtype=np.float64)
+    return out
+
+
+def runs_frame(campaign_dir, as_frame=True, skip_unreadable=False):
+    """Every output point of every finished run of a campaign as one row: `run` (its name),
+    n, phi_init, log10_rate (the campaign file's values), sample, phi (the point's grid
+    value), then the run file's series (packing_fraction where the point was taken, pressure,
+    contacts_per_particle, energy_per_particle, time, and those only some runs have). A pandas
+    DataFrame (units in .attrs["units"]), or with as_frame=False (columns, units, source). A
+    point off the campaign's grid, or a run of values the campaign file lacks, is a JamioError
+    naming the run and the value."""
+    design = load_design(campaign_dir)
+    runs = _load_each(run_files(campaign_dir), skip_unreadable)
+    optional = tuple(n for n in OPTIONAL_SERIES if any(n in r.data for r in runs))
+    parts = [_run_columns(r, design, optional) for r in runs]
+    _unique([tuple(p[c][0] for c in RUN_COORDINATES[:4]) for p in parts],
+            [r.path for r in runs], "one run per n, phi_init, log10_rate and sample")
+    names = ("run",) + RUN_COORDINATES + SERIES + optional
+    columns = {c: (np.concatenate([p[c] for p in parts]) if parts else np.empty(0))
+               for c in names}
+    stated = {k: u for r in runs for k, u in r.units.items()}
+    units, source = column_units(names, stated)
+    if not as_frame:
+        return columns, units, source
+    return _frame(columns, units, source, design.name)
+
+
+def runs_dataset(campaign_dir, skip_unreadable=False):
+    """runs_frame as an xarray Dataset: dimensions n, phi_init, log10_rate, sample, phi (NaN
+    where a run has no point at that grid value, e.g. below a chained rate's start)."""
+    frame = runs_frame(campaign_dir, skip_unreadable=skip_unreadable)
+    return _dataset(frame.drop(columns="run"), RUN_COORDINATES)
+
+
+def _phi_step(stats):
+    """The constant-phi grid's step: stats.h5's `phi_step`, else the campaign file beside it,
+    else the grids' smallest spacing rounded to 10 significant digits (files written before
+    `phi_step`, apart from their campaign)."""
+    if "phi_step" in stats.attrs:
+        return float(stats.attrs["phi_step"])
+    directory = os.path.dirname(os.path.abspath(stats.path))
+    if any(os.path.exists(os.path.join(directory, f)) for f in ("campaign.toml", "manifest.toml")):
+        step = load_design(directory).phi_step
+        if step:
+            return step
+    gaps = [np.diff(e.constant_phi["packing_fraction"]) for e in stats.ensembles.values()
+            if e.constant_phi is not None and len(e.constant_phi["packing_fraction"]) > 1]
+    if not gaps:
+        raise JamioError(stats.path, "has no phi_step and no grid of two points to take it from")
+    return float(f"{np.min(np.concatenate(gaps)):.10g}")
+
+
+def _grid(stats, average, name, group, step):
+    """Exact grid values of one ensemble's `average` group (its grid dataset snapped to the
+    multiples of `step`)."""
+    key = "packing_fraction"
+    if average == "constant_z":
+        key = next((k for k in ("contacts_per_particle_no_rattlers", "contacts_per_particle")
+                    if k in group), "contacts_per_particle")
+    if key not in group:
+        raise JamioError(stats.path, f"ensembles/{name}/{average} has no grid '{key}'")
+    return snap(group[key], step, stats.path, f"ensembles/{name}/{average}/{key}")
+
+
+def _observables(group):
+    return [k[: -len("_mean")] for k in group if k.endswith("_mean")]
+
+
+def _coordinates(e, m, coordinate, grid):
+    out = {c: np.full(m, e.attrs[c]) for c in ENSEMBLE_COORDINATES}
+    out[coordinate] = grid
+    return out
+
+
+def _means(stats, name, e, average, step):
+    """One ensemble's rows: a row per grid point, each observable's mean and errors."""
+    group = getattr(e, average)
+    grid = _grid(stats, average, name, group, step)
+    out = _coordinates(e, len(grid), AVERAGES[average], grid)
+    out["samples"] = np.full(len(grid), len(group["sample_ids"]))
+    for obs in _observables(group):
+        for suffix in ("_mean", "_error", "_relative_error"):
+            out[obs + suffix] = group[obs + suffix]
+    return out
+
+
+def _samples(stats, name, e, average, step):
+    """One ensemble's rows: a row per sample and grid point, each observable's value."""
+    group = getattr(e, average)
+    grid = _grid(stats, average, name, group, step)
+    ids = np.asarray(group["sample_ids"], dtype=np.int64)
+    m, s = len(grid), len(ids)
+    out = {c: np.tile(v, s) for c, v in _coordinates(e, m, AVERAGES[average], grid).items()}
+    out["sample"] = np.repeat(ids, m)
+    for obs in _observables(group):
+        out[obs] = np.asarray(group[f"{obs}_samples"], dtype=np.float64).reshape(s * m)
+    return out
+
+
+def _stats_table(stats, average, samples):
+    if average not in AVERAGES:
+        raise ValueError(f"average {average!r}: expected one of {list(AVERAGES)}")
+    stats = stats if isinstance(stats, Stats) else load_stats(stats)
+    chosen = [(name, e) for name, e in stats.ensembles.items() if getattr(e, average) is not None]
+    rows = _samples if samples else _means
+    step = 0.0
+    if chosen:
+        step = _phi_step(stats) if average == "constant_phi" else float(stats.attrs["z_step"])
+    parts = [rows(stats, name, e, average, step) for name, e in chosen]
+    names = list(dict.fromkeys(k for p in parts for k in p))
+    columns = {c: np.concatenate([p[c] for p in parts]) if parts else np.empty(0) for c in names}
+    for c in ("n", "sample", "samples"):
+        if c in columns:
+            columns[c] = columns[c].astype(np.int64)
+    stated = {}
+    for _, e in chosen:
+        for k, u in getattr(e, average).units.items():
+            stated[k[: -len("_samples")] if samples and k.endswith("_samples") else k] = u
+    units, source = column_units(names, stated)
+    return stats, columns, units, source
+
+
+def stats_frame(stats, average="constant_phi", samples=False):
+    """The averages of every ensemble of stats.h5 (a Stats, or its path or directory) as one
+    row per grid point: n, phi_init, log10_rate (n 0 when sizes were pooled), phi (average
+    "constant_phi") or z ("constant_z") as exact grid values, samples, and each observable's
+    `_mean`, `_error`, `_relative_error`. samples=True: one row per sample and grid point, a
+    column `sample` and each observable's value in that sample."""
+    stats, columns, units, source = _stats_table(stats, average, samples)
+    return _frame(columns, units, source, stats.attrs.get("campaign", ""))
+
+
+def stats_dataset(stats, average="constant_phi"):
+    """stats_frame as an xarray Dataset: the means and errors on dimensions n, phi_init,
+    log10_rate and phi (or z), every sample's values as `<observable>_samples` with the
+    dimension sample too (NaN where an ensemble has no such point or sample)."""
+    xr = optional_module("xarray")
+    stats = stats if isinstance(stats, Stats) else load_stats(stats)
+    means = stats_frame(stats, average)
+    coordinate = AVERAGES[average]
+    per_sample = stats_frame(stats, average, samples=True)
+    ds = _dataset(means, ENSEMBLE_COORDINATES + (coordinate,))
+    observables = [c for c in per_sample.columns
+                   if c not in ENSEMBLE_COORDINATES + ("sample", coordinate)]
+    attrs = dict(per_sample.attrs)
+    per_sample = per_sample.rename(columns={c: f"{c}_samples" for c in observables})
+    per_sample.attrs.update(attrs, units={f"{c}_samples" if c in observables else c: u
+                                          for c, u in attrs["units"].items()})
+    return xr.merge([ds, _dataset(per_sample, ENSEMBLE_COORDINATES + ("sample", coordinate))],
+                    combine_attrs="override")
+
+
+__all__ = ["runs_dataset", "runs_frame", "stats_dataset", "stats_frame"]
