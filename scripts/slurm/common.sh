@@ -103,18 +103,25 @@ jam_slurm_recorded_rc() {
   if [[ "$job" == "$2" && "$rc" =~ ^[0-9]+$ ]]; then printf '%s\n' "$rc"; fi
 }
 
-# jam_slurm_run COMMAND...: runs it in the background and waits. The first SIGTERM or SIGINT
-# this shell gets (Slurm's --signal=B:TERM@..., an scancel) is passed on to it once: jam writes
-# its checkpoints and exits 130 (a second signal would end it at once, without checkpoints).
+# jam_slurm_run COMMAND...: runs it in the background and waits. With jam_slurm_pass_on=1 (the
+# default) the first SIGTERM or SIGINT this shell gets (Slurm's --signal=B:TERM@..., an scancel)
+# is passed on to it once: jam writes its checkpoints and exits 130 (a second signal would end it
+# at once, without checkpoints). With 0 the shell only waits on (srun: Slurm signals the ranks
+# itself, and srun would turn a SIGTERM into a SIGKILL of every rank).
 # Sets jam_slurm_rc to its exit status.
+jam_slurm_pass_on=1
 jam_slurm_signals=0
 jam_slurm_child=""
 jam_slurm_forwarded=0
 jam_slurm_forward() {
   if [[ -n "$jam_slurm_child" && "$jam_slurm_forwarded" == 0 ]]; then
     jam_slurm_forwarded=1
-    jam_slurm_say "signal received: asking jam (pid $jam_slurm_child) to checkpoint and stop"
-    kill -TERM "$jam_slurm_child" 2>/dev/null || true
+    if ((jam_slurm_pass_on)); then
+      jam_slurm_say "signal received: asking jam (pid $jam_slurm_child) to checkpoint and stop"
+      kill -TERM "$jam_slurm_child" 2>/dev/null || true
+    else
+      jam_slurm_say "signal received: waiting for the job step (Slurm signals its tasks)"
+    fi
   fi
 }
 jam_slurm_on_signal() {
@@ -184,7 +191,7 @@ jam_slurm_submit_round() {
     JAM_SLURM_FINISH_JOB="$jam_finish_job" sbatch --parsable --export=ALL \
     "--dependency=afterany:$jam_work_job" "$jam_slurm_dir/campaign-chain.sbatch" \
     "$jam_file" "${jam_run_args[@]}")")
-  jam_slurm_log "round $round: $mode job $jam_work_job${indices:+ (array $indices)}" \
-    "${dependency:+after $dependency, }finishing job $jam_finish_job (afterok)," \
+  local what="$mode job $jam_work_job${indices:+ (array $indices)}${dependency:+ after $dependency}"
+  jam_slurm_log "round $round: $what, finishing job $jam_finish_job (afterok)," \
     "chain step $jam_chain_job (afterany)"
 }

@@ -1,4 +1,5 @@
 #!/bin/bash
+# shellcheck source-path=SCRIPTDIR
 # Submits a campaign to Slurm as a chain that finishes without a person:
 #
 #   scripts/slurm/submit.sh array CAMPAIGN_FILE [SBATCH_OPTION...] [-- JAM_RUN_OPTION...]
@@ -21,8 +22,8 @@
 #
 # Environment: JAM (jam executable; default build/jam of this checkout, else jam on PATH),
 # JAM_CAMPAIGN_DIR (default: the file's `output`), JAM_SLURM_MAX_RESUBMIT, JAM_REPORT_DIR
-# (report directory of the finishing job), JAM_MPI_LAUNCHER (mpi: srun or mpirun), and Slurm's
-# own SBATCH_ACCOUNT, SBATCH_PARTITION, ... for every job. The chain's record:
+# (report directory of the finishing job), and Slurm's own SBATCH_ACCOUNT, SBATCH_PARTITION, ...
+# for every job. The chain's record:
 # <campaign dir>/slurm/chain.log. Stop a chain with scancel on its jobs (squeue --me).
 set -euo pipefail
 
