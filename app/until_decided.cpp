@@ -137,7 +137,7 @@ void write_state(const Campaign& c, const State& s) {
 // ---- cost ----------------------------------------------------------------------------------
 
 struct Cost {
-  double spent_seconds = 0;       // recorded wall seconds of the done runs
+  double spent_seconds = 0;       // recorded core-seconds (CPU) of the done runs
   double seconds_per_step = NAN;  // measured: spent / their estimated particle-steps
   std::set<std::string> done;     // the runs done (each file verified once per look)
 };
@@ -148,7 +148,7 @@ Cost measured_cost(const std::vector<PlannedRun>& plan) {
   for (const auto& run : plan) {
     if (run_status(run) != RunStatus::kDone) continue;
     c.done.insert(run.name);
-    if (const auto w = recorded_wall_seconds(run)) {
+    if (const auto w = recorded_core_seconds(run)) {
       c.spent_seconds += *w;
       steps += run.estimated_particle_steps;
     }

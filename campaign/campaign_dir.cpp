@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -153,6 +154,7 @@ void write_run_record(const PlannedRun& run, const RunRecord& r) {
   gethostname(host, sizeof host - 1);
   toml::table t{{"status", r.status},
                 {"wall_seconds", r.wall_seconds},
+                {"cpu_seconds", r.cpu_seconds},
                 {"steps", r.steps},
                 {"version", std::string(kVersion)},
                 {"host", std::string(host)}};
@@ -162,15 +164,23 @@ void write_run_record(const PlannedRun& run, const RunRecord& r) {
   write_text(record_path(run), text.str());
 }
 
-std::optional<double> recorded_wall_seconds(const PlannedRun& run) {
+std::optional<double> recorded_core_seconds(const PlannedRun& run) {
   const std::string record = record_path(run);
   if (!fs::exists(record)) return std::nullopt;
   check_input_file("run record", record);
   try {
-    return toml::parse_file(record)["wall_seconds"].value<double>();
+    const toml::table t = toml::parse_file(record);
+    if (auto c = t["cpu_seconds"].value<double>(); c && *c > 0) return c;
+    return t["wall_seconds"].value<double>();
   } catch (const std::exception&) {
     return std::nullopt;
   }
+}
+
+double thread_cpu_seconds() {
+  timespec t{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) != 0) return 0.0;
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
@@ -185,6 +195,7 @@ void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
       try {
         const toml::table t = toml::parse_file(record);
         if (auto w = t["wall_seconds"].value<double>()) entry.insert("wall_seconds", *w);
+        if (auto c = t["cpu_seconds"].value<double>()) entry.insert("cpu_seconds", *c);
         if (auto v = t["version"].value<std::string>()) entry.insert("version", *v);
       } catch (const std::exception&) {
       }

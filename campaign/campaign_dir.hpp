@@ -41,14 +41,21 @@ RunStatus run_status(const PlannedRun& run, std::string* detail = nullptr);
 struct RunRecord {
   std::string status;  // "done" or "failed"
   double wall_seconds = 0.0;
+  // CPU seconds of the thread that ran it (campaign runs are single-threaded): its cost in
+  // core-seconds, which other work on a shared machine does not inflate as it does the wall.
+  double cpu_seconds = 0.0;
   std::int64_t steps = 0;
   std::string error;
 };
 
 void write_run_record(const PlannedRun& run, const RunRecord& record);
 
-/// The wall seconds the run's last attempt recorded (nullopt: no readable record).
-std::optional<double> recorded_wall_seconds(const PlannedRun& run);
+/// The core-seconds the run's last attempt recorded: its CPU seconds, or its wall seconds in
+/// records written before they carried CPU seconds (nullopt: no readable record).
+std::optional<double> recorded_core_seconds(const PlannedRun& run);
+
+/// CPU seconds of the calling thread so far.
+double thread_cpu_seconds();
 
 /// Rewrites <output>/manifest.toml from the run files and records.
 void write_manifest(const Campaign& campaign, const std::vector<PlannedRun>& plan);

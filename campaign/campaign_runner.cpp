@@ -18,6 +18,7 @@
 
 #include "campaign/campaign_dir.hpp"
 #include "campaign/campaign_lock.hpp"
+#include "campaign/progress_estimate.hpp"
 #include "campaign/run_chains.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/run_queue.hpp"
@@ -151,7 +152,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   for (std::size_t k = 0; k < tasks.size(); ++k) task_indices[k] = static_cast<std::int64_t>(k);
   const int workers = std::min<int>(jobs, static_cast<int>(tasks.size()));
   RunQueue queue(task_indices, task_costs, ranks, workers, &stop_requested);
-  const double remaining_estimate = queue.local_estimate();
+  ProgressEstimate progress(queue.local_estimate());
   // unwritten: runs that could not write their output (a full disk): not failed, since nothing
   // records them so and `campaign status` shows them missing; the next run redoes them.
   std::atomic<std::size_t> finished{0}, failed{0}, interrupted{0}, unwritten{0};
@@ -169,6 +170,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     control.particle_steps = &particle_steps;
     RunRecord record;
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = thread_cpu_seconds();
     try {
       const RunSummary s = run_compression(run.config, control);
       if (s.interrupted) {
@@ -177,6 +179,8 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       }
       record.status = "done";
       record.steps = static_cast<std::int64_t>(s.steps);
+      progress.finished(run.estimated_particle_steps,
+                        static_cast<double>(s.steps) * static_cast<double>(run.n));
     } catch (const WriteError& e) {
       // Not the run's fault: no record, so the run stays to be done (or resumed from its
       // checkpoint) by the next `campaign run`; but no further runs in this directory.
@@ -197,6 +201,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     }
     record.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    record.cpu_seconds = thread_cpu_seconds() - cpu_start;
     try {
       write_run_record(run, record);
     } catch (const std::exception& e) {
@@ -262,7 +267,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     last_line = elapsed;
     const double done_steps = static_cast<double>(particle_steps.load());
     const double speed = elapsed > 0 ? done_steps / elapsed : 0.0;
-    const double eta = speed > 0 ? std::max(0.0, remaining_estimate - done_steps) / speed : 0.0;
+    const double eta = progress.seconds_left(done_steps, elapsed);
     const std::string line = fmt::format(
         "runs {}/{} done, {:.3g} core-hours, {:.3g} particle-steps/s, ETA {}",
         already_done + finished.load(), plan.size(), core_seconds / 3600.0, speed, duration(eta));

@@ -1,0 +1,46 @@
+#pragma once
+// The time left of a campaign, from the planner's estimated particle-steps calibrated by the
+// runs already finished. The estimate's scale is the planner's model of steps per unit of
+// time; at slow rates near jamming a run takes several times fewer steps than it predicts,
+// so dividing the estimate by the measured speed put a 80-minute campaign at "3 days". The
+// ratio of real to estimated steps of the finished runs corrects the scale; the relative cost
+// of runs, which the estimate gets right, is kept.
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+
+namespace jam {
+
+class ProgressEstimate {
+ public:
+  /// `remaining`: the estimated particle-steps of the runs this process will do.
+  explicit ProgressEstimate(double remaining) : remaining_(remaining) {}
+
+  /// A run finished: its estimate and the particle-steps it took (steps x N).
+  void finished(double estimated, double real) {
+    estimated_done_.fetch_add(estimated, std::memory_order_relaxed);
+    real_done_.fetch_add(real, std::memory_order_relaxed);
+  }
+
+  /// Seconds left, given the particle-steps counted live by every run of this process so
+  /// far and the seconds they took (0 when nothing has been measured yet).
+  double seconds_left(double live_steps, double elapsed) const {
+    if (live_steps <= 0 || elapsed <= 0) return 0.0;
+    const double estimated = estimated_done_.load(std::memory_order_relaxed);
+    const double real = real_done_.load(std::memory_order_relaxed);
+    // Before a run has finished, the planner's scale as it is.
+    const double ratio = estimated > 0 && real > 0 ? real / estimated : 1.0;
+    // The runs under way have done live_steps - real of their share already.
+    const double left = ratio * std::max(0.0, remaining_ - estimated) -
+                        std::max(0.0, live_steps - real);
+    return std::max(0.0, left) / (live_steps / elapsed);
+  }
+
+ private:
+  double remaining_;
+  std::atomic<double> estimated_done_{0.0};
+  std::atomic<double> real_done_{0.0};
+};
+
+}  // namespace jam
