@@ -132,7 +132,7 @@ class Chain:
         with open(self.file, "w") as f:
             f.write(text)
         self.env = {"PATH": f"{test.bin}:/usr/bin:/bin", "HOME": self.dir, "LANG": "C.UTF-8",
-                    "FAKE_SLURM_DIR": self.dir, "REAL_JAM": ARGS.jam,
+                    "FAKE_SLURM_DIR": self.dir, "REAL_JAM": test.jam,
                     "JAM": os.path.join(test.bin, "jam")}
 
     def calls(self, tool=None):
@@ -214,7 +214,7 @@ class Chain:
         return self.finish([self.job(call, slurm, **kw)])[0]
 
     def status(self):
-        return subprocess.run([ARGS.jam, "campaign", "status", self.campaign_dir],
+        return subprocess.run([self.test.jam, "campaign", "status", self.campaign_dir],
                               capture_output=True, text=True, timeout=60).returncode
 
     def state(self, name, text):
@@ -258,6 +258,8 @@ class SlurmScripts(unittest.TestCase):
         for tool in ("srun", "scancel", "scontrol"):
             write_executable(os.path.join(cls.bin, tool), FAKE_TOOL)
         write_executable(os.path.join(cls.bin, "jam"), JAM_WRAPPER)
+        # a copy: a rebuild of the build tree meanwhile does not pull it away under the jobs
+        cls.jam = shutil.copy2(ARGS.jam, os.path.join(cls.tmp, "jam-under-test"))
 
     @classmethod
     def tearDownClass(cls):
