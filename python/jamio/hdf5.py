@@ -155,8 +155,9 @@ def array(dataset):
 
 
 def units(datasets):
-    """The attribute `units` of each dataset that has one (name -> str)."""
-    return {k: attrs(v)["units"] for k, v in datasets.items() if "units" in v.attrs}
+    """The attribute `units` of each dataset that has one (name -> str); only that attribute
+    is read, checked as every attribute is."""
+    return {k: _attribute(v, "units") for k, v in datasets.items() if "units" in v.attrs}
 
 
 def group(g):
