@@ -78,7 +78,7 @@ def pressure_figure(c, out_dir):
         axes[1, column].set_xlabel(r"packing fraction $\phi$")
     for ax in axes.ravel():
         ax.set_yscale("log")
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
     for row, scaled in ((0, False), (1, True)):
         floor = _floor(chosen, scaled)
         if floor:
@@ -166,7 +166,7 @@ def rate_figure(c, out_dir):
         ax.set_yscale("log")
         ax.set_title(f"N = {n}", fontsize=10)
         ax.set_xlabel(r"compression rate $\dot\epsilon$")
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
     for ax in axes[0]:
         _guides(ax, q)
     axes[0, 0].set_ylabel(r"pressure $p$ at fixed $\phi$")
