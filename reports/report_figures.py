@@ -17,8 +17,8 @@ from report_figures_checks import (finite_size_figure, finite_size_z_figure, lam
 from report_figures_fit import collapse_figure, scan_figure
 from report_figures_jamming import jamming_width_figure
 from report_figures_pressure import pressure_figure, rate_figure
-from report_plot import (Figure, Plotted, decorate, rate_colors, rate_label, rate_text,
-                         representative_phi_init, save)
+from report_plot import (Figure, Plotted, decorate, panels_with_key, rate_colors, rate_label,
+                         rate_text, representative_phi_init, save)
 
 
 def _relative_errors(ax, e, color, plotted):
@@ -62,80 +62,93 @@ def relative_error_figure(c, out_dir):
                   "(solid) carries near jamming (the supplement's fluctuation figure).")
 
 
-def _jamming_points(ax, c, found, safe, plotted):
-    """Left panel: mean phi_Ji of each (size, rate) for every phi_init."""
-    colors = rate_colors([e.log10_rate for e in c.ensembles])
-    sizes = sorted({e.n for e in c.ensembles})
-    groups = sorted({(e.n, e.log10_rate) for e in found}, key=lambda g: (g[0], -g[1]))
-    starts = sorted({e.phi_init for e in found})
-    width = 0.6 * (min(np.diff(starts)) if len(starts) > 1 else 0.1)
-    plotted.panel("jamming points", "phi_init", "mean phi_Ji")
-    for k, (n, r) in enumerate(groups):
-        mine = sorted([e for e in found if e.n == n and e.log10_rate == r],
-                      key=lambda e: e.phi_init)
-        shift = width * (k / max(1, len(groups) - 1) - 0.5)
-        x = [e.phi_init for e in mine]
+def _jamming_points(ax, n, found, starts, plotted):
+    """One size: mean phi_Ji against the rate, a colour per phi_init."""
+    colors = plt.get_cmap("tab10")
+    for k, phi_init in enumerate(starts):
+        mine = sorted([e for e in found if e.n == n and e.phi_init == phi_init],
+                      key=lambda e: e.log10_rate)
+        if not mine:
+            continue
+        x = [e.log10_rate for e in mine]
         y, dy = [e.jamming["mean"] for e in mine], [e.jamming["error"] for e in mine]
-        ax.errorbar(np.add(x, shift), y, yerr=dy, marker="o" if n == sizes[0] else "s",
-                    mfc=colors[r] if n == sizes[0] else "none", color=colors[r], ls="none",
-                    capsize=3, label=f"N={n}, {rate_label(r)}")
-        plotted.add("jamming points", f"N={n}, {rate_text(r)}", x, y, dy)
-    paper = c.stats_attrs.get("paper", {})
-    if "phi_j" in paper:
-        ax.axhline(paper["phi_j"], color="k", ls=":", lw=1,
-                   label=f"paper phi_J = {paper['phi_j']:g} (N, 1/rate -> inf)")
-    if safe:
-        ax.axvline(min(x["largest_consistent_phi_init"] for x in safe), color="tab:red",
-                   lw=1, ls="--", label="largest safe phi_init (all sizes and rates)")
-    decorate(ax, r"$\phi_{init}$", r"$\langle\phi_{Ji}\rangle$ (error bars: standard error)")
+        ax.errorbar(x, y, yerr=dy, marker="o", ms=4, capsize=3, lw=0.8, color=colors(k % 10),
+                    label=f"phi_init {phi_init:g}")
+        plotted.add("jamming points", f"N={n}, phi_init {phi_init:g}", x, y, dy)
+    ax.set_title(f"N = {n}", fontsize=10)
+    ax.set_xlabel(r"$\log_{10}$ rate")
+    ax.grid(alpha=0.3)
 
 
-def _safe_starts(ax, c, found, safe, plotted):
-    """Right panel: the largest phi_init the phi_init check allows, per size and rate."""
+def _safe_starts(ax, c, safe, plotted):
+    """The largest phi_init the phi_init check allows, per size and rate."""
     sizes = sorted({e.n for e in c.ensembles})
     plotted.panel("largest safe phi_init", "log10 rate", "largest consistent phi_init")
-    for n in sizes:
+    for k, n in enumerate(sizes):
         mine = sorted([x for x in safe if x.get("n") == n], key=lambda x: x["log10_rate"])
         if mine:
             x = [v["log10_rate"] for v in mine]
             y = [v["largest_consistent_phi_init"] for v in mine]
-            ax.plot(x, y, marker="o" if n == sizes[0] else "s",
-                    mfc="none" if n != sizes[0] else None, ls="-", label=f"N={n}")
+            ax.plot(x, y, marker=MARKERS[k % len(MARKERS)], mfc="none", ls="-", color="k",
+                    lw=0.8, label=f"largest safe phi_init, N={n}")
             plotted.add("largest safe phi_init", f"N={n}", x, y)
     ax.set_yticks(sorted({e.phi_init for e in c.ensembles}))
-    decorate(ax, r"$\log_{10}$ rate", "largest phi_init consistent with the lowest")
+    ax.set_title("largest phi_init consistent with the lowest", fontsize=9)
+    ax.set_xlabel(r"$\log_{10}$ rate")
+    ax.grid(alpha=0.3)
 
 
-JAMMING_CAPTIONS = {
-    _jamming_points: "mean jamming point of the runs of each (size, rate) for every phi_init, "
-                     "shifted sideways for legibility",
-    _safe_starts: "per size and rate, the largest phi_init whose pressure curve the phi_init "
-                  "check finds consistent with the lowest phi_init's"}
+MARKERS = ["o", "s", "^", "D", "v"]
 
 
 def jamming_figure(c, out_dir):
-    """phi_Ji for each phi_init and the largest phi_init the phi_init check allows for each
-    size and rate; each panel only when the campaign has its numbers."""
+    """phi_Ji against the rate, one panel per size and a colour per phi_init, and the largest
+    phi_init the phi_init check allows per size and rate; each only when the campaign has its
+    numbers."""
     found = [e for e in c.ensembles if e.jamming and e.jamming.get("found", 0) > 0]
     safe = [v.values for v in c.verdicts
             if v.figure == "jamming_points" and "largest_consistent_phi_init" in v.values]
-    panels = [draw for draw, have in ((_jamming_points, found), (_safe_starts, safe)) if have]
+    sizes = sorted({e.n for e in found})
+    panels = len(sizes) + (1 if safe else 0)
     if not panels:
         return None
-    fig, axes = plt.subplots(1, len(panels), layout="constrained", squeeze=False,
-                             figsize=(6 * len(panels), 4.5))
+    fig, axes, key = panels_with_key(1, panels, (3.3, 3.6), key_width=2.2)
     plotted = Plotted()
-    for ax, draw in zip(axes[0], panels):
-        draw(ax, c, found, safe, plotted)
+    plotted.panel("jamming points", "log10 rate", "mean phi_Ji")
+    starts = sorted({e.phi_init for e in found})
+    for k, n in enumerate(sizes):
+        _jamming_points(axes[0, k], n, found, starts, plotted)
+        if k:
+            axes[0, k].sharey(axes[0, 0])
+    if sizes:
+        axes[0, 0].set_ylabel(r"$\langle\phi_{Ji}\rangle$ (standard errors)")
+        paper = c.stats_attrs.get("paper", {})
+        for ax in axes[0, :len(sizes)]:
+            if "phi_j" in paper:
+                ax.axhline(paper["phi_j"], color="k", ls=":", lw=1,
+                           label=f"paper phi_J = {paper['phi_j']:g} (N, 1/rate -> inf)")
+        if "phi_j" in paper:  # the line in view (axhline leaves the range as it is)
+            low, high = axes[0, 0].get_ylim()
+            room = 0.05 * (high - low)
+            axes[0, 0].set_ylim(min(low, paper["phi_j"] - room), max(high, paper["phi_j"] + room))
+    if safe:
+        _safe_starts(axes[0, -1], c, safe, plotted)
+    handles, labels = [], []
+    for ax in axes[0]:
+        for h, text in zip(*ax.get_legend_handles_labels()):
+            if text not in labels:
+                handles.append(h)
+                labels.append(text)
+    key.legend(handles, labels, loc="center left", fontsize=8, borderaxespad=0)
     file = save(fig, out_dir, "jamming_points.png", plotted)
-    sides = ["Left: ", "Right: "] if len(panels) == 2 else [""]
-    caption = " ".join(f"{side}{JAMMING_CAPTIONS[draw]}." for side, draw in zip(sides, panels))
-    if found and safe:
-        caption += " Dashed red: the largest phi_init consistent at every size and rate."
-    if not found:
-        caption += " Jamming points phi_Ji were not sought (campaign key jamming_point = true)."
-    return Figure(file, "Jamming points and the largest safe initial packing",
-                  caption[:1].upper() + caption[1:])
+    caption = ("Mean jamming point phi_Ji of the runs of each size, rate and phi_init, with "
+               "standard errors; a start that leaves a memory shows as a colour apart from "
+               "the lowest phi_init's." if sizes else
+               "Jamming points phi_Ji were not sought (campaign key jamming_point = true).")
+    if safe:
+        caption += (" Right: per size and rate, the largest phi_init whose pressure the phi_init "
+                    "check finds consistent with the lowest phi_init's.")
+    return Figure(file, "Jamming points and the largest safe initial packing", caption)
 
 
 # Page order: the paper's figures first (Fig. 1, the size comparison, the rate dependence, the
