@@ -31,7 +31,7 @@ struct Difference {
 /// Judges one verdict on the differences of its parameters.
 Verdict judge_parameters(const std::string& check, const std::string& case_name,
                          const std::vector<Difference>& diffs, std::int64_t samples, double detect,
-                         double pass, double margin, const char* unit_words) {
+                         double pass, double margin) {
   Verdict v;
   v.check = check;
   v.case_name = case_name;
@@ -50,8 +50,8 @@ Verdict judge_parameters(const std::string& check, const std::string& case_name,
     const bool beyond = t > t_detect;
     detected = detected || beyond;
     if (beyond) differ += (differ.empty() ? "" : ", ") + std::string(d.name);
-    words += fmt::format("{}{} {:.4g} vs {:.4g}: Delta {:+.3g}{} +- {:.2g}",
-                         words.empty() ? "" : "; ", d.name, d.a, d.b, d.delta, unit_words, d.sigma);
+    words += fmt::format("{}{} {:.4g} vs {:.4g}: Delta {} +- {}", words.empty() ? "" : "; ", d.name,
+                         d.a, d.b, effect_text(v, d.delta, true), effect_text(v, d.sigma));
   }
   v.statistic = statistic;
   v.threshold = t_detect;
@@ -137,11 +137,11 @@ std::vector<Verdict> fit_parameters_check(const StatsData& d, const CheckOptions
                            relative_sigma(p.a->beta, p.a->beta_err, p.b->beta, p.b->beta_err)},
                           {"y", p.a->y, p.b->y, relative(p.a->y, p.b->y),
                            relative_sigma(p.a->y, p.a->y_err, p.b->y, p.b->y_err)}},
-                         samples, detect, o.alpha, o.margin("fit_parameters"), " (relative)");
+                         samples, detect, o.alpha, o.margin("fit_parameters"));
     Verdict phi_j = judge_parameters("fit_phi_j", "phi_J, " + p.what,
                                      {{"phi_J", p.a->phi_j, p.b->phi_j, p.a->phi_j - p.b->phi_j,
                                        std::hypot(p.a->phi_j_err, p.b->phi_j_err)}},
-                                     samples, detect, o.alpha, o.margin("fit_phi_j"), "");
+                                     samples, detect, o.alpha, o.margin("fit_phi_j"));
     exponents.values = values;
     phi_j.values = values;
     out.push_back(std::move(exponents));

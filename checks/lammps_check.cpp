@@ -182,7 +182,13 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
     Verdict v;
     v.check = "lammps";
     v.case_name = label + ": " + what;
-    v.statistic_name = what == "positions" ? "max |x_jam - x_lammps|" : "relative difference";
+    // Positions and contacts are absolute differences, in their own units; pressure and
+    // energy relative ones (the check's unit).
+    v.statistic_name = what == "positions"  ? "max |x_jam - x_lammps|"
+                       : what == "contacts" ? "|Z_jam - Z_lammps|"
+                                            : "relative difference";
+    if (what == "positions") v.unit = "d_s";
+    if (what == "contacts") v.unit = "contacts per particle";
     v.statistic = statistic;
     v.threshold = tolerance;
     v.detectable = tolerance;

@@ -149,8 +149,9 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
   v.threshold = kErrors * worst_error;
   v.detectable = kErrors * worst_error;
   decide(v, detected, allowed, o.margin);
-  v.reason += fmt::format(" (largest mean Delta p/p {:.3g} +- {:.3g} at phi {:.3f}; {})", worst,
-                          worst_error, worst_phi, live ? "LAMMPS run now" : "stored LAMMPS result");
+  v.reason += fmt::format(" (largest mean Delta p/p {} +- {} at phi {:.3f}; {})",
+                          effect_text(v, worst), effect_text(v, worst_error), worst_phi,
+                          live ? "LAMMPS run now" : "stored LAMMPS result");
   // The overlay and residuals the report draws: sample means on the packing grid.
   v.values = {{"dim", static_cast<double>(D)}, {"compression_rate", kRate}, {"q", kQ}};
   v.curves = {{"grid", grid},

@@ -12,21 +12,26 @@ namespace jam::checks {
 void decide(Verdict& v, bool detected, double excluded_above, double margin) {
   v.margin = margin;
   v.excluded_above = excluded_above;
+  // The first clause says the outcome without a number (the terminal shows it: short_reason);
+  // the numbers follow in the effects' unit (effect_text: relative ones in %).
+  const std::string m = effect_text(v, margin), bound = effect_text(v, excluded_above);
   if (excluded_above <= margin) {
     v.status = "pass";
-    v.reason =
-        fmt::format("no effect above the margin {:.3g}: effects above {:.3g} excluded{}", margin,
-                    excluded_above, detected ? "; a smaller difference is detected" : "");
+    v.reason = fmt::format("within the margin{}: effects above {} excluded, margin {}",
+                           detected ? ", though a smaller difference is detected" : "", bound, m);
   } else if (detected) {
     v.status = "fail";
-    v.reason = fmt::format("difference detected; effects up to {:.3g} allowed, margin {:.3g}",
-                           excluded_above, margin);
+    v.reason = fmt::format(
+        "difference detected beyond the margin: effects up to {} allowed, margin {}", bound, m);
   } else {
     v.status = "inconclusive";
-    v.reason = fmt::format(
-        "no difference detected, but only effects above {:.3g} are "
-        "excluded (margin {:.3g})",
-        excluded_above, margin);
+    v.reason =
+        std::isfinite(excluded_above)
+            ? fmt::format(
+                  "nothing detected, nothing beyond the margin excluded: effects up to {} "
+                  "allowed, margin {}",
+                  bound, m)
+            : fmt::format("nothing detected, no effect excluded at these samples: margin {}", m);
   }
 }
 
@@ -105,9 +110,9 @@ void judge(Verdict& v, const WeightedDifference& t, Levels levels, double margin
   v.threshold = t.critical;
   v.detectable = t.critical;
   decide(v, v.statistic > t.critical, t.excluded_above, margin);
-  v.reason +=
-      fmt::format(" (weighted mean relative difference {:+.3g} over {} points, {})", t.difference,
-                  t.points.size(), permutation_words(t.p_value, levels.detect, t.permutations));
+  v.reason += fmt::format(" (weighted mean relative difference {} over {} points, {})",
+                          effect_text(v, t.difference, true), t.points.size(),
+                          permutation_words(t.p_value, levels.detect, t.permutations));
   add_samples_needed(
       v, samples_to_decide({t.difference}, {t.band}, {reachable(t.critical, t.band, levels)},
                            margin, samples));
@@ -118,7 +123,8 @@ void judge(Verdict& v, const MeanDifference& t, Levels levels, double margin, st
   v.threshold = t.critical;
   v.detectable = t.detectable;
   decide(v, t.statistic > t.critical, t.excluded_above, margin);
-  v.reason += fmt::format(" (difference {:+.3g} +- {:.3g}, {})", t.difference, t.sigma,
+  v.reason += fmt::format(" (difference {} +- {}, {})", effect_text(v, t.difference, true),
+                          effect_text(v, t.sigma),
                           permutation_words(t.p_value, levels.detect, t.permutations));
   add_samples_needed(
       v, samples_to_decide({t.difference}, {t.band * t.sigma},

@@ -113,9 +113,10 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
     const double saved =
         std::log(largest_consistent / low->phi_init) / std::log(phi_stop / low->phi_init);
     out.back().reason += fmt::format(
-        " | n{} rate 1e{:g}: largest phi_init consistent with {:g} within {:.3g} is {:g} "
+        " | n{} rate 1e{:g}: largest phi_init consistent with {:g} within {} is {:g} "
         "(saves {:.0f}% of the compression time)",
-        key.first, key.second, low->phi_init, margin, largest_consistent, 100 * saved);
+        key.first, key.second, low->phi_init, effect_text("relative", margin), largest_consistent,
+        100 * saved);
     out.back().values.insert({{"n", static_cast<double>(key.first)},
                               {"log10_rate", key.second},
                               {"lowest_phi_init", low->phi_init},

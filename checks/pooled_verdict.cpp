@@ -26,9 +26,10 @@ void fail_where_surely_beyond(Verdict& v, const RelativeDifference& r,
   v.status = "fail";
   v.samples_needed = NAN;
   v.reason = fmt::format(
-      "at {} = {:.4f} the effect surely exceeds the margin {:.3g}: Delta p/p = {:+.3g}, at "
-      "least {:.3g} (simultaneous band, p = {:.3g}); the weighted mean: {}",
-      range.variable, grid[r.points[worst]], margin, r.delta[worst], beyond, r.p_value, v.reason);
+      "the effect surely exceeds the margin at {} = {:.4f}: Delta p/p = {}, at least {}, "
+      "margin {} (simultaneous band, p = {:.3g}); the weighted mean: {}",
+      range.variable, grid[r.points[worst]], effect_text(v, r.delta[worst], true),
+      effect_text(v, beyond), effect_text(v, margin), r.p_value, v.reason);
 }
 
 /// The grid value below which `share` of the weight lies.

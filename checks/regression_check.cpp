@@ -73,9 +73,8 @@ Verdict rerun_verdict(const EnsembleTables& now, const EnsembleTables& base, con
   v.margin = tolerance;  // deterministic: rerun samples reproduce within the tolerance, or not
   v.excluded_above = worst;
   v.status = worst <= tolerance ? "pass" : "fail";
-  v.reason =
-      fmt::format("{} rerun samples on {} grid points; largest difference {:.3g} (sample {})",
-                  compared, al.grid.size(), worst, worst_sample);
+  v.reason = fmt::format("{} rerun samples on {} grid points; largest difference {} (sample {})",
+                         compared, al.grid.size(), effect_text(v, worst), worst_sample);
   return v;
 }
 

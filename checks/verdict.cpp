@@ -48,22 +48,6 @@ std::string xml_escape(const std::string& s) {
 
 }  // namespace
 
-std::string format_table(const std::vector<Verdict>& v) {
-  std::ostringstream out;
-  out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", "verdict", "check",
-                     "case", "statistic", "threshold", "detectable", "excluded>", "margin");
-  for (const auto& x : v) {
-    const std::string status = x.expected_failure ? x.status + "(x)" : x.status;
-    out << fmt::format("{:<12} {:<13} {:<58} {:>10} {:>10} {:>11} {:>10} {:>8}\n", status, x.check,
-                       x.case_name.size() > 58 ? x.case_name.substr(0, 55) + "..." : x.case_name,
-                       number(x.statistic), number(x.threshold), number(x.detectable),
-                       number(x.excluded_above), number(x.margin));
-    if (x.status != "pass" && !x.reason.empty()) out << "             " << x.reason << "\n";
-  }
-  out << outcome_counts(v) << "\n";
-  return out.str();
-}
-
 nlohmann::json verdict_array(const nlohmann::json& checks) {
   if (checks.is_array()) return checks;
   if (checks.is_object() && checks.contains("verdicts") && checks["verdicts"].is_array())
@@ -71,7 +55,8 @@ nlohmann::json verdict_array(const nlohmann::json& checks) {
   throw std::runtime_error("checks.json: neither an array of verdicts nor an object with them");
 }
 
-std::string to_json(const std::vector<Verdict>& v, const std::string& campaign) {
+std::string to_json(const std::vector<Verdict>& v, const std::string& campaign,
+                    const nlohmann::json& options) {
   nlohmann::json j = nlohmann::json::array();
   auto num = [](double x) {
     return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
@@ -87,6 +72,7 @@ std::string to_json(const std::vector<Verdict>& v, const std::string& campaign) 
                  {"detectable_effect", num(x.detectable)},
                  {"excluded_above", num(x.excluded_above)},
                  {"margin", num(x.margin)},
+                 {"unit", effect_unit(x)},
                  {"samples_needed", num(x.samples_needed)},
                  {"expected_failure", x.expected_failure},
                  {"values", x.values}});
@@ -94,14 +80,16 @@ std::string to_json(const std::vector<Verdict>& v, const std::string& campaign) 
   const std::time_t now = std::time(nullptr);
   char created[32];
   std::strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-  const nlohmann::json file = {{"schema_version", kChecksSchemaVersion},
-                               {"campaign", campaign},
-                               {"code_version", std::string(kVersion)},
-                               {"created", std::string(created)},
-                               // The registry of the jam that judged: the report reads from
-                               // it which figure shows which check (check_registry.hpp).
-                               {"checks", nlohmann::json::parse(registry_json())},
-                               {"verdicts", j}};
+  nlohmann::json file = {{"schema_version", kChecksSchemaVersion},
+                         {"campaign", campaign},
+                         {"code_version", std::string(kVersion)},
+                         {"created", std::string(created)},
+                         // The registry of the jam that judged: the report reads from
+                         // it which figure shows which check (check_registry.hpp).
+                         {"checks", nlohmann::json::parse(registry_json())},
+                         {"verdicts", j}};
+  // What the verdicts were judged with: `jam pipeline` judges again when it differs.
+  if (!options.is_null()) file["options"] = options;
   return file.dump(2) + "\n";
 }
 

@@ -26,11 +26,14 @@ struct Verdict {
   std::string statistic_name;
   double statistic = NAN;
   double threshold = NAN;
-  double detectable = NAN;               // smallest effect the data could have detected
-  double excluded_above = NAN;           // effects larger than this are excluded (where meaningful)
-  double margin = NAN;                   // M: the largest effect that still passes
-  double samples_needed = NAN;           // inconclusive: samples per set that would decide (est.)
-  bool expected_failure = false;         // the campaign marks this verdict as expected to fail
+  double detectable = NAN;        // smallest effect the data could have detected
+  double excluded_above = NAN;    // effects larger than this are excluded (where meaningful)
+  double margin = NAN;            // M: the largest effect that still passes
+  double samples_needed = NAN;    // inconclusive: samples per set that would decide (est.)
+  bool expected_failure = false;  // the campaign marks this verdict as expected to fail
+  // The unit of detectable, excluded_above and margin when it is not the check's margin unit
+  // (check_registry.hpp): e.g. "d_s" for the lammps check's positions. Empty: the check's.
+  std::string unit;
   std::map<std::string, double> values;  // further numbers a later stage reads (JSON "values")
   // Curves behind the verdict, for the report (checks.h5): e.g. "grid", "delta", "sigma".
   std::vector<std::pair<std::string, std::vector<double>>> curves;
@@ -47,11 +50,33 @@ inline Verdict inconclusive(const std::string& check, const std::string& case_na
   return v;
 }
 
+/// The unit of v's effects (detectable, excluded_above, margin): "relative" (a relative
+/// difference, written in %), "packing_fraction" (the check's registry entry says which), or
+/// v.unit when set. A check the registry does not know: "relative".
+std::string effect_unit(const Verdict& v);
+
+/// An effect of v as words give it, in its unit: "4.1%" (relative), "0.0012" (packing
+/// fraction), "6.6e-12 d_s" (another unit); with a sign when `sign`. "-" when not finite.
+std::string effect_text(const Verdict& v, double x, bool sign = false);
+/// The same in a named unit ("relative", "packing_fraction", or a unit's name).
+std::string effect_text(const std::string& unit, double x, bool sign = false);
+
+/// What the terminal shows of a verdict's reason: its first clause (up to the first ": ", "; ",
+/// " (" or " | "), or for an inconclusive verdict with an estimate, the samples that would
+/// decide it. The whole reason is in checks.json and the report.
+std::string short_reason(const Verdict& v);
+
+/// The terminal table (checks/verdict_table.cpp): per check, in order of first appearance, a
+/// heading line with its counts and the unit of its effects, a column header, and one row per
+/// verdict (status, the whole case name, detectable, excluded above, margin, short_reason);
+/// relative effects in %. Then the counts of all verdicts.
 std::string format_table(const std::vector<Verdict>& verdicts);
 /// checks.json: {"schema_version": 2, "campaign", "code_version", "created" (UTC),
-/// "checks" (the registry, check_registry.hpp), "verdicts": [...]} (reference/schema.md).
+/// "checks" (the registry, check_registry.hpp), "options" (what `jam check` judged with, when
+/// given), "verdicts": [...]} (reference/schema.md).
 constexpr int kChecksSchemaVersion = 2;
-std::string to_json(const std::vector<Verdict>& verdicts, const std::string& campaign = "");
+std::string to_json(const std::vector<Verdict>& verdicts, const std::string& campaign = "",
+                    const nlohmann::json& options = nullptr);
 
 /// The verdict array of a checks.json text, of schema 2 (an object) or 1 (a bare array).
 nlohmann::json verdict_array(const nlohmann::json& checks);
