@@ -147,6 +147,7 @@ class Verdict:
     expected_failure: bool = False
     figure: str = "verdicts"  # the figure that shows the check (its registry entry)
     margin_unit: str = "relative"  # what the margin measures: relative or packing_fraction
+    unit: str | None = None  # the unit of this verdict's effects (checks.json `unit`), if given
 
 
 @dataclass
@@ -341,7 +342,7 @@ def _verdict(x):
                    _number(x, "threshold"), _number(x, "detectable_effect"),
                    _number(x, "excluded_above"), values,
                    margin=_number(x, "margin"), samples_needed=_number(x, "samples_needed"),
-                   expected_failure=expected)
+                   expected_failure=expected, unit=_string(x, "unit", None))
 
 
 def _registry(checks):

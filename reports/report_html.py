@@ -299,26 +299,81 @@ def page(c, figures, provenance):
 """
 
 
+def effect_unit(v):
+    """The unit of a verdict's effects: checks.json's `unit`, else its check's margin unit."""
+    return v.unit or v.margin_unit or "relative"
+
+
+def _unit_words(unit):
+    return {"relative": "%", "packing_fraction": "packing fraction"}.get(unit, plain(unit))
+
+
+def _table_number(x, percent):
+    return _number_text(100 * x if percent and _is_number(x) else x, ".3g")
+
+
+def short_reason(v):
+    """The reason in a few words, as `jam check` prints it: the samples an undecided verdict
+    needs, else the reason's first clause."""
+    if v.status == "inconclusive" and _is_number(v.samples_needed) and \
+            math.isfinite(v.samples_needed):
+        return f"about {v.samples_needed:.0f} samples per set would decide"
+    end = len(v.reason)
+    for clause_end in (": ", "; ", " (", " | "):
+        k = v.reason.find(clause_end)
+        if k >= 0:
+            end = min(end, k)
+    return v.reason[:end]
+
+
+def check_table(check, mine):
+    """One check's table, as `jam check` prints it (checks/verdict_table.cpp): a heading with
+    the counts and the unit of its effects, then a row per verdict with the whole case name."""
+    groups = {}
+    for v in mine:
+        groups.setdefault(effect_unit(v), []).append(v)
+    # The check's own unit first (the lammps check's pressures before its positions).
+    own = mine[0].margin_unit or "relative"
+    groups = dict(sorted(groups.items(), key=lambda g: g[0] != own))
+    status = [v.status + (" (expected)" if v.expected_failure else "") for v in mine]
+    status_width = max([len("verdict")] + [len(s) for s in status])
+    case_width = max([4] + [len(plain(v.case, SUMMARY_LONGEST)) for v in mine])
+    one_unit = len(groups) == 1
+    plural = "" if len(mine) == 1 else "s"
+    lines = [f"{plain(check)}: {len(mine)} verdict{plural}, {counts_text(counts(mine))}"
+             + (f"; effects in {_unit_words(next(iter(groups)))}" if one_unit else "")]
+
+    def row(*cells):
+        return (f"  {cells[0]:<{status_width}}  {cells[1]:<{case_width}}  {cells[2]:>10}  "
+                f"{cells[3]:>14}  {cells[4]:>8}  {cells[5]}").rstrip()
+    lines.append(row("verdict", "case", "detectable", "excluded above", "margin", "reason"))
+    for unit, rows in groups.items():
+        if not one_unit:
+            lines.append(f"  effects in {_unit_words(unit)}:")
+        percent = unit == "relative"
+        for v in rows:
+            lines.append(row(v.status + (" (expected)" if v.expected_failure else ""),
+                             plain(v.case, SUMMARY_LONGEST),
+                             _table_number(v.detectable, percent),
+                             _table_number(v.excluded_above, percent),
+                             _table_number(v.margin, percent),
+                             plain(short_reason(v), SUMMARY_LONGEST)))
+    return lines
+
+
 def text_summary(c, report_path):
-    """The terminal/CI-log summary: the verdict table, the fit against the paper, the path."""
+    """The terminal/CI-log summary: one table per check (as `jam check` prints them), the
+    headline per check, the fit against the paper, the page's path."""
     n = counts(c.verdicts)
     lines = [f"jam report: campaign {plain(c.name)} ({c.dim}D), {len(c.ensembles)} ensembles", ""]
     shown = c.verdicts[:SUMMARY_ROWS]
-    width = max([len(plain(v.case, SUMMARY_LONGEST)) for v in shown] + [4])
-    check_width = max([len(plain(v.check, SUMMARY_LONGEST)) for v in shown] + [5])
-    lines.append(f"{'status':<16}{'check':<{check_width + 2}}{'case':<{width + 2}}"
-                 f"{'value':>11}{'threshold':>11}{'detectable':>11}{'excluded>':>11}"
-                 f"{'margin':>9}")
-    for v in shown:
-        status = v.status + ("(expected)" if v.expected_failure else "")
-        lines.append(f"{status:<16}{plain(v.check, SUMMARY_LONGEST):<{check_width + 2}}"
-                     f"{plain(v.case, SUMMARY_LONGEST):<{width + 2}}"
-                     f"{_fmt(v.statistic):>11}{_fmt(v.threshold):>11}{_fmt(v.detectable):>11}"
-                     f"{_fmt(v.excluded_above):>11}{_fmt(v.margin):>9}")
+    for check, mine in by_check(shown).items():
+        lines.extend(check_table(check, mine))
+        lines.append("")
     if len(c.verdicts) > len(shown):
         lines.append(f"... and {len(c.verdicts) - len(shown)} more verdicts: the page lists "
                      "every one")
-    lines.append(counts_text(n))
+    lines.append(f"{len(c.verdicts)} verdicts, {counts_text(n)}")
     lines.append("")
     lines.extend(headlines(c.verdicts))
     lines.append("")

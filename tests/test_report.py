@@ -143,8 +143,8 @@ class Report(unittest.TestCase):
         run([jam, "stats", "runs/ci"], cls.work)
         # Status 1 (a failed verdict) and 3 (an inconclusive one) still leave a complete set of
         # checks to report on.
-        run([jam, "check", "all", "runs/ci", "--no-lmp", "--reference-dir",
-             os.path.join(src, "reference")], cls.work, expect=(0, 1, 3))
+        cls.checked = run([jam, "check", "all", "runs/ci", "--no-lmp", "--reference-dir",
+                           os.path.join(src, "reference")], cls.work, expect=(0, 1, 3))
         cls.result = run([jam, "report", "runs/ci"], cls.work)
         cls.out = os.path.join(cls.work, "reports", "ci")
         with open(os.path.join(cls.out, "index.html")) as f:
@@ -232,6 +232,25 @@ class Report(unittest.TestCase):
                       "dependencies", "machine", "Campaign file"):
             self.assertIn(field, self.page)
         self.assertIn("paper", self.page)  # the fit table compares with the paper
+
+    def test_summary_tables_are_those_jam_check_prints(self):
+        # One table per check with whole case names and one unit, the same text in the
+        # report's summary (what `jam pipeline` prints) as in `jam check`'s output: from the
+        # first check's heading to the line counting every verdict.
+        def tables(text):
+            lines = text.splitlines()
+            start = next(k for k, line in enumerate(lines) if line.endswith(" verdicts")
+                         or " verdicts, " in line or " verdict, " in line)
+            end = next(k for k, line in enumerate(lines) if k > start
+                       and line.split(" ")[0].isdigit() and " verdicts, " in line)
+            return lines[start:end + 1]
+        printed = tables(self.checked.stdout)
+        self.assertGreater(len(printed), 10)
+        self.assertEqual(tables(self.result.stdout), printed)
+        with open(os.path.join(self.work, "runs", "ci", "checks.json")) as f:
+            verdicts = json.load(f)["verdicts"]
+        for v in verdicts:  # whole case names, never cut
+            self.assertTrue(any(v["case"] in line for line in printed), v["case"])
 
     def test_no_partial_directories_left(self):
         left = [d for d in os.listdir(os.path.join(self.work, "reports")) if d != "ci"]
