@@ -31,22 +31,57 @@ void mark_expected_failures(std::vector<checks::Verdict>& verdicts,
   }
 }
 
+/// The campaign's part in judging it: its name, margins and expected failures, from
+/// DIR/campaign.toml when there is one.
+struct CampaignPart {
+  std::string name;
+  std::map<std::string, double> margins;
+  std::vector<std::string> expected;
+};
+
+CampaignPart campaign_part(const std::string& directory) {
+  const std::filesystem::path file = std::filesystem::path(directory) / "campaign.toml";
+  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}};
+  if (std::filesystem::exists(file)) {
+    const Campaign campaign = read_campaign(file.string());
+    c = {campaign.name, campaign.margins, campaign.expected_failures};
+  }
+  return c;
+}
+
+/// The table (checks/verdict_table.cpp), or one line of counts when another table follows
+/// (the main job's report prints it with the headlines); then what the expected failures did.
+void print_verdicts(const std::vector<checks::Verdict>& verdicts, bool table) {
+  if (!table) {
+    std::map<std::string, int> counts;
+    for (const auto& v : verdicts) ++counts[v.status];
+    fmt::print(
+        "checks: {} verdicts: {} pass, {} fail, {} inconclusive (the table: the report's "
+        "summary below)\n",
+        verdicts.size(), counts["pass"], counts["fail"], counts["inconclusive"]);
+    return;
+  }
+  fmt::print("{}", checks::format_table(verdicts));
+  for (const auto& v : verdicts) {
+    if (!v.expected_failure) continue;
+    // An expected failure that did not fail says what it did instead.
+    fmt::print("{} {}: {}\n",
+               v.status == "fail"   ? std::string("expected failure:")
+               : v.status == "pass" ? std::string("EXPECTED TO FAIL, PASSED:")
+                                    : std::string("expected to fail, inconclusive:"),
+               v.check, v.case_name);
+  }
+}
+
 }  // namespace
 
 void add_check_command(CLI::App& app, CheckArgs& a) {
   // The accepted names and the help text come from the registry (checks/check_registry.hpp).
   const std::vector<std::string> names = checks::command_names();
-  const double usual_margin = checks::default_margin(names.front());
-  std::string listed, other_margins, not_in_all, packing;
+  std::string listed, not_in_all;
   for (const auto& name : names) listed += (listed.empty() ? "" : ", ") + name;
-  for (const auto& e : checks::check_registry()) {
-    if (e.default_margin != usual_margin)
-      other_margins +=
-          fmt::format("{}{} {:g}", other_margins.empty() ? "" : ", ", e.name, e.default_margin);
+  for (const auto& e : checks::check_registry())
     if (!e.in_all) not_in_all += (not_in_all.empty() ? "" : ", ") + std::string(e.name);
-    if (e.margin_unit == checks::MarginUnit::packing_fraction)
-      packing += (packing.empty() ? "" : ", ") + std::string(e.name);
-  }
   CLI::App* c = app.add_subcommand(
       "check", fmt::format("Statistical verdicts from DIR/stats.h5: {}. Each verdict is pass (the "
                            "data exclude effects beyond the margin), fail (a difference detected "
@@ -73,29 +108,11 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
       ->required()
       ->check(CLI::IsMember(names));
   c->add_option("directory", a.directory, "Campaign directory (after `jam stats`)")->required();
-  c->add_option("--alpha", a.options.alpha,
-                "False-alarm rate of each check (Bonferroni over its comparisons)");
-  c->add_option("--permutations", a.options.permutations,
-                "Permutations of whole runs for null distributions");
-  c->add_option("--phi-min", a.phi_min,
-                "Pressure checks (finite_size, phi_init, chain): pool from this packing "
-                "(default: the scaling fit's window in stats.h5)")
-      ->always_capture_default(false);
-  c->add_option("--phi-max", a.phi_max,
-                "Pressure checks (finite_size, phi_init): pool up to this packing (default: "
-                "the scaling fit's window)")
-      ->always_capture_default(false);
-  c->add_option("--margin", a.margin,
-                fmt::format("Margin M of the named check (all: of every check): the largest "
-                            "effect that still passes, a relative pressure difference ({}: a "
-                            "packing difference). Default: the campaign file's [margins], else "
-                            "{:g} ({})",
-                            packing, usual_margin, other_margins));
+  // --alpha, --permutations, --phi-min, --phi-max, --margin, --reference-dir, --no-lmp: the
+  // table `jam pipeline` shares (check_options.cpp).
+  add_judging_options(c, a.judging);
   c->add_option("--set-a", a.set_a, "finite_size: first run set, e.g. n=1024,phi_init=0.6,rate=-4");
   c->add_option("--set-b", a.set_b, "finite_size: second run set");
-  c->add_option("--reference-dir", a.reference_dir, "lammps: LAMMPS inputs and stored results");
-  c->add_flag("--no-lmp", a.no_lmp,
-              "lammps: use the stored LAMMPS result even if lmp is installed");
   c->add_option("--against", a.against,
                 "regression: baseline directory holding stats.h5 (e.g. a stored result in "
                 "reference/results/)");
@@ -107,11 +124,12 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
 
 void write_verdict_files(const std::string& directory, const std::string& name,
                          const std::vector<checks::Verdict>& verdicts,
-                         const std::string& campaign_name, double seconds) {
+                         const std::string& campaign_name, double seconds,
+                         const nlohmann::json& options) {
   const std::filesystem::path dir(directory);
   const std::string stem = name == "all" ? "checks" : "checks-" + name;
   for (const auto& [file, text] :
-       {std::pair{dir / (stem + ".json"), checks::to_json(verdicts, campaign_name)},
+       {std::pair{dir / (stem + ".json"), checks::to_json(verdicts, campaign_name, options)},
         std::pair{dir / (stem + ".xml"), checks::to_junit_xml(verdicts, "jam.check." + name)}}) {
     AtomicFile out(file.string());
     std::fputs(text.c_str(), out.stream());
@@ -122,7 +140,13 @@ void write_verdict_files(const std::string& directory, const std::string& name,
              (dir / stem).string());
 }
 
+nlohmann::json check_record(const CheckArgs& a) {
+  const CampaignPart c = campaign_part(a.directory);
+  return judging_record(a.judging, check_options(a.judging, a.name, c.margins));
+}
+
 int run_check_command(const CheckArgs& a) {
+  validate_judging(a.judging);  // a bad option is one line, before anything is read
   // A campaign directory that is not there is a mistake in the command, not an empty result:
   // no check creates it (the lammps check writes its work files inside it).
   if (!std::filesystem::is_directory(a.directory)) {
@@ -136,43 +160,9 @@ int run_check_command(const CheckArgs& a) {
     for (const char* ext : {".json", ".xml", ".h5"})
       output_file_target((dir / (stem + ext)).string());
   }
-  checks::CheckOptions o = a.options;
   // Margins and expected failures: the campaign file's, then --margin.
-  std::vector<std::string> expected;
-  const std::filesystem::path campaign_file = std::filesystem::path(a.directory) / "campaign.toml";
-  std::string campaign_name = std::filesystem::absolute(a.directory).filename().string();
-  if (std::filesystem::exists(campaign_file)) {
-    const Campaign campaign = read_campaign(campaign_file.string());
-    o.margins = campaign.margins;
-    expected = campaign.expected_failures;
-    campaign_name = campaign.name;
-  }
-  if (a.margin) {
-    if (!(std::isfinite(*a.margin) && *a.margin > 0)) {
-      throw CLI::ValidationError("--margin",
-                                 fmt::format("{}: must be a finite number > 0", *a.margin));
-    }
-    // `all` sets every check's margin; a check sets its own and its parts' (phi_init:
-    // jamming_point).
-    for (const auto& e : checks::check_registry()) {
-      const auto* part = std::get_if<checks::PartOf>(&e.run);
-      if (a.name == "all" || a.name == e.name || (part && a.name == part->check))
-        o.margins[std::string(e.name)] = *a.margin;
-    }
-  }
-  if (!(o.alpha > 0 && o.alpha < 1))
-    throw std::runtime_error(fmt::format("--alpha {:g}: must be in (0, 1)", o.alpha));
-  if (o.permutations < 100)
-    throw std::runtime_error(fmt::format("--permutations {}: at least 100", o.permutations));
-  if (a.phi_min) o.phi_min = *a.phi_min;
-  if (a.phi_max) o.phi_max = *a.phi_max;
-  for (const auto& [name, value] : {std::pair{"--phi-min", a.phi_min}, {"--phi-max", a.phi_max}}) {
-    if (value && !(std::isfinite(*value) && *value > 0 && *value < 1))
-      throw CLI::ValidationError(name, fmt::format("{}: must be a packing in (0, 1)", *value));
-  }
-  if (a.phi_min && a.phi_max && !(*a.phi_min < *a.phi_max))
-    throw CLI::ValidationError("--phi-max",
-                               fmt::format("{}: must exceed --phi-min {}", *a.phi_max, *a.phi_min));
+  const CampaignPart campaign = campaign_part(a.directory);
+  checks::CheckOptions o = check_options(a.judging, a.name, campaign.margins);
   if (!a.set_a.empty() || !a.set_b.empty()) {
     if (a.set_a.empty() || a.set_b.empty())
       throw std::runtime_error("--set-a and --set-b go together");
@@ -186,37 +176,19 @@ int run_check_command(const CheckArgs& a) {
   in.baseline_directory = a.against;
   in.regression = a.regression;
   in.lammps.work_directory = (std::filesystem::path(a.directory) / "lammps-check").string();
-  in.lammps.reference_directory = (std::filesystem::path(a.reference_dir) / "lammps").string();
-  in.lammps.use_lmp = !a.no_lmp;
+  in.lammps.reference_directory =
+      (std::filesystem::path(a.judging.reference_dir) / "lammps").string();
+  in.lammps.use_lmp = !a.judging.no_lmp;
   in.lammps.regenerate = a.regenerate;
   std::vector<checks::Verdict> verdicts = checks::run_checks(a.name, in);
-  mark_expected_failures(verdicts, expected);
-  // The table, unless another table follows (the main job's report prints it with the
-  // headlines): then one line of counts.
-  if (a.table) {
-    fmt::print("{}", checks::format_table(verdicts));
-  } else {
-    std::map<std::string, int> counts;
-    for (const auto& v : verdicts) ++counts[v.status];
-    fmt::print(
-        "checks: {} verdicts: {} pass, {} fail, {} inconclusive (the table: the report's "
-        "summary below)\n",
-        verdicts.size(), counts["pass"], counts["fail"], counts["inconclusive"]);
-  }
-  for (const auto& v : verdicts) {
-    if (!v.expected_failure || !a.table) continue;
-    // An expected failure that did not fail says what it did instead.
-    fmt::print("{} {}: {}\n",
-               v.status == "fail"   ? std::string("expected failure:")
-               : v.status == "pass" ? std::string("EXPECTED TO FAIL, PASSED:")
-                                    : std::string("expected to fail, inconclusive:"),
-               v.check, v.case_name);
-  }
+  mark_expected_failures(verdicts, campaign.expected);
+  print_verdicts(verdicts, a.table);
   // `all` writes checks.*, the files reports read; a single check writes checks-NAME.*, so
   // that it never replaces the full set.
   write_verdict_files(
-      a.directory, a.name, verdicts, campaign_name,
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+      a.directory, a.name, verdicts, campaign.name,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+      judging_record(a.judging, o));
   return checks::exit_status(verdicts);
 }
 

@@ -1,20 +1,18 @@
 #pragma once
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
+#include "app/check_options.hpp"
 #include "checks/checks.hpp"
 #include "checks/lammps_check.hpp"
 #include "checks/regression_check.hpp"
-#include "sim/io/install_paths.hpp"
 
 namespace jam {
 
 struct CheckArgs {
   std::string name, directory, set_a, set_b;
-  checks::CheckOptions options;
-  std::optional<double> phi_min, phi_max;
-  std::optional<double> margin;
-  std::string reference_dir = data_path("reference").string();
-  bool no_lmp = false, regenerate = false;
+  JudgingArgs judging;  // the options `jam pipeline` shares (check_options.hpp)
+  bool regenerate = false;
   bool list_json = false;  // --list --json
   bool table = true;       // print the verdict table (the main job leaves it to the report)
   std::string against;     // regression: baseline directory
@@ -28,9 +26,15 @@ void add_check_command(CLI::App& app, CheckArgs& args);
 /// DIR/checks-NAME.{json,xml,h5}; returns checks::exit_status (0 pass, 1 fail, 3 inconclusive).
 int run_check_command(const CheckArgs& args);
 
-/// Writes DIR/checks.{json,xml,h5} (name "all") or DIR/checks-NAME.*, each atomically.
+/// What `jam check NAME DIR` judges with: DIR/campaign.toml's margins (when there is one), then
+/// the options given; the record checks.json keeps of them. Throws naming a bad option.
+nlohmann::json check_record(const CheckArgs& args);
+
+/// Writes DIR/checks.{json,xml,h5} (name "all") or DIR/checks-NAME.*, each atomically;
+/// checks.json records `options` (what the verdicts were judged with) unless it is null.
 void write_verdict_files(const std::string& directory, const std::string& name,
                          const std::vector<checks::Verdict>& verdicts,
-                         const std::string& campaign_name, double seconds);
+                         const std::string& campaign_name, double seconds,
+                         const nlohmann::json& options = nullptr);
 
 }  // namespace jam

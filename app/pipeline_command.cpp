@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "app/check_command.hpp"
 #include "app/report_command.hpp"
@@ -37,6 +40,38 @@ bool stale(const fs::path& output, Time input) {
   return !fs::exists(output) || modified(output) < input;
 }
 
+/// The options checks.json says its verdicts were judged with; null when it records none (or
+/// cannot be read: then it is judged again, and rewritten; a FIFO there is refused by the
+/// check, never waited on here).
+nlohmann::json recorded_options(const fs::path& checks_json) {
+  if (!fs::is_regular_file(checks_json)) return nullptr;
+  std::ifstream in(checks_json);
+  const nlohmann::json file = nlohmann::json::parse(in, nullptr, false);
+  if (file.is_discarded() || !file.is_object() || !file.contains("options")) return nullptr;
+  return file["options"];
+}
+
+/// `check all`, when stats.h5 or the campaign file is newer than checks.json or the options
+/// differ from those it records (check_record: the options as given and every check's margin
+/// as used).
+void judge_unless_up_to_date(const fs::path& dir, const JudgingArgs& judging) {
+  CheckArgs check;
+  check.name = "all";
+  check.directory = dir.string();
+  check.judging = judging;
+  check.table = false;  // the report's summary prints it, with a headline per check
+  const fs::path checks_json = dir / "checks.json";
+  const Time input = std::max(modified(dir / "stats.h5"), modified(dir / "campaign.toml"));
+  const bool inputs_newer = stale(checks_json, input);
+  if (!inputs_newer && recorded_options(checks_json) == check_record(check)) {
+    fmt::print("checks: {} is up to date\n", checks_json.string());
+    return;
+  }
+  if (!inputs_newer)
+    fmt::print("checks: {} was judged with other options: judging again\n", checks_json.string());
+  run_check_command(check);  // its verdicts are the report's to show, whatever they are
+}
+
 }  // namespace
 
 void add_pipeline_command(CLI::App& app, PipelineArgs& a) {
@@ -47,12 +82,15 @@ void add_pipeline_command(CLI::App& app, PipelineArgs& a) {
   p->add_option("file", a.file, "Campaign file (TOML)")->required();
   p->add_option("--report", a.report, "Report directory (default reports/<campaign name>)");
   p->add_option("--jobs", a.jobs, "Runs at once (default: all cores)");
+  // The options of `jam check all`, from the one table (check_options.cpp).
+  add_judging_options(p, a.judging);
   p->footer(
       "Exit status: 0 done (the verdicts are in the report's summary), 1 runs failed, "
       "2 a tool error, 130 interrupted.");
 }
 
 int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
+  validate_judging(a.judging);  // a bad check option: one line, before any run
   const Campaign campaign = read_campaign(a.file);
   CampaignRunOptions run;
   run.jobs = a.jobs;
@@ -69,17 +107,10 @@ int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
   } else {
     fmt::print("stats: {} is up to date\n", (dir / "stats.h5").string());
   }
-  const Time checks_input = std::max(modified(dir / "stats.h5"), modified(dir / "campaign.toml"));
-  if (stale(dir / "checks.json", checks_input)) {
-    CheckArgs check;
-    check.name = "all";
-    check.directory = dir.string();
-    check.table = false;       // the report's summary prints it, with a headline per check
-    run_check_command(check);  // its verdicts are the report's to show, whatever they are
-  } else {
-    fmt::print("checks: {} is up to date\n", (dir / "checks.json").string());
-  }
+  judge_unless_up_to_date(dir, a.judging);
   const Time report_input = std::max(modified(dir / "checks.json"), modified(dir / "stats.h5"));
+  // What jam printed comes before the report's own output (both on standard output).
+  std::fflush(stdout);
   if (stale(report / "index.html", report_input)) {
     ReportArgs r;
     r.directory = dir.string();

@@ -1,0 +1,159 @@
+#include "app/check_options.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "checks/check_registry.hpp"
+
+namespace jam {
+namespace {
+
+/// --margin's help: the default margins and which are packing differences, from the registry.
+std::string margin_help() {
+  const double usual = checks::default_margin(checks::command_names().front());
+  std::string other, packing;
+  for (const auto& e : checks::check_registry()) {
+    if (e.default_margin != usual)
+      other += fmt::format("{}{} {:g}", other.empty() ? "" : ", ", e.name, e.default_margin);
+    if (e.margin_unit == checks::MarginUnit::packing_fraction)
+      packing += (packing.empty() ? "" : ", ") + std::string(e.name);
+  }
+  return fmt::format(
+      "Margin M of the named check (all: of every check): the largest effect that still "
+      "passes, a relative pressure difference ({}: a packing difference). Default: the "
+      "campaign file's [margins], else {:g} ({})",
+      packing, usual, other);
+}
+
+bool packing(std::optional<double> phi) {
+  return !phi || (std::isfinite(*phi) && *phi > 0 && *phi < 1);
+}
+
+std::vector<JudgingOption> make_table() {
+  return {
+      {"--alpha", "alpha", &JudgingArgs::alpha,
+       "False-alarm rate of each check (Bonferroni over its comparisons)",
+       [](const JudgingArgs& a) {
+         return a.alpha > 0 && a.alpha < 1 ? "" : std::string("must be in (0, 1)");
+       }},
+      {"--permutations", "permutations", &JudgingArgs::permutations,
+       "Permutations of whole runs for null distributions",
+       [](const JudgingArgs& a) {
+         return a.permutations >= 100 ? "" : std::string("must be at least 100");
+       }},
+      {"--phi-min", "phi_min", &JudgingArgs::phi_min,
+       "Pressure checks (finite_size, phi_init, chain): pool from this packing (default: the "
+       "scaling fit's window in stats.h5)",
+       [](const JudgingArgs& a) {
+         return packing(a.phi_min) ? "" : std::string("must be a packing in (0, 1)");
+       }},
+      {"--phi-max", "phi_max", &JudgingArgs::phi_max,
+       "Pressure checks (finite_size, phi_init): pool up to this packing (default: the scaling "
+       "fit's window)",
+       [](const JudgingArgs& a) {
+         if (!packing(a.phi_max)) return std::string("must be a packing in (0, 1)");
+         if (a.phi_min && a.phi_max && !(*a.phi_min < *a.phi_max))
+           return fmt::format("must exceed --phi-min {}", *a.phi_min);
+         return std::string();
+       }},
+      {"--margin", "margin", &JudgingArgs::margin, margin_help(),
+       [](const JudgingArgs& a) {
+         return !a.margin || (std::isfinite(*a.margin) && *a.margin > 0)
+                    ? ""
+                    : std::string("must be a finite number > 0");
+       }},
+      {"--reference-dir", "reference_dir", &JudgingArgs::reference_dir,
+       "lammps: LAMMPS inputs and stored results", [](const JudgingArgs&) { return ""; }},
+      {"--no-lmp", "no_lmp", &JudgingArgs::no_lmp,
+       "lammps: use the stored LAMMPS result even if lmp is installed",
+       [](const JudgingArgs&) { return ""; }},
+  };
+}
+
+/// An option's value as the record gives it (null: not given).
+nlohmann::json value_of(const JudgingArgs& a, const JudgingOption& o) {
+  return std::visit(
+      [&a](auto field) -> nlohmann::json {
+        const auto& value = a.*field;
+        if constexpr (requires { value.has_value(); })
+          return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+        else
+          return value;
+      },
+      o.field);
+}
+
+}  // namespace
+
+const std::vector<JudgingOption>& judging_options() {
+  static const std::vector<JudgingOption> table = make_table();
+  return table;
+}
+
+void add_judging_options(CLI::App* command, JudgingArgs& args) {
+  for (const auto& o : judging_options()) {
+    std::visit(
+        [&](auto field) {
+          auto& value = args.*field;
+          if constexpr (std::is_same_v<std::decay_t<decltype(value)>, bool>) {
+            command->add_flag(o.flag, value, o.help);
+          } else if constexpr (requires { value.has_value(); }) {
+            command->add_option(o.flag, value, o.help)->always_capture_default(false);
+          } else {
+            command->add_option(o.flag, value, o.help)->capture_default_str();
+          }
+        },
+        o.field);
+  }
+}
+
+void validate_judging(const JudgingArgs& args) {
+  for (const auto& o : judging_options()) {
+    const std::string rule = o.broken(args);
+    if (rule.empty()) continue;
+    const std::string value = std::visit(
+        [&args](auto field) {
+          const auto& v = args.*field;
+          if constexpr (requires { v.has_value(); })
+            return v ? fmt::format("{:g}", *v) : std::string();
+          else
+            return fmt::format("{}", v);
+        },
+        o.field);
+    throw std::runtime_error(fmt::format("{} {}: {}", o.flag, value, rule));
+  }
+}
+
+checks::CheckOptions check_options(const JudgingArgs& args, const std::string& name,
+                                   const std::map<std::string, double>& campaign_margins) {
+  validate_judging(args);
+  checks::CheckOptions o;
+  o.alpha = args.alpha;
+  o.permutations = args.permutations;
+  o.phi_min = args.phi_min;
+  o.phi_max = args.phi_max;
+  o.margins = campaign_margins;
+  if (args.margin) {
+    // `all` sets every check's margin; a check sets its own and its parts' (phi_init:
+    // jamming_point).
+    for (const auto& e : checks::check_registry()) {
+      const auto* part = std::get_if<checks::PartOf>(&e.run);
+      if (name == "all" || name == e.name || (part && name == part->check))
+        o.margins[std::string(e.name)] = *args.margin;
+    }
+  }
+  return o;
+}
+
+nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOptions& options) {
+  nlohmann::json record = nlohmann::json::object();
+  for (const auto& o : judging_options()) record[o.key] = value_of(args, o);
+  nlohmann::json margins = nlohmann::json::object();
+  for (const auto& e : checks::check_registry())
+    margins[std::string(e.name)] = options.margin(std::string(e.name));
+  record["margins"] = margins;
+  return record;
+}
+
+}  // namespace jam

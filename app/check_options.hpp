@@ -1,0 +1,65 @@
+#pragma once
+// The options that decide how `jam check all` judges, declared once in one table
+// (check_options.cpp): `jam check` and `jam pipeline` both take them from it. The table gives
+// each option its flag, help, its key in the record and the rule its value must keep; from it
+// follow the options of both commands, their validation (one line naming the option and the
+// value, before any work) and the record written into checks.json ("options"), which is what
+// tells `jam pipeline` that verdicts judged with other options are out of date.
+//
+// The options of single checks (--set-a/--set-b, --against, --tolerance,
+// --regenerate-reference) stay with `jam check` (check_command.cpp).
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "checks/checks.hpp"
+#include "sim/io/install_paths.hpp"
+
+namespace jam {
+
+struct JudgingArgs {
+  double alpha = 0.05;
+  int permutations = 2000;
+  std::optional<double> phi_min, phi_max;  // absent: the scaling fit's window
+  std::optional<double> margin;            // absent: the campaign's [margins], else defaults
+  std::string reference_dir = data_path("reference").string();
+  bool no_lmp = false;
+};
+
+struct JudgingOption {
+  std::string flag;  // "--alpha"
+  std::string key;   // its name in checks.json's "options"
+  std::variant<double JudgingArgs::*, int JudgingArgs::*, std::optional<double> JudgingArgs::*,
+               std::string JudgingArgs::*, bool JudgingArgs::*>
+      field;
+  std::string help;
+  // The rule the value breaks, as "must be ..." words; "" when it keeps it (or is not given).
+  std::function<std::string(const JudgingArgs&)> broken;
+};
+
+/// The table, in the order of `--help`.
+const std::vector<JudgingOption>& judging_options();
+
+/// Adds the table's options to a command.
+void add_judging_options(CLI::App* command, JudgingArgs& args);
+
+/// Throws, naming the first option whose value breaks its rule and the value
+/// ("--alpha 2: must be in (0, 1)").
+void validate_judging(const JudgingArgs& args);
+
+/// The statistical checks' options for check `name` (`all`: every check): the campaign's
+/// margins, then --margin (for `name`, its parts, or every check under `all`), the rest as
+/// given. Validates first.
+checks::CheckOptions check_options(const JudgingArgs& args, const std::string& name,
+                                   const std::map<std::string, double>& campaign_margins);
+
+/// What the verdicts were judged with: every option of the table by its key (null when not
+/// given) and "margins", each registered check's margin as used.
+nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOptions& options);
+
+}  // namespace jam
