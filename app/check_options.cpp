@@ -20,9 +20,9 @@ std::string margin_help() {
       packing += (packing.empty() ? "" : ", ") + std::string(e.name);
   }
   return fmt::format(
-      "Margin M of the named check (all: of every check): the largest effect that still "
-      "passes, a relative pressure difference ({}: a packing difference). Default: the "
-      "campaign file's [margins], else {:g} ({})",
+      "Margin M of the named check (all, and jam pipeline: of every check): the largest "
+      "effect that still passes, a relative pressure difference ({}: a packing difference). "
+      "Default: the campaign file's [margins], else {:g} ({})",
       packing, usual, other);
 }
 
