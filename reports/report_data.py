@@ -342,7 +342,8 @@ def _verdict(x):
                    _number(x, "threshold"), _number(x, "detectable_effect"),
                    _number(x, "excluded_above"), values,
                    margin=_number(x, "margin"), samples_needed=_number(x, "samples_needed"),
-                   expected_failure=expected, unit=_string(x, "unit", None))
+                   expected_failure=expected,
+                   unit=_string(x, "unit") if "unit" in x else None)  # older files: none
 
 
 def _registry(checks):

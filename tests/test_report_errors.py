@@ -719,6 +719,7 @@ def case_mistyped_stats_and_values_fields(work):
         (edit_json("margin_unit", "percent", "checks"),
          [checks_json, "checks 0", "field 'margin_unit' is 'percent'"]),
         (edit_json("name", 7, "checks"), [checks_json, "checks 0", "field 'name' is 7"]),
+        (edit_json("unit", 5), [checks_json, "verdict 0", "field 'unit' is 5"]),
         (edit_h5("stats.h5", "/", "wall_time", "1 s"),
          [stats, "attribute 'wall_time'", "'1 s'", "not a number"]),
         (edit_h5("stats.h5", "/", "runs", 2.5), [stats, "attribute 'runs'", "2.5"]),
