@@ -4,14 +4,7 @@ import matplotlib.patches
 import matplotlib.pyplot as plt
 import numpy as np
 
-from report_plot import (Figure, Plotted, decorate, label, panels_with_key, rate_colors,
-                         rate_label, rate_text, save)
-
-
-def _offset_step(curves):
-    """A vertical offset between rates that keeps the curves apart (robust to outliers)."""
-    spans = [np.nanpercentile((np.abs(d) + s)[len(d) // 20:], 90) for d, s in curves if len(d)]
-    return float(np.clip(2.2 * max(spans, default=0.1), 0.02, 2.0))
+from report_plot import Figure, Plotted, label, panels_with_key, rate_label, rate_text, save
 
 
 # A panel's title gives each phi_init's verdict, shortened to fit.
@@ -118,35 +111,62 @@ def finite_size_z_figure(c, out_dir):
     return _finite_size_grid(c, found, 1.0, out_dir) if found else None
 
 
+def _pairs_panel(ax, rate, mine, colors, plotted):
+    margin = mine[0].margin or 0.1
+    ax.axhspan(-margin, margin, color="tab:green", alpha=0.12, lw=0)
+    ax.axhline(0, color="k", lw=0.5)
+    spans = []
+    for v in mine:
+        start = f"phi_init {v.values.get('phi_init', 0):g}"
+        for name in sorted(k for k in v.curves if k.startswith("pair_")):
+            p = v.curves[name]
+            ax.plot(v.curves["grid"], p, lw=0.6, alpha=0.6, color=colors[start])
+            plotted.add("sample pairs", f"{rate_text(rate)}, {start}, {name}, {v.status}",
+                        v.curves["grid"], p)
+            spans.append(np.nanpercentile(np.abs(p), 90) if np.isfinite(p).any() else 0)
+    lo, hi = MARGINS_SHOWN
+    shown = margin * float(np.clip(max(spans, default=0) / margin * 1.15, lo, hi))
+    ax.set_ylim(-shown, shown)
+    words = ", ".join(f"{v.values.get('phi_init', 0):g} {SHORT.get(v.status, v.status)}"
+                      for v in mine)
+    ax.set_title(f"{rate_label(rate)}: {words}", fontsize=8)
+    ax.grid(alpha=0.3)
+
+
 def sample_pairs_figure(c, out_dir):
-    """Delta p/p of single pairs of samples (sample i of one size against sample i of the other)."""
+    """Delta p/p of single pairs of samples (sample i of one size against sample i of the
+    other), one panel per rate on one scale, a colour per phi_init, no offsets."""
     found = [v for v in c.verdicts if v.figure == "sample_pairs" and "grid" in v.curves]
     if not found:
         return None
-    fig, ax = plt.subplots(layout="constrained", figsize=(7.5, 4.5))
-    colors = rate_colors([v.values.get("log10_rate", 0.0) for v in found])
-    found.sort(key=lambda v: (v.values.get("phi_init", 0.0), -v.values.get("log10_rate", 0.0)))
-    pairs = [[(k, v.curves[k]) for k in v.curves if k.startswith("pair_")] for v in found]
-    step = _offset_step([(p, np.zeros_like(p)) for ps in pairs for _, p in ps])
+    rates = sorted({v.values.get("log10_rate", 0.0) for v in found}, reverse=True)
+    starts = sorted({v.values.get("phi_init", 0.0) for v in found})
+    palette = plt.get_cmap("tab10")
+    colors = {f"phi_init {s:g}": palette(k % 10) for k, s in enumerate(starts)}
+    columns = min(len(rates), 5)
+    rows = (len(rates) + columns - 1) // columns
+    fig, axes, key = panels_with_key(rows, columns, (2.9, 2.4), key_width=2.0)
     plotted = Plotted()
-    plotted.panel("sample pairs", "packing fraction phi", "Delta p/p of the pair + offset")
-    for k, (v, ps) in enumerate(zip(found, pairs)):
-        r = v.values.get("log10_rate", 0.0)
-        offset = k * step
-        series = (f"phi_init {v.values.get('phi_init', 0):g}, {{}} (+{offset:.2g}), "
-                  f"{v.status}")
-        ax.axhline(offset, color="k", lw=0.5, ls="--")
-        for j, (name, p) in enumerate(ps):
-            ax.plot(v.curves["grid"], p + offset, lw=0.7, color=colors[r], alpha=0.7,
-                    label=series.format(rate_label(r)) if j == 0 else None)
-            plotted.add("sample pairs", f"{series.format(rate_text(r))}, {name}",
-                        v.curves["grid"], p + offset)
-    decorate(ax, r"packing fraction $\phi$", r"$\Delta p/p$ of sample pairs + offset")
+    plotted.panel("sample pairs", "packing fraction phi", "Delta p/p of the pair (fraction)")
+    for ax, rate in zip(axes.ravel(), rates):
+        _pairs_panel(ax, rate, [v for v in found if v.values.get("log10_rate", 0.0) == rate],
+                     colors, plotted)
+    for ax in axes.ravel()[len(rates):]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel(r"packing fraction $\phi$")
+    for ax in axes[:, 0]:
+        ax.set_ylabel(r"$\Delta p/p$ of a pair")
+    handles = [plt.Line2D([], [], color=colors[n], lw=1, label=n) for n in colors]
+    handles.append(matplotlib.patches.Patch(color="tab:green", alpha=0.25,
+                                            label=f"margin +-{100 * (found[0].margin or 0.1):g}%"))
+    key.legend(handles=handles, loc="center left", fontsize=8, borderaxespad=0)
     file = save(fig, out_dir, "sample_pairs.png", plotted)
     return Figure(file, "Sample pairs",
                   "Each line is one pair (sample i of the smaller size against sample i of the "
-                  "larger), offset per (phi_init, rate); the sample_pairs check compares their "
-                  "spread with the within-size fluctuations.")
+                  "larger), one panel per rate on one scale, without offsets; the sample_pairs "
+                  "check compares their spread with the within-size fluctuations; each panel's "
+                  "title gives each phi_init's verdict. Vertical range 2 to 6 margins.")
 
 
 def _lammps_panels(top, bottom, v, plotted):
