@@ -1,0 +1,163 @@
+"""What the cases of tests/test_report_errors.py share: the campaign copy (the stored
+reduced-2d result with a checks.h5 written here), running the report, and the expectations
+(one error line, nothing left behind, inert output). SOURCE is set by the driver."""
+
+import contextlib
+import errno
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+
+SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+CAMPAIGN = os.path.join("reference", "results", "reduced-2d")
+
+
+TIMEOUT = 300  # seconds for one report (about 25 s of CPU; more on a loaded machine): a hang fails its case
+
+
+class Skip(Exception):
+    """A case that cannot run here; the message says why."""
+
+
+def report(directory, out, cwd=None, timeout=TIMEOUT):
+    """reports/jam_report.py DIR [--out OUT] --quiet, run in cwd; the completed process."""
+    script = os.path.join(SOURCE, "reports", "jam_report.py")
+    args = [sys.executable, script, directory, "--quiet"] + (["--out", out] if out else [])
+    try:
+        return subprocess.run(args, capture_output=True, text=True, timeout=timeout, cwd=cwd)
+    except subprocess.TimeoutExpired as e:
+        raise AssertionError(f"the report did not finish in {timeout} s") from e
+
+
+def tree(root):
+    """Every path under root (not following links), relative to it."""
+    out = set()
+    for directory, dirs, files in os.walk(root):
+        for name in dirs + files:
+            out.add(os.path.relpath(os.path.join(directory, name), root))
+    return out
+
+
+def expect_error(r, words, before, root):
+    """Exit status 2, exactly one line on stderr holding `words`, nothing new under root."""
+    lines = r.stderr.splitlines()
+    if r.returncode != 2:
+        raise AssertionError(f"exit status {r.returncode}, expected 2; {len(lines)} lines "
+                             f"on stderr:\n{r.stderr}")
+    if len(lines) != 1:
+        raise AssertionError(f"{len(lines)} lines on stderr, expected 1:\n{r.stderr}")
+    if not lines[0].startswith("jam report: error: "):
+        raise AssertionError(f"not a jam report error: {lines[0]}")
+    missing = [w for w in words if w not in lines[0]]
+    if missing:
+        raise AssertionError(f"{missing} not in: {lines[0]}")
+    left = sorted(tree(root) - before)
+    if left:
+        raise AssertionError(f"left behind: {left}")
+    return lines[0]
+
+
+def write_checks_h5(path, checks_json):
+    """A checks.h5 for checks.json (reference/schema.md): one group per verdict, finite-size
+    curves on the ones that were tested."""
+    with open(checks_json) as f:
+        verdicts = json.load(f)
+    if isinstance(verdicts, dict):
+        verdicts = verdicts["verdicts"]
+    grid = np.linspace(0.80, 0.86, 400)
+    with h5py.File(path, "w") as f:
+        f.attrs["version"] = "test"
+        f.attrs["wall_time"] = 1.0
+        for k, v in enumerate(verdicts):
+            g = f.create_group(f"verdicts/{k:03d}_{v['check']}")
+            for key in ("check", "case", "status"):
+                g.attrs[key] = v[key]
+            if v["check"] == "finite_size" and v["status"] != "skipped":
+                g["grid"] = grid
+                g["delta"] = 0.01 * np.sin(40 * grid)
+                g["sigma"] = np.full_like(grid, 0.005)
+
+
+def campaign(work):
+    """A copy of the stored campaign in work/campaign, with a checks.h5."""
+    out = os.path.join(work, "campaign")
+    os.mkdir(out)
+    for name in ("stats.h5", "checks.json", "campaign.toml"):
+        shutil.copy(os.path.join(SOURCE, CAMPAIGN, name), out)
+    write_checks_h5(os.path.join(out, "checks.h5"), os.path.join(out, "checks.json"))
+    return out
+
+
+@contextlib.contextmanager
+def tmpfs(path, options):
+    """A tmpfs mounted at path (created) for the body; Skip when mounting is not allowed."""
+    os.mkdir(path)
+    try:
+        r = subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", path],
+                           capture_output=True, text=True, timeout=30)
+        why = r.stderr.strip() if r.returncode else ""
+    except (OSError, subprocess.TimeoutExpired) as e:
+        why = str(e)
+    if why:
+        raise Skip(f"mounting a tmpfs is not allowed here ({why})")
+    try:
+        yield path
+    finally:
+        r = subprocess.run(["umount", path], capture_output=True, text=True, timeout=30)
+        if r.returncode:
+            print(f"  could not unmount {path}: {r.stderr.strip()}")
+
+
+def fill(directory):
+    """Writes directory/filler until the file system is full."""
+    block = b"\0" * 65536
+    with open(os.path.join(directory, "filler"), "wb", buffering=0) as f:
+        while True:
+            try:
+                f.write(block)
+            except OSError as e:
+                if e.errno == errno.ENOSPC:
+                    return
+                raise
+
+
+def contents(root):
+    """Every path under root with the bytes of each file, for a before/after comparison."""
+    out = {}
+    for path in sorted(tree(root)):
+        full = os.path.join(root, path)
+        out[path] = None if os.path.isdir(full) else open(full, "rb").read()
+    return out
+
+
+def expect_untouched(r, words, root, before):
+    """Refused in one line holding `words`, and every file under root as it was."""
+    expect_error(r, words, set(before), root)
+    if contents(root) != before:
+        raise AssertionError("files under the work directory were changed or removed")
+
+
+HOSTILE = '<script>alert(1)</script><img src=x onerror="alert(2)">\x1b[31m'
+
+
+def report_text(out):
+    """index.html and summary.txt of a finished report, as text."""
+    with open(os.path.join(out, "index.html"), encoding="utf-8") as f:
+        page = f.read()
+    with open(os.path.join(out, "summary.txt"), encoding="utf-8") as f:
+        return page, f.read()
+
+
+def expect_inert(page, where, markup=True):
+    """No control character, and (in HTML: `markup`) no markup from a file left unescaped."""
+    for raw in (("<script", "<img src=x", 'onerror="') if markup else ()) + ("\x1b", "\x00"):
+        if raw in page:
+            raise AssertionError(f"{where}: {raw!r} reached it unescaped")
