@@ -27,10 +27,11 @@ class Skip(Exception):
     """A case that cannot run here; the message says why."""
 
 
-def report(directory, out, cwd=None, timeout=TIMEOUT):
-    """reports/jam_report.py DIR [--out OUT] --quiet, run in cwd; the completed process."""
+def report(directory, out, cwd=None, timeout=TIMEOUT, quiet=True):
+    """reports/jam_report.py DIR [--out OUT] [--quiet], run in cwd; the completed process."""
     script = os.path.join(SOURCE, "reports", "jam_report.py")
-    args = [sys.executable, script, directory, "--quiet"] + (["--out", out] if out else [])
+    args = ([sys.executable, script, directory] + (["--quiet"] if quiet else [])
+            + (["--out", out] if out else []))
     try:
         return subprocess.run(args, capture_output=True, text=True, timeout=timeout, cwd=cwd)
     except subprocess.TimeoutExpired as e:
@@ -65,14 +66,10 @@ def expect_error(r, words, before, root):
     return lines[0]
 
 
-def write_checks_h5(path, checks_json):
-    """A checks.h5 for checks.json (reference/schema.md): one group per verdict, finite-size
-    curves on the ones that were tested."""
-    with open(checks_json) as f:
-        verdicts = json.load(f)
-    if isinstance(verdicts, dict):
-        verdicts = verdicts["verdicts"]
-    grid = np.linspace(0.80, 0.86, 400)
+def synthetic_checks_h5(path, verdicts, with_curves=("finite_size",), points=400):
+    """A checks.h5 for the verdicts (reference/schema.md): one group per verdict,
+    finite-size-like curves on the verdicts of the checks in `with_curves` that were tested."""
+    grid = np.linspace(0.80, 0.86, points)
     with h5py.File(path, "w") as f:
         f.attrs["version"] = "test"
         f.attrs["wall_time"] = 1.0
@@ -80,10 +77,17 @@ def write_checks_h5(path, checks_json):
             g = f.create_group(f"verdicts/{k:03d}_{v['check']}")
             for key in ("check", "case", "status"):
                 g.attrs[key] = v[key]
-            if v["check"] == "finite_size" and v["status"] != "skipped":
+            if v["check"] in with_curves and v["status"] != "skipped":
                 g["grid"] = grid
                 g["delta"] = 0.01 * np.sin(40 * grid)
                 g["sigma"] = np.full_like(grid, 0.005)
+
+
+def write_checks_h5(path, checks_json):
+    """synthetic_checks_h5 for the verdicts of checks.json (schema 1 or 2)."""
+    with open(checks_json) as f:
+        verdicts = json.load(f)
+    synthetic_checks_h5(path, verdicts["verdicts"] if isinstance(verdicts, dict) else verdicts)
 
 
 def campaign(work):

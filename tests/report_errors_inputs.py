@@ -4,13 +4,10 @@ mistyped and hostile inputs, special files, and values beyond what a report show
 import json
 import os
 import shutil
-import subprocess
-import sys
 
 import h5py
 import numpy as np
 
-import report_errors_fixture as fixture
 from report_errors_fixture import (HOSTILE, campaign, expect_error, expect_inert, report,
                                    report_text, tree)
 
@@ -72,9 +69,7 @@ def case_hostile_values_are_escaped(work):
     with open(os.path.join(camp, "campaign.toml"), "a") as f:
         f.write("# " + HOSTILE + "\n")
     out = os.path.join(work, "r")
-    script = os.path.join(fixture.SOURCE, "reports", "jam_report.py")
-    r = subprocess.run([sys.executable, script, camp, "--out", out], capture_output=True,
-                       text=True, timeout=fixture.TIMEOUT)
+    r = report(camp, out, quiet=False)
     if r.returncode != 0:
         raise AssertionError(f"exit {r.returncode}: {r.stderr}")
     page, summary = report_text(out)
@@ -238,9 +233,7 @@ def case_hostile_values_in_every_field(work):
     camp = campaign(work)
     make_every_field_hostile(camp)
     out = os.path.join(work, "r")
-    script = os.path.join(fixture.SOURCE, "reports", "jam_report.py")
-    r = subprocess.run([sys.executable, script, camp, "--out", out], capture_output=True,
-                       text=True, timeout=fixture.TIMEOUT)
+    r = report(camp, out, quiet=False)
     if r.returncode != 0:
         raise AssertionError(f"exit {r.returncode}: {r.stderr}")
     page, summary = report_text(out)

@@ -25,29 +25,11 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
-import numpy as np
+from report_errors_fixture import synthetic_checks_h5
 
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 JAM = "jam"
 TIMEOUT = 120  # seconds for one report
-
-
-def write_checks_h5(path, verdicts, with_curves):
-    """A checks.h5 for the verdicts (reference/schema.md): finite-size-like curves on the
-    verdicts of the checks in `with_curves`."""
-    grid = np.linspace(0.80, 0.86, 200)
-    with h5py.File(path, "w") as f:
-        f.attrs["version"] = "test"
-        f.attrs["wall_time"] = 1.0
-        for k, v in enumerate(verdicts):
-            g = f.create_group(f"verdicts/{k:03d}_{v['check']}")
-            for key in ("check", "case", "status"):
-                g.attrs[key] = v[key]
-            if v["check"] in with_curves:
-                g["grid"] = grid
-                g["delta"] = 0.01 * np.sin(40 * grid)
-                g["sigma"] = np.full_like(grid, 0.005)
 
 
 def campaign(work, edit=None):
@@ -68,7 +50,7 @@ def campaign(work, edit=None):
     curves = {v["check"] for v in checks["verdicts"]
               if v["check"] not in ("sample_pairs", "phi_init", "jamming_point", "lammps",
                                     "regression")}
-    write_checks_h5(os.path.join(out, "checks.h5"), checks["verdicts"], curves)
+    synthetic_checks_h5(os.path.join(out, "checks.h5"), checks["verdicts"], curves, 200)
     return out
 
 
