@@ -12,6 +12,13 @@ output grid as exact values), with units; they need pandas, the Datasets xarray:
     runs_frame(campaign_dir), runs_dataset(campaign_dir)      every output point of every run
     stats_frame(stats), stats_dataset(stats)                  every ensemble's averages
 
+Writing a run of another simulator in the open run format (docs/cross-simulator.md):
+
+    write_run(path, packing_fraction, pressure, *, dim, n, rate, phi_init, simulator, sample)
+    validate_run(path)        an open run or a run file of jam's own, checked -> OpenRun
+    write_frames(path, ...)   configurations for `jam import frames` (jam measures p, Z, E)
+    python3 -m jamio.gsd_import   a HOOMD-blue GSD trajectory -> an open run (needs gsd)
+
 Strings come back as str, numbers as int and float, datasets as numpy arrays. A file that is
 missing or cannot be read raises JamioError (a ValueError) whose message starts with its path.
 """
@@ -25,10 +32,12 @@ from .hdf5 import Group
 from .runs import Run, load_run, load_runs, run_files
 from .stats import Ensemble, EnsembleKey, FamilyFit, Fit, Stats, load_stats
 from .units import unit_of
+from .write import OpenRun, validate_run, write_frames, write_run
 
 __version__ = "0.2.0"
 
 __all__ = ["Checks", "Design", "Ensemble", "EnsembleKey", "FamilyFit", "Fit", "Group",
-           "JamioError", "Run", "Stats", "grid_value", "load_checks", "load_design", "load_run",
-           "load_runs", "load_stats", "run_files", "runs_dataset", "runs_frame", "stats_dataset",
-           "stats_frame", "unit_of", "__version__"]
+           "JamioError", "OpenRun", "Run", "Stats", "grid_value", "load_checks", "load_design",
+           "load_run", "load_runs", "load_stats", "run_files", "runs_dataset", "runs_frame",
+           "stats_dataset", "stats_frame", "unit_of", "validate_run", "write_frames",
+           "write_run", "__version__"]
