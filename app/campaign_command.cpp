@@ -52,6 +52,18 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   status->footer(
       "Exit status: 0 every run is done; 1 a run failed or is corrupt; 4 runs are "
       "missing or partial (none failed); 2 the directory is not a campaign's.");
+  CLI::App* import = campaign->add_subcommand(
+      "import", "Import runs jam did not plan (open runs of any simulator, docs/cross-simulator.md) "
+                "into an external campaign directory, for status, stats, check and report");
+  import->add_option("directory", a.directory, "Campaign directory (new, or an external one)")
+      ->required();
+  import->add_option("files", a.import_files, "Run files (HDF5): open runs or jam's own")
+      ->required();
+  import->add_option("--phi-step", a.import_options.phi_step,
+                     "Grid of packings the statistics average on (default 0.0005)");
+  import->add_option("--name", a.import_options.name, "Campaign name (default: the directory's)");
+  import->footer("Exit status: 0 every file imported (or already there); 1 a file was set aside "
+                 "(the reason is printed and kept in external.toml); 2 bad input.");
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
@@ -141,7 +153,17 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
       throw CLI::ValidationError("--budget", "--budget and --alpha go with --until-decided");
     return run_campaign(read_campaign(a.file), options, ranks);
   }
-  if (campaign->got_subcommand("status")) return print_campaign_status(a.directory, a.json);
+  if (campaign->got_subcommand("status")) {
+    if (is_external_campaign(a.directory)) return print_external_status(a.directory, a.json);
+    return print_campaign_status(a.directory, a.json);
+  }
+  if (campaign->got_subcommand("import")) {
+    const ImportOutcome out = import_runs(a.directory, a.import_files, a.import_options);
+    for (const auto& s : out.set_aside) fmt::print(stderr, "set aside {}: {}\n", s.file, s.reason);
+    fmt::print("{}: {} runs imported, {} already there, {} set aside\n", a.directory, out.imported,
+               out.already, out.set_aside.size());
+    return out.set_aside.empty() ? 0 : 1;
+  }
   const Campaign c = read_campaign(a.file);
   // The variance model first, so that a bad --scatter-from is refused before any output.
   ScatterModel model;

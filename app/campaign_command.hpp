@@ -3,6 +3,7 @@
 
 #include "app/until_decided.hpp"
 #include "campaign/campaign_runner.hpp"
+#include "campaign/external_campaign.hpp"
 
 namespace jam {
 
@@ -16,6 +17,8 @@ struct CampaignArgs {
   UntilDecidedOptions until;              // --budget, --alpha
   std::vector<std::string> scatter_from;  // plan --scatter-from DIR...
   int pilot = 0;                          // plan --pilot K
+  std::vector<std::string> import_files;  // import DIR FILE...
+  ImportOptions import_options;
 };
 
 /// Registers `jam campaign run|status|plan`.

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
   jam::add_stats_command(app, stats_args);
   jam::CheckArgs check_args;
   jam::add_check_command(app, check_args);
-  jam::LammpsImport import_request;
+  jam::ImportRequest import_request;
   jam::add_import_command(app, import_request);
   jam::ReportArgs report_args;
   jam::add_report_command(app, report_args);

@@ -10,6 +10,7 @@
 #include <regex>
 #include <sstream>
 
+#include "campaign/external_campaign.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/hdf5_file.hpp"
@@ -88,6 +89,11 @@ Campaign stored_campaign(const std::string& directory) {
 void prepare_campaign_directory(const Campaign& c) {
   const fs::path dir(c.output);
   const fs::path stored = dir / "campaign.toml";
+  if (is_external_campaign(dir.string()))
+    throw ConfigError(fmt::format(
+        "output {}: an external campaign (external.toml): its runs are imported with `jam "
+        "campaign import`, not run",
+        dir.string()));
   if (fs::exists(stored)) {
     const Campaign old = stored_campaign(dir.string());
     const auto before = identity_keys(old), after = identity_keys(c);

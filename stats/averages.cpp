@@ -86,7 +86,11 @@ GridAverage average_at_constant_phi(const std::vector<RunCurves>& samples, doubl
   GridAverage a;
   a.grid_name = "packing_fraction";
   a.grid = grid_between(lo, hi, phi_step);
-  a.names = {"pressure", "contacts_per_particle"};
+  // Runs of other simulators may carry no Z (docs/cross-simulator.md): then pressure alone.
+  const bool with_z = std::all_of(samples.begin(), samples.end(),
+                                  [](const RunCurves& r) { return !r.contacts.empty(); });
+  a.names = {"pressure"};
+  if (with_z) a.names.push_back("contacts_per_particle");
   const bool with_nr = std::all_of(samples.begin(), samples.end(), [](const RunCurves& r) {
     return !r.contacts_no_rattlers.empty();
   });
@@ -94,7 +98,8 @@ GridAverage average_at_constant_phi(const std::vector<RunCurves>& samples, doubl
   a.tables.assign(a.names.size(), {});
   for (const auto& r : samples) {
     a.sample_ids.push_back(r.sample);
-    std::vector<const std::vector<double>*> ys = {&r.pressure, &r.contacts};
+    std::vector<const std::vector<double>*> ys = {&r.pressure};
+    if (with_z) ys.push_back(&r.contacts);
     if (with_nr) ys.push_back(&r.contacts_no_rattlers);
     for (std::size_t o = 0; o < ys.size(); ++o) {
       std::vector<double> row(a.grid.size());
@@ -116,6 +121,8 @@ GridAverage average_at_constant_z(const std::vector<RunCurves>& samples, double 
           "average at constant Z without rattlers: the runs did not store it (run with rattlers "
           "= true)");
     }
+    if (r.contacts.empty())
+      throw std::invalid_argument("average at constant Z: a run stored no contacts_per_particle");
     return no_rattlers ? r.contacts_no_rattlers : r.contacts;
   };
   // Common range: above every run's start, below every run's largest Z.

@@ -2,13 +2,57 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include "campaign/campaign_dir.hpp"
+#include "campaign/external_campaign.hpp"
 #include "campaign/run_plan.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/open_run.hpp"
 
 namespace jam::stats {
 
+namespace {
+
+/// The runs of an external campaign (campaign/external_campaign.hpp), each checked again as an
+/// open run and against the checksum it was imported with; a run that fails is left out with a
+/// warning naming it, as a corrupt planned run is.
+CampaignData read_external_runs(const std::string& directory) {
+  const ExternalCampaign campaign = read_external_campaign(directory);
+  CampaignData data;
+  data.name = campaign.name;
+  data.dim = campaign.dim;
+  data.phi_step = campaign.phi_step;
+  for (const ExternalRun& run : campaign.runs) {
+    const std::string path = (std::filesystem::path(directory) / "runs" / (run.name + ".h5")).string();
+    OpenRun r;
+    try {
+      r = read_open_run(path);
+      if (file_checksum(path) != run.source_checksum)
+        throw std::runtime_error("changed since it was imported (its checksum differs)");
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "jam stats: warning: corrupt run {} left out: {}\n", run.name, e.what());
+      data.skipped.push_back(fmt::format("{} (corrupt)", run.name));
+      continue;
+    }
+    RunCurves c;
+    c.n = run.n;
+    c.phi_init = run.phi_init;
+    c.log10_rate = run.log10_rate;
+    c.sample = run.sample;
+    c.phi = std::move(r.packing_fraction);
+    c.pressure = std::move(r.pressure);
+    c.contacts = std::move(r.contacts_per_particle);  // empty: no constant-Z averages
+    c.jamming_point = r.jamming_packing_fraction;
+    data.runs.push_back(std::move(c));
+  }
+  return data;
+}
+
+}  // namespace
+
 CampaignData read_campaign_runs(const std::string& directory) {
+  if (is_external_campaign(directory)) return read_external_runs(directory);
   const Campaign campaign = stored_campaign(directory);
   CampaignData data;
   data.name = campaign.name;

@@ -298,7 +298,10 @@ std::string format_stats_summary(const CampaignStats& s) {
     std::size_t k = 0;
     while (k + 1 < a.grid.size() && a.grid[k] < probe - 1e-9) ++k;
     const auto& p = a.mean("pressure")[k];
-    const auto& z = a.mean("contacts_per_particle")[k];
+    // Runs of other simulators may carry no Z: shown as nan.
+    const bool has_z = std::find(a.names.begin(), a.names.end(), "contacts_per_particle") !=
+                       a.names.end();
+    const SampleMean z = has_z ? a.mean("contacts_per_particle")[k] : SampleMean{NAN, NAN, 0};
     out << fmt::format(
         "{:>8} {:>8.4f} {:>9.2e} {:>7} {:>13.4e} {:>8.1f}% {:>9.4f} {:>8.2f}%{}\n",
         e.key.n ? std::to_string(e.key.n) : "pooled", e.key.phi_init,

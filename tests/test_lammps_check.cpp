@@ -116,7 +116,11 @@ BOOST_AUTO_TEST_CASE(import_turns_a_lammps_log_into_a_run_file) {
   fs::create_directories(kDir);
   const fs::path stored = fs::path(JAM_SOURCE_DIR) / "reference" / "lammps" / "inertial-2d";
   const std::string out = (kDir / "imported.h5").string();
-  jam::import_lammps_run({(stored / "lammps.log").string(), (stored / "start.data").string(), out});
+  jam::LammpsImport request;
+  request.log = (stored / "lammps.log").string();
+  request.data = (stored / "start.data").string();
+  request.out = out;
+  jam::import_lammps_run(request);
   const jam::h5::File f = jam::h5::File::open_read(out);
   BOOST_TEST(f.read_attribute_int("complete") == 1);
   BOOST_TEST(f.read_attribute_int("dim") == 2);
@@ -137,13 +141,14 @@ BOOST_AUTO_TEST_CASE(import_turns_a_lammps_log_into_a_run_file) {
   std::ofstream(kDir / "bad.log")
       << "dimension 2\ntimestep 0.005\nfix c all deform 1 x trate -0.001\n"
       << "Step Time Temp\n0 0 1\n";
-  BOOST_CHECK_EXCEPTION(
-      jam::import_lammps_run(
-          {(kDir / "bad.log").string(), (stored / "start.data").string(), out + "2"}),
-      std::runtime_error, [](const std::runtime_error& e) {
-        return std::string(e.what()).find("bad.log:5: thermo has no column c_virial") !=
-               std::string::npos;
-      });
+  request.log = (kDir / "bad.log").string();
+  request.out = out + "2";
+  BOOST_CHECK_EXCEPTION(jam::import_lammps_run(request), std::runtime_error,
+                        [](const std::runtime_error& e) {
+                          return std::string(e.what()).find(
+                                     "bad.log: no thermo header with the columns Step Time "
+                                     "c_virial PotEng v_Z") != std::string::npos;
+                        });
   BOOST_TEST(!fs::exists(out + "2"));
   fs::remove_all(kDir);
 }

@@ -450,6 +450,15 @@ std::vector<double> File::read_dataset(const std::string& name, const Extent& ex
   return read_array<double>(*this, name, Kind::kNumber, H5T_NATIVE_DOUBLE, expected);
 }
 
+std::vector<hsize_t> File::dataset_shape(const std::string& name) const {
+  const std::string what = fmt::format("{}: dataset '{}'", path_, name);
+  Handle set(check(H5Dopen2(id(), name.c_str(), local_links(H5P_DATASET_ACCESS)),
+                   fmt::format("{}: missing dataset '{}'", path_, name)),
+             H5Dclose);
+  Handle space(check(H5Dget_space(set.get()), what + ": unreadable shape"), H5Sclose);
+  return extent(space.get(), what);
+}
+
 hsize_t File::size_bytes() const {
   // The larger of the end of file and the end of allocated space: a file being written may
   // not have reached its end yet. HDF5 refuses to open a file shorter than its superblock says.

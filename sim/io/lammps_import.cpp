@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -11,6 +11,8 @@
 
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/lammps_log.hpp"
+#include "sim/io/open_run.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 
@@ -22,21 +24,6 @@ std::vector<std::string> words(const std::string& line) {
   std::vector<std::string> w;
   for (std::string x; in >> x;) w.push_back(x);
   return w;
-}
-
-/// The whole of `text` as a finite number; otherwise one line naming the file, line, field
-/// and value (std::stod would take "1.5abc" as 1.5 and say only "stod" of "abc").
-double number(const std::string& text, const std::string& where, const std::string& field) {
-  double v = 0.0;
-  const char* end = text.data() + text.size();
-  const auto [at, error] = std::from_chars(text.data(), end, v);
-  if (error != std::errc() || at != end) {
-    throw std::runtime_error(fmt::format("{}: {} '{}' is not a number", where, field, text));
-  }
-  if (!std::isfinite(v)) {
-    throw std::runtime_error(fmt::format("{}: {} {} is not finite", where, field, text));
-  }
-  return v;
 }
 
 /// The thermo must describe one compression forward in time: increasing finite times and steps,
@@ -62,76 +49,20 @@ void check_thermo(const LammpsThermo& d, const std::string& path) {
 }  // namespace
 
 LammpsThermo read_lammps_thermo(const std::string& path) {
-  check_input_file("LAMMPS log", path);
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot read LAMMPS log", path));
-  LammpsThermo d;
-  d.dt = NAN;
-  d.rate = NAN;
-  std::string line;
-  int line_no = 0;
-  std::vector<std::string> header;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const auto w = words(line);
-    if (w.empty()) continue;
-    const std::string where = fmt::format("{}:{}", path, line_no);
-    if (w[0] == "dimension" && w.size() == 2 && w[1] != "${dim}") {
-      const double dim = number(w[1], where, "dimension");
-      if (dim != 2 && dim != 3) {
-        throw std::runtime_error(fmt::format("{}: dimension {} (must be 2 or 3)", where, w[1]));
-      }
-      d.dim = static_cast<int>(dim);
-    }
-    if (w[0] == "timestep" && w.size() == 2 && w[1][0] != '$') {
-      d.dt = number(w[1], where, "timestep");
-      if (!(d.dt > 0))
-        throw std::runtime_error(fmt::format("{}: timestep {} (must be > 0)", where, w[1]));
-    }
-    if (w[0] == "fix" && w.size() > 5 && w[3] == "deform") {
-      for (std::size_t k = 4; k + 2 < w.size(); ++k) {
-        if (w[k + 1] == "trate" && w[k + 2][0] != '$') {
-          d.rate = -number(w[k + 2], where, "trate");
-          // The rates jam simulates (campaign log10_rates in [-12, 0]); a compression, so the
-          // strain rate is negative.
-          if (!(d.rate >= 1e-12 && d.rate <= 1.0)) {
-            throw std::runtime_error(fmt::format(
-                "{}: trate {} (must be a compression, -1 <= trate <= -1e-12)", where, w[k + 2]));
-          }
-        }
-      }
-    }
-    if (w[0] == "Step") {
-      header = w;
-      continue;
-    }
-    if (w[0] == "Loop") {
-      header.clear();
-      continue;
-    }
-    if (header.empty()) continue;
-    if (w.size() != header.size()) {
-      throw std::runtime_error(fmt::format("{}:{}: thermo line has {} columns, header {}", path,
-                                           line_no, w.size(), header.size()));
-    }
-    auto column = [&](const std::string& name) {
-      for (std::size_t k = 0; k < header.size(); ++k)
-        if (header[k] == name) return number(w[k], where, name);
-      throw std::runtime_error(
-          fmt::format("{}:{}: thermo has no column {} (use reference/lammps/compress_inertial.in)",
-                      path, line_no, name));
-    };
-    d.step.push_back(column("Step"));
-    d.time.push_back(column("Time"));
-    d.pressure.push_back(column("c_virial"));
-    d.energy.push_back(column("PotEng"));
-    d.contacts.push_back(column("v_Z"));
-  }
-  if (d.dim != 2 && d.dim != 3)
-    throw std::runtime_error(fmt::format("{}: no 'dimension 2|3' line", path));
-  if (!(d.dt > 0)) throw std::runtime_error(fmt::format("{}: no 'timestep' line", path));
-  if (!(d.rate > 0))
+  LammpsLog log = read_lammps_log(path, {"Step", "Time", "c_virial", "PotEng", "v_Z"});
+  if (!log.dim) throw std::runtime_error(fmt::format("{}: no 'dimension 2|3' line", path));
+  if (!log.timestep) throw std::runtime_error(fmt::format("{}: no 'timestep' line", path));
+  if (!log.rate)
     throw std::runtime_error(fmt::format("{}: no 'fix ... deform ... trate -rate' line", path));
+  LammpsThermo d;
+  d.dim = *log.dim;
+  d.dt = *log.timestep;
+  d.rate = *log.rate;
+  d.step = std::move(log.columns["Step"]);
+  d.time = std::move(log.columns["Time"]);
+  d.pressure = std::move(log.columns["c_virial"]);
+  d.energy = std::move(log.columns["PotEng"]);
+  d.contacts = std::move(log.columns["v_Z"]);
   if (d.time.size() < 2)
     throw std::runtime_error(fmt::format("{}: fewer than 2 thermo lines", path));
   check_thermo(d, path);
@@ -150,7 +81,7 @@ double small_mass(const std::string& path) {
       while (std::getline(in, line)) {
         const auto w = words(line);
         if (w.size() >= 2 && w[0] == "1") {
-          const double m = number(w[1], path + ": Masses", "mass of type 1");
+          const double m = lammps_number(w[1], path + ": Masses", "mass of type 1");
           if (!(m > 0))
             throw std::runtime_error(
                 fmt::format("{}: Masses: mass of type 1 {} (must be > 0)", path, w[1]));
@@ -217,6 +148,113 @@ void import_lammps_run(const LammpsImport& r) {
   } else {
     import_dimension<3>(r, log);
   }
+}
+
+}  // namespace jam
+
+namespace jam {
+namespace {
+
+/// One model parameter from the command line and from the log: they must agree when both are
+/// there, and one of them must be.
+template <class T>
+T agreed(const std::optional<T>& given, const std::optional<T>& logged, const char* option,
+         const char* in_log, const std::string& path) {
+  if (given && logged && std::abs(static_cast<double>(*given) - static_cast<double>(*logged)) >
+                             1e-9 * std::abs(static_cast<double>(*logged)))
+    throw std::runtime_error(fmt::format("{} {} but {}'s {} is {}", option, *given, path, in_log,
+                                         *logged));
+  if (given) return *given;
+  if (logged) return *logged;
+  throw std::runtime_error(
+      fmt::format("{}: missing (the log does not state its {}; give it)", option, in_log));
+}
+
+}  // namespace
+
+const std::vector<std::string>& lammps_import_fields() {
+  static const std::vector<std::string> fields = {
+      "pressure", "packing_fraction", "volume", "time", "step", "contacts_per_particle",
+      "energy_per_particle"};
+  return fields;
+}
+
+void import_lammps_log(const LammpsImport& r) {
+  const auto& known = lammps_import_fields();
+  std::vector<std::string> names;
+  for (const auto& [field, column] : r.columns) {
+    if (std::find(known.begin(), known.end(), field) == known.end())
+      throw std::runtime_error(fmt::format("--column {}={}: unknown field {} (fields: pressure, "
+                                           "packing_fraction, volume, time, step, "
+                                           "contacts_per_particle, energy_per_particle)",
+                                           field, column, field));
+    names.push_back(column);
+  }
+  auto has = [&](const char* f) { return r.columns.count(f) > 0; };
+  if (!has("pressure")) throw std::runtime_error("--column pressure=COLUMN: missing");
+  if (!has("packing_fraction") && !has("volume") && !has("time") && !has("step"))
+    throw std::runtime_error(
+        "--column: name packing_fraction, volume, time or step (the packing follows from one)");
+  if (!r.diameter_ratio)
+    throw std::runtime_error(
+        "--diameter-ratio: missing (a LAMMPS log does not state the model's diameters; give it)");
+  if (!r.sample) throw std::runtime_error("--sample: missing (the run's sample id, >= 0)");
+  const LammpsLog log = read_lammps_log(r.log, names);
+  auto column = [&](const char* f) { return log.columns.at(r.columns.at(f)); };
+  OpenRun run;
+  run.dim = agreed<int>(r.dim, log.dim, "--dim", "dimension", r.log);
+  run.compression_rate = agreed<double>(r.rate, log.rate, "--rate", "fix deform trate", r.log);
+  run.n = agreed<std::int64_t>(r.n, log.atoms, "--n", "atoms", r.log);
+  run.diameter_ratio = *r.diameter_ratio;
+  run.contact = r.contact;
+  run.sample = *r.sample;
+  if (r.q) run.dynamics = "inertial", run.q = *r.q;
+  run.simulator = "lammps";
+  run.simulator_version = log.version;
+  run.source = r.log;
+  run.source_checksum = file_checksum(r.log);
+  run.interpolation = "none: the thermo rows as LAMMPS printed them";
+  run.pressure = column("pressure");
+  const std::size_t m = run.pressure.size();
+  if (m < 2) throw std::runtime_error(fmt::format("{}: fewer than 2 thermo rows", r.log));
+  // Times from the first row: a compression that follows an equilibration starts there.
+  if (has("time")) {
+    run.time = column("time");
+    const double t0 = run.time.front();
+    for (double& t : run.time) t -= t0;
+  } else if (has("step") && log.timestep) {
+    const auto step = column("step");
+    for (double s : step) run.time.push_back((s - step.front()) * *log.timestep);
+  }
+  if (has("packing_fraction")) {
+    run.packing_fraction = column("packing_fraction");
+  } else if (has("volume")) {
+    for (double v : column("volume")) {
+      if (!(v > 0))
+        throw std::runtime_error(fmt::format("{}: volume {} is not positive", r.log, v));
+      run.packing_fraction.push_back(packing_fraction_of(run.dim, run.n, run.diameter_ratio,
+                                                         std::pow(v, 1.0 / run.dim)));
+    }
+  }
+  if (!run.packing_fraction.empty()) {
+    run.phi_init = r.phi_init.value_or(run.packing_fraction.front());
+    if (std::abs(run.packing_fraction.front() / run.phi_init - 1) > 1e-6)
+      throw std::runtime_error(fmt::format(
+          "--phi-init {} but {}'s first row has packing fraction {:.9g} (N {}, diameter ratio "
+          "{})",
+          run.phi_init, r.log, run.packing_fraction.front(), run.n, run.diameter_ratio));
+  } else {
+    if (!r.phi_init)
+      throw std::runtime_error("--phi-init: missing (the packing follows from it and the time)");
+    if (run.time.empty())
+      throw std::runtime_error(fmt::format("{}: no timestep line to turn steps into times", r.log));
+    run.phi_init = *r.phi_init;
+    for (double t : run.time)
+      run.packing_fraction.push_back(run.phi_init * std::exp(run.dim * run.compression_rate * t));
+  }
+  if (has("contacts_per_particle")) run.contacts_per_particle = column("contacts_per_particle");
+  if (has("energy_per_particle")) run.energy_per_particle = column("energy_per_particle");
+  write_open_run(r.out, run);
 }
 
 }  // namespace jam

@@ -9,6 +9,9 @@
 // box and the species, hence phi_init; phi(t) = phi_init exp(D rate t). Q follows from the mass
 // of type 1, m_s = Q^2 (2/D)^2. LAMMPS evaluates its thermo with the forces of the step before
 // the box deformation and the volume after it; the pressures are stored as LAMMPS printed them.
+#include <cstdint>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,10 +28,27 @@ struct LammpsThermo {
 LammpsThermo read_lammps_thermo(const std::string& log);
 
 struct LammpsImport {
-  std::string log, data, out;
+  std::string log, data, out;  // data: the start of the bundled input (import_lammps_run)
+  // Any input (import_lammps_log): the thermo column of each field, and the model.
+  std::map<std::string, std::string> columns;
+  std::optional<int> dim;
+  std::optional<std::int64_t> n, sample;
+  std::optional<double> rate, phi_init, diameter_ratio, q;
+  std::string contact = "harmonic";
 };
 
-/// Writes the run file atomically; throws with file and line on anything it cannot read.
+/// The bundled input's log and its start -> a run file of jam's schema (inertial, Q from the
+/// masses). Writes atomically; throws with file and line on anything it cannot read.
 void import_lammps_run(const LammpsImport& request);
+
+/// The fields `--column FIELD=COLUMN` may name.
+const std::vector<std::string>& lammps_import_fields();
+
+/// A log of any input -> an open run (docs/cross-simulator.md). The model's parameters come
+/// from the request and from what the log states literally (dimension, fix deform trate, the
+/// atoms created or read), which must agree. The packing at each row: the packing_fraction
+/// column, else the volume column (N/2 small and N/2 big particles of the diameter ratio), else
+/// phi_init exp(D rate t); with a volume and a time the box must shrink at the stated rate.
+void import_lammps_log(const LammpsImport& request);
 
 }  // namespace jam

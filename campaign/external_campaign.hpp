@@ -1,0 +1,70 @@
+#pragma once
+// A campaign of runs jam did not plan: open runs (docs/cross-simulator.md) of another simulator,
+// or jam's own run files gathered by hand, imported into a directory with
+// `jam campaign import DIR FILE...`. The directory has the layout of a planned campaign where
+// `stats`, `check` and `report` look (runs/<name>.h5, named by ensemble and sample), and
+// `external.toml` instead of `campaign.toml`: the model every run shares, the output grid the
+// statistics average on, each run's provenance, and the files set aside with the reason.
+//
+// A run joins only when it is a valid open run of the campaign's model (dim, diameter ratio,
+// contact law, dynamics and Q equal to the first run's) and its (N, phi_init, rate, sample) is
+// new; any other file is set aside with its reason, never silently averaged, and never copied.
+// Importing the same file again is a no-op. The source files are never changed.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace jam {
+
+/// An imported run: where it came from and where it is.
+struct ExternalRun {
+  std::string name;  // runs/<name>.h5, as a planned run's name (run_plan.hpp, run_name)
+  std::int64_t n = 0, sample = 0;
+  double phi_init = 0, log10_rate = 0;
+  std::string source, source_checksum, simulator, simulator_version;
+};
+
+struct SetAside {
+  std::string file, reason;
+};
+
+struct ExternalCampaign {
+  std::string name;
+  double phi_step = 0.0005;  // the grid of packings the statistics average on
+  // The model, from the first run imported.
+  int dim = 0;
+  double diameter_ratio = 0;
+  std::string contact, dynamics;
+  double q = 0;
+  std::vector<ExternalRun> runs;
+  std::vector<SetAside> set_aside;
+};
+
+/// True when `directory` holds external.toml.
+bool is_external_campaign(const std::string& directory);
+
+/// Reads DIR/external.toml; throws naming the file and the field.
+ExternalCampaign read_external_campaign(const std::string& directory);
+
+struct ImportOptions {
+  std::string name;                // default: the directory's name (new campaigns)
+  std::optional<double> phi_step;  // default 0.0005 (new campaigns); must match otherwise
+};
+
+/// What one `jam campaign import` did.
+struct ImportOutcome {
+  int imported = 0, already = 0;
+  std::vector<SetAside> set_aside;  // this import's
+};
+
+/// Imports `files` into `directory` (created when absent; else it must be an external
+/// campaign), then rewrites external.toml atomically.
+ImportOutcome import_runs(const std::string& directory, const std::vector<std::string>& files,
+                          const ImportOptions& options);
+
+/// `jam campaign status` of an external campaign: runs per ensemble, and the files set aside.
+/// Returns the exit status (0; 1 when a stored run no longer reads).
+int print_external_status(const std::string& directory, bool json);
+
+}  // namespace jam

@@ -1,0 +1,151 @@
+#include "sim/io/lammps_log.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "sim/io/output_path.hpp"
+
+namespace jam {
+namespace {
+
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> w;
+  for (std::string x; in >> x;) w.push_back(x);
+  return w;
+}
+
+bool literal(const std::string& word) {
+  return !word.empty() && word[0] != '$' && word[0] != 'v' && word.find("${") == std::string::npos;
+}
+
+/// The settings a log states literally (a value given through a variable is echoed with it
+/// substituted when LAMMPS runs with `-echo log`, and not otherwise).
+void read_setting(const std::vector<std::string>& w, const std::string& where, LammpsLog& log) {
+  if (w[0] == "dimension" && w.size() == 2 && literal(w[1])) {
+    const double dim = lammps_number(w[1], where, "dimension");
+    if (dim != 2 && dim != 3)
+      throw std::runtime_error(fmt::format("{}: dimension {} (must be 2 or 3)", where, w[1]));
+    log.dim = static_cast<int>(dim);
+  } else if (w[0] == "timestep" && w.size() == 2 && literal(w[1])) {
+    log.timestep = lammps_number(w[1], where, "timestep");
+    if (!(*log.timestep > 0))
+      throw std::runtime_error(fmt::format("{}: timestep {} (must be > 0)", where, w[1]));
+  } else if (w[0] == "fix" && w.size() > 5 && w[3] == "deform") {
+    for (std::size_t k = 4; k + 2 < w.size(); ++k) {
+      if (w[k + 1] != "trate" || !literal(w[k + 2])) continue;
+      const double rate = -lammps_number(w[k + 2], where, "trate");
+      // The rates jam simulates (log10 in [-12, 0]); a compression, so trate is negative.
+      if (!(rate >= 1e-12 && rate <= 1.0))
+        throw std::runtime_error(fmt::format(
+            "{}: trate {} (must be a compression, -1 <= trate <= -1e-12)", where, w[k + 2]));
+      log.rate = rate;
+    }
+  } else if (w.size() == 3 && w[0] == "Created" && w[2] == "atoms") {
+    log.atoms = log.atoms.value_or(0) +
+                static_cast<std::int64_t>(lammps_number(w[1], where, "created atoms"));
+  } else if (w.size() == 2 && w[1] == "atoms" && std::isdigit(static_cast<unsigned char>(w[0][0]))) {
+    log.atoms = log.atoms.value_or(0) +
+                static_cast<std::int64_t>(lammps_number(w[0], where, "atoms read"));
+  }
+}
+
+bool has_all(const std::vector<std::string>& header, const std::vector<std::string>& names) {
+  return std::all_of(names.begin(), names.end(), [&](const std::string& n) {
+    return std::find(header.begin(), header.end(), n) != header.end();
+  });
+}
+
+}  // namespace
+
+double lammps_number(const std::string& text, const std::string& where, const std::string& field) {
+  double v = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [at, error] = std::from_chars(text.data(), end, v);
+  if (error != std::errc() || at != end)
+    throw std::runtime_error(fmt::format("{}: {} '{}' is not a number", where, field, text));
+  if (!std::isfinite(v))
+    throw std::runtime_error(fmt::format("{}: {} {} is not finite", where, field, text));
+  return v;
+}
+
+LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string>& columns) {
+  check_input_file("LAMMPS log", path);
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot read LAMMPS log", path));
+  LammpsLog log;
+  for (const auto& c : columns) log.columns[c];
+  std::vector<std::string> header;  // the current block's, when it has every column
+  std::vector<std::size_t> index;   // of each named column in it
+  std::optional<double> last_step;
+  std::size_t rows_in_block = 0;
+  std::string line;
+  for (int line_no = 1; std::getline(in, line); ++line_no) {
+    const auto w = words(line);
+    if (w.empty()) continue;
+    const std::string where = fmt::format("{}:{}", path, line_no);
+    if (line_no == 1 && w[0] == "LAMMPS" && line.find('(') != std::string::npos) {
+      const auto open = line.find('('), close = line.rfind(')');
+      log.version = line.substr(open + 1, close > open ? close - open - 1 : std::string::npos);
+    }
+    if (header.empty()) {
+      read_setting(w, where, log);
+      if (has_all(w, columns) && !std::isdigit(static_cast<unsigned char>(w[0][0]))) {
+        header = w;
+        index.clear();
+        for (const auto& c : columns)
+          index.push_back(static_cast<std::size_t>(std::find(w.begin(), w.end(), c) - w.begin()));
+        rows_in_block = 0;
+      }
+      continue;
+    }
+    if (w[0] == "Loop" || w[0] == "ERROR:") {  // the block's end
+      header.clear();
+      continue;
+    }
+    if (w[0] == "WARNING:") continue;  // LAMMPS may warn between thermo rows
+    // A line that names the columns but has no rows of numbers under it (the echo of a
+    // thermo_style command) was no header: read it again as a setting.
+    const bool numbers = std::all_of(w.begin(), w.end(), [](const std::string& x) {
+      double v;
+      const auto [at, error] = std::from_chars(x.data(), x.data() + x.size(), v);
+      return error == std::errc() && at == x.data() + x.size();
+    });
+    if (rows_in_block == 0 && (w.size() != header.size() || !numbers)) {
+      header.clear();
+      read_setting(w, where, log);
+      continue;
+    }
+    if (w.size() != header.size())
+      throw std::runtime_error(fmt::format("{}: thermo row has {} columns, its header {}", where,
+                                           w.size(), header.size()));
+    if (++rows_in_block == 1) log.header = header;
+    // The first row of a run repeats the last of the run before it.
+    const auto step = std::find(header.begin(), header.end(), "Step");
+    if (step != header.end()) {
+      const double s =
+          lammps_number(w[static_cast<std::size_t>(step - header.begin())], where, "Step");
+      if (last_step && s == *last_step) continue;
+      last_step = s;
+    }
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      log.columns[columns[k]].push_back(lammps_number(w[index[k]], where, columns[k]));
+    log.lines.push_back(line_no);
+  }
+  if (log.header.empty()) {
+    std::string names;
+    for (const auto& c : columns) names += (names.empty() ? "" : " ") + c;
+    throw std::runtime_error(
+        fmt::format("{}: no thermo header with the columns {} (name them as LAMMPS prints them)",
+                    path, names));
+  }
+  return log;
+}
+
+}  // namespace jam

@@ -1,0 +1,34 @@
+#pragma once
+// A LAMMPS log of any input, as a table: the thermo columns a caller names, every thermo row
+// under a header that has them (all runs of the log, the row LAMMPS repeats at the boundary of
+// two runs taken once), and the settings the log states literally: its version, `dimension`,
+// `timestep`, the `trate` of `fix deform` and the atoms created or read. Values must be whole
+// finite numbers; anything else is one line naming the file, line, column and value.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace jam {
+
+struct LammpsLog {
+  std::string version;  // "2 Aug 2023 - Update 3" from the first line "LAMMPS (...)"
+  std::optional<int> dim;
+  std::optional<double> timestep;
+  std::optional<double> rate;         // -trate of fix deform (a compression: > 0)
+  std::optional<std::int64_t> atoms;  // "Created N atoms" or read_data's "N atoms"
+  std::vector<std::string> header;    // the thermo header the rows were read under
+  std::map<std::string, std::vector<double>> columns;  // the named columns, one entry per row
+  std::vector<int> lines;                              // the log line of each row
+};
+
+/// The whole of `text` as a finite number, else one line naming where, the field and the value.
+double lammps_number(const std::string& text, const std::string& where, const std::string& field);
+
+/// Reads `path`; `columns` are thermo column names as LAMMPS prints them (Step, Time, PotEng,
+/// Volume, c_virial, v_Z, ...). Throws std::runtime_error when none of its headers has them
+/// all, or a row under such a header is not a row of numbers.
+LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string>& columns);
+
+}  // namespace jam
