@@ -14,8 +14,8 @@ constructed; malformed trajectories (tilt, a non-square box, wrong diameters, a 
 rate, a missing pressure key or a frame without it, phi_init off the first frame) refused with
 the field named and nothing written; the command line (exit 2, one line); the frames path with
 a stand-in jam (the argument vector, the frames file it gets, its failure passed on, a run it
-writes that is refused); and with the real jam when it has `import frames` (p, Z and E compared
-with a direct sum over pairs), else `skipped: jam import frames not built`.
+writes that is refused); and with the real jam (`import frames`: p, Z and E compared with a
+direct sum over pairs).
 
 Usage (ctest runs it): test_jamio_write.py --jam build/jam --source .
 Prints one line per case and a last line `N passed, M failed`; exit status 1 if any failed.
@@ -811,9 +811,8 @@ def direct_sums(x, d, box, dim):
 
 
 def case_gsd_frames_jam(work):
-    if not jam_has_import_frames():
-        print("skipped: jam import frames not built")
-        return "skipped"
+    # jam measures the frames: a jam without `import frames` is a failure, not a skip.
+    assert jam_has_import_frames(), "the jam given has no `import frames`"
     from jamio.gsd_import import import_gsd
     gsd_path = os.path.join(work, "traj.gsd")
     made = write_gsd(gsd_path, log=False)
