@@ -10,7 +10,7 @@ comparison: the thermo logs are read later by an importer.
 Sample k has seed first_seed + k. Its random start is relaxed once (mode relax:
 DIR/starts/s<k>.data, log DIR/starts/s<k>.log) and compressed from there at every rate (mode
 compress: DIR/r<log10 rate>/s<k>.log, e.g. r-4/s3.log; one thermo block, time 0 at phi_init).
-Also written: DIR/contact.table (make_table.py for d_big and the stiffness, inner radius 0.01 d
+Also written: DIR/contact.table (make_table.py for d_big and the stiffness, inner radius 1e-4 d
 since random starts overlap deeply) and DIR/ensemble.json (the parameters, the argument vector
 of every lmp process and its wall seconds; rewritten after each process).
 
@@ -132,7 +132,7 @@ def parse_args():
     p.add_argument("--relax-energy", type=float, default=1e-14,
                    help="relax each start until the energy per particle is below this")
     p.add_argument("--skin", type=float, default=0.3)
-    p.add_argument("--table-inner", type=float, default=0.01,
+    p.add_argument("--table-inner", type=float, default=1e-4,
                    help="inner radius of the contact table, a fraction of d_ij")
     p.add_argument("--lmp", default="lmp")
     a = p.parse_args()
