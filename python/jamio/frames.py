@@ -2,9 +2,13 @@
 
 runs_frame / runs_dataset: one row per output point of every run, coordinates n, phi_init,
 log10_rate (the campaign file's values), sample and phi (the grid value of the point,
-grid.py). stats_frame / stats_dataset: one row per grid point of every ensemble of stats.h5,
-averages at constant phi (coordinate phi) or at constant Z (coordinate z), with their errors,
-or with samples=True every sample's value. Units: DataFrame.attrs["units"] and each xarray
+grid.py). Of an external campaign (external.toml): the ensemble's nominal values external.toml
+lists for each run, phi the grid value where a point is one (else where it was taken: open runs
+need not lie on a grid), and each run's simulator and simulator_version.
+
+stats_frame / stats_dataset: one row per grid point of every ensemble of stats.h5, averages at
+constant phi (coordinate phi) or at constant Z (coordinate z), with their errors, or with
+samples=True every sample's value. Units: DataFrame.attrs["units"] and each xarray
 variable's attrs["units"] (column -> unit), `units_source` says whether they come from the
 files or from jamio's table (files written before they stated units).
 
@@ -20,8 +24,9 @@ import numpy as np
 
 from .campaign import load_design
 from .errors import JamioError, optional_module
-from .grid import run_coordinates, run_grid, snap
-from .runs import OPTIONAL_SERIES, SERIES, _load_each, run_files
+from .grid import external_grid, run_coordinates, run_grid, snap
+from .runs import (OPTIONAL_SERIES, PROVENANCE, SERIES, _load_each, load_external_runs,
+                   present_series, run_files)
 from .stats import Stats, load_stats
 from .units import column_units
 
@@ -70,6 +75,39 @@ def _run_columns(run, design, optional):
     return out
 
 
+def _external_run_columns(entry, run, design, series):
+    """One open run's rows: external.toml's nominal coordinates and provenance of the run,
+    phi (external_grid), the run's series."""
+    phi = external_grid(run.path, run["packing_fraction"], design.phi_step, entry.phi_init)
+    m = len(phi)
+    out = {"run": np.full(m, entry.name, dtype=object), "n": np.full(m, entry.n, dtype=np.int64),
+           "phi_init": np.full(m, entry.phi_init), "log10_rate": np.full(m, entry.log10_rate),
+           "sample": np.full(m, entry.sample, dtype=np.int64), "phi": phi}
+    for name in PROVENANCE:
+        out[name] = np.full(m, getattr(entry, name), dtype=object)
+    for name in series:
+        out[name] = np.asarray(run.data.get(name, np.full(m, np.nan)), dtype=np.float64)
+    return out
+
+
+def _external_runs_frame(campaign_dir, design, as_frame, skip_unreadable):
+    _, loaded = load_external_runs(campaign_dir, skip_unreadable)
+    series = present_series([r for _, r in loaded])
+    parts = [_external_run_columns(entry, run, design, series) for entry, run in loaded]
+    _unique([tuple(p[c][0] for c in RUN_COORDINATES[:4]) for p in parts],
+            [run.path for _, run in loaded], "one run per n, phi_init, log10_rate and sample")
+    names = ("run",) + RUN_COORDINATES + PROVENANCE + series
+    kinds = {"run": object, "n": np.int64, "sample": np.int64,
+             **{name: object for name in PROVENANCE}}
+    columns = {c: (np.concatenate([p[c] for p in parts]) if parts
+                   else np.empty(0, dtype=kinds.get(c, np.float64))) for c in names}
+    stated = {k: u for _, r in loaded for k, u in r.series_units.items()}
+    units, source = column_units([c for c in names if c not in PROVENANCE], stated)
+    if not as_frame:
+        return columns, units, source
+    return _frame(columns, units, source, design.name)
+
+
 def runs_frame(campaign_dir, as_frame=True, skip_unreadable=False):
     """Every output point of every finished run of a campaign as one row: `run` (its name),
     n, phi_init, log10_rate (the campaign file's values), sample, phi (the point's grid
@@ -77,8 +115,20 @@ def runs_frame(campaign_dir, as_frame=True, skip_unreadable=False):
     contacts_per_particle, energy_per_particle, time, and those only some runs have). A pandas
     DataFrame (units in .attrs["units"]), or with as_frame=False (columns, units, source). A
     point off the campaign's grid, or a run of values the campaign file lacks, is a JamioError
-    naming the run and the value."""
+    naming the run and the value.
+
+    An external campaign (external.toml): the runs it lists (a file in runs/ it does not list
+    is not read), each read with validate_run and checked to be the run imported under its
+    name (runs.load_external_runs: a run that is not is a JamioError of one line naming it,
+    or with skip_unreadable=True a warning); n, phi_init, log10_rate and sample as
+    external.toml lists them (its ensembles' nominal values); phi the grid value k * phi_step
+    where a point is one to round-off, the nominal phi_init where it is that, else the
+    packing_fraction as written (open runs need not lie on a grid); `simulator` and
+    `simulator_version` (external.toml's, per run); packing_fraction, pressure and the open
+    run series that some run has."""
     design = load_design(campaign_dir)
+    if design.external is not None:
+        return _external_runs_frame(campaign_dir, design, as_frame, skip_unreadable)
     runs = _load_each(run_files(campaign_dir), skip_unreadable)
     optional = tuple(n for n in OPTIONAL_SERIES if any(n in r.data for r in runs))
     parts = [_run_columns(r, design, optional) for r in runs]
@@ -102,13 +152,14 @@ def runs_dataset(campaign_dir, skip_unreadable=False):
 
 
 def _phi_step(stats):
-    """The constant-phi grid's step: stats.h5's `phi_step`, else the campaign file beside it,
-    else the grids' smallest spacing rounded to 10 significant digits (files written before
-    `phi_step`, apart from their campaign)."""
+    """The constant-phi grid's step: stats.h5's `phi_step`, else the campaign file beside it
+    (or an external campaign's external.toml), else the grids' smallest spacing rounded to 10
+    significant digits (files written before `phi_step`, apart from their campaign)."""
     if "phi_step" in stats.attrs:
         return float(stats.attrs["phi_step"])
     directory = os.path.dirname(os.path.abspath(stats.path))
-    if any(os.path.exists(os.path.join(directory, f)) for f in ("campaign.toml", "manifest.toml")):
+    if any(os.path.exists(os.path.join(directory, f))
+           for f in ("campaign.toml", "manifest.toml", "external.toml")):
         step = load_design(directory).phi_step
         if step:
             return step
@@ -176,7 +227,10 @@ def _stats_table(stats, average, samples):
     if chosen:
         step = _phi_step(stats) if average == "constant_phi" else float(stats.attrs["z_step"])
     parts = [rows(stats, name, e, average, step) for name, e in chosen]
-    names = list(dict.fromkeys(k for p in parts for k in p))
+    # Without any such average (constant Z of runs that carry no Z: an external campaign's),
+    # the coordinates alone, so that the table is empty rather than without columns.
+    names = list(dict.fromkeys(k for p in parts for k in p)) or [
+        *ENSEMBLE_COORDINATES, AVERAGES[average], "sample" if samples else "samples"]
     columns = {c: np.concatenate([p[c] for p in parts]) if parts else np.empty(0) for c in names}
     for c in ("n", "sample", "samples"):
         if c in columns:

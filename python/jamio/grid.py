@@ -160,3 +160,29 @@ def run_grid(run, design, phi_init, log10_rate):
         raise JamioError(run.path, f"packing_fraction[{i}] = {v[i]!r} falls on grid value "
                                    f"{out[i]!r}, which an earlier point already has")
     return out
+
+
+def external_grid(path, values, step, phi_init):
+    """The `phi` of each output point of an open run (external campaigns, whose points need
+    not lie on any grid): the grid value k * step when the point is one to round-off, else the
+    ensemble's nominal phi_init when it is that, else the packing fraction as the run wrote it.
+    Runs that share a grid then share its values; a JamioError naming the run when two points
+    come to the same value."""
+    v = np.asarray(values, dtype=np.float64)
+    out = v.copy()
+    # Only points near k * step in binary can be a grid value (a run of another code has
+    # thousands of points, most of them off the grid).
+    near = np.abs(v - np.round(v / step) * step) <= 4 * ROUND_OFF * np.abs(v)
+    for i in np.flatnonzero(near | (np.abs(v - phi_init) <= 4 * ROUND_OFF * abs(phi_init))):
+        x = float(v[i])
+        g = grid_value(round(x / step), step)
+        if _close(x, g):
+            out[i] = g
+        elif _close(x, phi_init):
+            out[i] = phi_init
+    same = np.flatnonzero(np.diff(out) <= 0)
+    if same.size:
+        i = int(same[0]) + 1
+        raise JamioError(path, f"packing_fraction[{i}] = {v[i]!r} comes to {out[i]!r}, which "
+                               "an earlier point already has")
+    return out
