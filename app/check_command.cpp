@@ -114,8 +114,10 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
   c->add_option("--set-a", a.set_a, "finite_size: first run set, e.g. n=1024,phi_init=0.6,rate=-4");
   c->add_option("--set-b", a.set_b, "finite_size: second run set");
   c->add_option("--against", a.against,
-                "regression: baseline directory holding stats.h5 (e.g. a stored result in "
-                "reference/results/)");
+                "regression, chain, compare: the directory holding the stats.h5 to judge DIR "
+                "against (regression: a baseline, e.g. a stored result in reference/results/; "
+                "chain: the unchained control; compare: REF, the reference simulator's "
+                "campaign)");
   c->add_option("--tolerance", a.regression.tolerance,
                 "regression: largest relative difference of rerun samples (0: bitwise)");
   c->add_flag("--regenerate-reference", a.regenerate,

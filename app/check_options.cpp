@@ -43,14 +43,14 @@ std::vector<JudgingOption> make_table() {
          return a.permutations >= 100 ? "" : std::string("must be at least 100");
        }},
       {"--phi-min", "phi_min", &JudgingArgs::phi_min,
-       "Pressure checks (finite_size, phi_init, chain): pool from this packing (default: the "
-       "scaling fit's window in stats.h5)",
+       "Pressure checks (finite_size, phi_init, chain, compare): pool from this packing "
+       "(default: the scaling fit's window in stats.h5; compare: REF's)",
        [](const JudgingArgs& a) {
          return packing(a.phi_min) ? "" : std::string("must be a packing in (0, 1)");
        }},
       {"--phi-max", "phi_max", &JudgingArgs::phi_max,
-       "Pressure checks (finite_size, phi_init): pool up to this packing (default: the scaling "
-       "fit's window)",
+       "Pressure checks (finite_size, phi_init, compare): pool up to this packing (default: "
+       "the scaling fit's window; compare: REF's)",
        [](const JudgingArgs& a) {
          if (!packing(a.phi_max)) return std::string("must be a packing in (0, 1)");
          if (a.phi_min && a.phi_max && !(*a.phi_min < *a.phi_max))

@@ -164,12 +164,18 @@ std::string registry_json() {
 
 std::string registry_table() {
   std::ostringstream out;
-  out << fmt::format("{:<14} {:<17} {:>7} {:<17} {:<4} {:<15} {}\n", "check", "kind", "margin",
-                     "unit", "all", "report figure", "why that margin");
+  // The name and kind columns as wide as their longest entries (compare_fit_phi_j).
+  std::size_t name_width = 14, kind_width = 17;
   for (const auto& e : kRegistry) {
-    out << fmt::format("{:<14} {:<17} {:>7g} {:<17} {:<4} {:<15} {}\n", e.name, kind(e),
-                       e.default_margin, unit_name(e.margin_unit), e.in_all ? "yes" : "no",
-                       e.figure, e.margin_reason);
+    name_width = std::max(name_width, e.name.size());
+    kind_width = std::max(kind_width, kind(e).size());
+  }
+  out << fmt::format("{:<{}} {:<{}} {:>7} {:<17} {:<4} {:<15} {}\n", "check", name_width, "kind",
+                     kind_width, "margin", "unit", "all", "report figure", "why that margin");
+  for (const auto& e : kRegistry) {
+    out << fmt::format("{:<{}} {:<{}} {:>7g} {:<17} {:<4} {:<15} {}\n", e.name, name_width, kind(e),
+                       kind_width, e.default_margin, unit_name(e.margin_unit),
+                       e.in_all ? "yes" : "no", e.figure, e.margin_reason);
   }
   return out.str();
 }

@@ -66,6 +66,12 @@ inline constexpr std::string_view kExponents =
 inline constexpr std::string_view kFitPhiJ =
     "about three jackknife errors of a fitted phi_J at N <= 1024 with 10 samples (0.0006 in "
     "reduced-2d), and a fifth of the fit's narrowest window (+-0.01)";
+// The compare check: two codes of one model (docs/statistics-and-checks.md#compare).
+inline constexpr std::string_view kCompare =
+    "two codes of one model, protocol and ensemble must give one pressure; jam and LAMMPS agree "
+    "to better than 0.1% on the same starts, so 5% is a difference of the physics simulated, "
+    "half the margin of a size or start effect; 10 against 10 samples at 5% scatter pass 91% of "
+    "equal ensembles (measured)";
 inline constexpr std::string_view kLammps =
     "Q = 0.03 reproduces the overdamped limit to about 0.01%, so a difference beyond 0.5% is "
     "an error of one of the two codes; 4 samples exclude differences down to 0.05-0.07%";
@@ -78,17 +84,21 @@ inline constexpr std::string_view kLammps =
 // "verdicts" when only the verdict table shows them. The functions (declared in checks.hpp,
 // lammps_check.hpp, regression_check.hpp) are named only where check_registry.cpp expands the
 // table; check_names() takes the first column alone.
-#define JAM_CHECK_TABLE(X)                                                                       \
-  X(finite_size, &finite_size_check, 0.10, relative, kPressure, true, "finite_size")             \
-  X(sample_pairs, &sample_pairs_check, 0.10, relative, kPressure, true, "sample_pairs")          \
-  X(phi_init, &phi_init_check, 0.10, relative, kPressure, true, "jamming_points")                \
-  X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts") \
-  X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts")                              \
-  X(fit_parameters, &fit_parameters_check, 0.10, relative, kExponents, true, "verdicts")         \
-  X(fit_phi_j, PartOf{"fit_parameters"}, 0.002, packing_fraction, kFitPhiJ, true, "verdicts")    \
-  X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                             \
-  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")                 \
-  X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts")
+#define JAM_CHECK_TABLE(X)                                                                         \
+  X(finite_size, &finite_size_check, 0.10, relative, kPressure, true, "finite_size")               \
+  X(sample_pairs, &sample_pairs_check, 0.10, relative, kPressure, true, "sample_pairs")            \
+  X(phi_init, &phi_init_check, 0.10, relative, kPressure, true, "jamming_points")                  \
+  X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts")   \
+  X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts")                                \
+  X(fit_parameters, &fit_parameters_check, 0.10, relative, kExponents, true, "verdicts")           \
+  X(fit_phi_j, PartOf{"fit_parameters"}, 0.002, packing_fraction, kFitPhiJ, true, "verdicts")      \
+  X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                               \
+  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")                   \
+  X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts")                                \
+  X(compare, &compare_check, 0.05, relative, kCompare, false, "verdicts")                          \
+  X(compare_jamming, PartOf{"compare"}, 0.005, packing_fraction, kJammingPoint, false, "verdicts") \
+  X(compare_fit, PartOf{"compare"}, 0.10, relative, kExponents, false, "verdicts")                 \
+  X(compare_fit_phi_j, PartOf{"compare"}, 0.002, packing_fraction, kFitPhiJ, false, "verdicts")
 
 struct CheckEntry {
   std::string_view name;

@@ -59,6 +59,11 @@ struct RegressionOptions;
 /// Each chained rate against the same samples compressed without chaining (chain_check.cpp).
 std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& control,
                                  const CheckOptions& o, const RegressionOptions&);
+/// Two campaigns of the same model, ensemble by ensemble: DIR (e.g. another simulator's runs)
+/// against REF (the reference simulator's), whatever their samples, seeds and grids; verdicts
+/// compare, compare_jamming, compare_fit and compare_fit_phi_j (compare_check.cpp).
+std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
+                                   const CheckOptions& o, const RegressionOptions&);
 
 /// Runs one statistical check by name, or "all": the statistical members of `all` (the checks
 /// of other kinds: run_checks, checks/run_checks.hpp).

@@ -8,9 +8,9 @@
 // Each parameter's difference is t = |Delta| / sigma, sigma from both jackknife errors, judged
 // with Student's t at (samples - 1) degrees of freedom (the jackknife's): detected beyond the
 // (1 - detect / 2) quantile, its share of alpha over the check's comparisons (Bonferroni);
-// effects beyond |Delta| + t_(1 - alpha) sigma excluded (two one-sided tests at alpha).
+// effects beyond |Delta| + t_(1 - alpha) sigma excluded (two one-sided tests at alpha): the
+// rule of checks/parameter_difference.hpp, which the compare check shares.
 #include <fmt/format.h>
-#include <gsl/gsl_cdf.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,48 +19,10 @@
 
 #include "checks/checks.hpp"
 #include "checks/margin.hpp"
+#include "checks/parameter_difference.hpp"
 
 namespace jam::checks {
 namespace {
-
-struct Difference {
-  const char* name;
-  double a, b, delta, sigma;  // delta, sigma in the margin's unit
-};
-
-/// Judges one verdict on the differences of its parameters.
-Verdict judge_parameters(const std::string& check, const std::string& case_name,
-                         const std::vector<Difference>& diffs, std::int64_t samples, double detect,
-                         double pass, double margin) {
-  Verdict v;
-  v.check = check;
-  v.case_name = case_name;
-  v.statistic_name = "max |Delta| / sigma (Student t)";
-  const double dof = static_cast<double>(std::max<std::int64_t>(samples - 1, 1));
-  const double t_detect = gsl_cdf_tdist_Qinv(detect / 2, dof),
-               t_pass = gsl_cdf_tdist_Qinv(pass, dof);
-  double statistic = 0, bound = 0, detectable = 0;
-  bool detected = false;
-  std::string words, differ;
-  for (const auto& d : diffs) {
-    const double t = d.sigma > 0 ? std::abs(d.delta) / d.sigma : HUGE_VAL;
-    statistic = std::max(statistic, t);
-    bound = std::max(bound, std::abs(d.delta) + t_pass * d.sigma);
-    detectable = std::max(detectable, t_detect * d.sigma);
-    const bool beyond = t > t_detect;
-    detected = detected || beyond;
-    if (beyond) differ += (differ.empty() ? "" : ", ") + std::string(d.name);
-    words += fmt::format("{}{} {:.4g} vs {:.4g}: Delta {} +- {}", words.empty() ? "" : "; ", d.name,
-                         d.a, d.b, effect_text(v, d.delta, true), effect_text(v, d.sigma));
-  }
-  v.statistic = statistic;
-  v.threshold = t_detect;
-  v.detectable = detectable;
-  decide(v, detected, bound, margin);
-  v.reason += fmt::format(" ({}; t at {:.0f} degrees of freedom, alpha {:.3g}{})", words, dof,
-                          detect, differ.empty() ? "" : "; differ: " + differ);
-  return v;
-}
 
 double relative(double a, double b) {
   return 2 * (a - b) / (a + b);

@@ -115,15 +115,17 @@ PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTable
 }
 
 void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels levels,
-                  double margin, int permutations, std::uint64_t seed) {
+                  double margin, int permutations, std::uint64_t seed, RelativeTo relative_to) {
   v.statistic_name = "|weighted mean Delta p/p|";
-  const WeightedDifference w = compare_weighted(al.a, al.b, levels, permutations, seed);
+  const WeightedDifference w =
+      compare_weighted(al.a, al.b, levels, permutations, seed, relative_to);
   judge(v, w, levels, margin, std::min(al.a.size(), al.b.size()));
   // The estimate of samples comes from the window scatter (window_scatter.hpp), not from the
   // band of this one verdict: its words are replaced below.
   strip_samples_words(v.reason);
   v.samples_needed = NAN;
-  const RelativeDifference r = compare_run_sets(al.a, al.b, levels, permutations, seed);
+  const RelativeDifference r =
+      compare_run_sets(al.a, al.b, levels, permutations, seed, relative_to);
   std::vector<double> grid;
   double at = 0.0;  // where the verdict looks: the weights' mean
   for (std::size_t i = 0; i < r.points.size(); ++i) {

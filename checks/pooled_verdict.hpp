@@ -39,9 +39,11 @@ PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTable
 /// Judges v on the two run sets of `al` (cut to the range already): D over the range at
 /// `levels`, the pointwise rule at levels.detect. Sets statistic_name, the range and weight
 /// values (range_min, range_max, weighted_at, weight_from, weight_to,
-/// pointwise_excluded_above) and the curves (grid, delta, sigma, weight). Throws
+/// pointwise_excluded_above) and the curves (grid, delta, sigma, weight). `relative_to`:
+/// Delta p/p relative to the mean of both sets, or to set B (a reference). Throws
 /// std::invalid_argument as compare_weighted does.
 void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels levels,
-                  double margin, int permutations, std::uint64_t seed = 3);
+                  double margin, int permutations, std::uint64_t seed = 3,
+                  RelativeTo relative_to = RelativeTo::mean);
 
 }  // namespace jam::checks

@@ -33,16 +33,24 @@ Moments moments(const std::vector<const std::vector<double>*>& rows,
 double statistic(const std::vector<const std::vector<double>*>& a,
                  const std::vector<const std::vector<double>*>& b,
                  const std::vector<std::size_t>& points, std::vector<double>* delta,
-                 std::vector<double>* sigma) {
+                 std::vector<double>* sigma, RelativeTo to) {
   const Moments ma = moments(a, points), mb = moments(b, points);
   double t = 0.0;
   for (std::size_t k = 0; k < points.size(); ++k) {
-    const double sum = ma.mean[k] + mb.mean[k];
-    const double d = 2.0 * (ma.mean[k] - mb.mean[k]) / sum;
-    // d Delta / d p_A = 4 p_B / sum^2, d Delta / d p_B = -4 p_A / sum^2.
-    const double s = 4.0 / (sum * sum) *
-                     std::sqrt(mb.mean[k] * mb.mean[k] * ma.var_of_mean[k] +
-                               ma.mean[k] * ma.mean[k] * mb.var_of_mean[k]);
+    double d = 0.0, s = 0.0;
+    if (to == RelativeTo::b) {
+      // Delta = p_A / p_B - 1: d Delta / d p_A = 1 / p_B, d Delta / d p_B = -p_A / p_B^2.
+      const double ratio = ma.mean[k] / mb.mean[k];
+      d = ratio - 1.0;
+      s = std::sqrt(ma.var_of_mean[k] + ratio * ratio * mb.var_of_mean[k]) / mb.mean[k];
+    } else {
+      const double sum = ma.mean[k] + mb.mean[k];
+      d = 2.0 * (ma.mean[k] - mb.mean[k]) / sum;
+      // d Delta / d p_A = 4 p_B / sum^2, d Delta / d p_B = -4 p_A / sum^2.
+      s = 4.0 / (sum * sum) *
+          std::sqrt(mb.mean[k] * mb.mean[k] * ma.var_of_mean[k] +
+                    ma.mean[k] * ma.mean[k] * mb.var_of_mean[k]);
+    }
     if (delta) delta->push_back(d);
     if (sigma) sigma->push_back(s);
     if (s > 0) t = std::max(t, std::abs(d) / s);
@@ -82,14 +90,16 @@ Rows rows_of(const std::vector<std::vector<double>>& a) {
 
 RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
                                     const std::vector<std::vector<double>>& b, Levels levels,
-                                    int permutations, std::uint64_t seed) {
+                                    int permutations, std::uint64_t seed, RelativeTo to) {
   RelativeDifference r;
   r.points = common_points(a, b);
   const Rows ra = rows_of(a), rb = rows_of(b);
-  r.statistic = statistic(ra, rb, r.points, &r.delta, &r.sigma);
+  r.statistic = statistic(ra, rb, r.points, &r.delta, &r.sigma, to);
   const NullDistribution null = permutation_null(
       ra, rb,
-      [&](const Rows& pa, const Rows& pb) { return statistic(pa, pb, r.points, nullptr, nullptr); },
+      [&](const Rows& pa, const Rows& pb) {
+        return statistic(pa, pb, r.points, nullptr, nullptr, to);
+      },
       levels.detect, permutations, seed);
   r.p_value = null.p_value(r.statistic);
   r.critical = null.threshold(levels.detect);
@@ -107,7 +117,7 @@ RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
 
 WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
                                     const std::vector<std::vector<double>>& b, Levels levels,
-                                    int permutations, std::uint64_t seed) {
+                                    int permutations, std::uint64_t seed, RelativeTo to) {
   WeightedDifference r;
   r.points = common_points(a, b);
   const Rows ra = rows_of(a), rb = rows_of(b);
@@ -117,7 +127,7 @@ WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
   // the observed weights held fixed, 10 samples per set gave 7% false alarms at alpha 0.05).
   auto weighted = [&](const Rows& pa, const Rows& pb, std::vector<double>* weight) {
     std::vector<double> dk, sk;
-    statistic(pa, pb, r.points, &dk, &sk);
+    statistic(pa, pb, r.points, &dk, &sk, to);
     double floor = std::numeric_limits<double>::infinity();
     for (double s : sk)
       if (s > 0) floor = std::min(floor, s);

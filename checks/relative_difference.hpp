@@ -36,6 +36,12 @@ struct Levels {
   static Levels two_sided(double alpha) { return {alpha, alpha / 2}; }
 };
 
+/// What a relative difference is relative to: the mean of both sets, Delta_k = 2 (p_A - p_B) /
+/// (p_A + p_B) (two sets on an equal footing: sizes, starts), or set B, Delta_k = (p_A - p_B) /
+/// p_B (B a reference: the compare check's REF). sigma_k follows by first-order propagation of
+/// both standard errors in either case.
+enum class RelativeTo { mean, b };
+
 /// How the null distribution was obtained, for the reason's words.
 struct PermutationCount {
   int count = 0;
@@ -59,7 +65,8 @@ struct RelativeDifference {
 /// Deterministic for a given seed; `permutations` is the least number of random relabellings.
 RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
                                     const std::vector<std::vector<double>>& b, Levels levels,
-                                    int permutations = 2000, std::uint64_t seed = 1);
+                                    int permutations = 2000, std::uint64_t seed = 1,
+                                    RelativeTo to = RelativeTo::mean);
 
 /// The same two run sets judged on one number, the window's weighted mean relative difference
 ///   D = sum_k w_k Delta_k,  w_k proportional to 1 / sigma_k^2
@@ -83,7 +90,8 @@ struct WeightedDifference {
 };
 WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
                                     const std::vector<std::vector<double>>& b, Levels levels,
-                                    int permutations = 2000, std::uint64_t seed = 1);
+                                    int permutations = 2000, std::uint64_t seed = 1,
+                                    RelativeTo to = RelativeTo::mean);
 
 /// Two sets of scalars (e.g. phi_Ji per run): T = |mean_a - mean_b| / sqrt(v_a/n_a + v_b/n_b),
 /// p-value and thresholds from permuting the values between the sets. NaNs are dropped.

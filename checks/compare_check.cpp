@@ -1,0 +1,425 @@
+// Two campaigns of the same model, ensemble by ensemble: DIR (e.g. runs of another simulator)
+// against REF (the reference simulator's campaign), whatever their sample counts, seeds and
+// output grids (checks/compare_check.hpp). An ensemble of DIR is matched to one of REF with the
+// same N, the same log10 rate (to 1e-9) and phi_init within 1e-6; ensembles of either without a
+// partner are named in one inconclusive verdict.
+//
+//  compare: Delta p/p = (p_DIR - p_REF) / p_REF at constant phi and at constant Z, judged as
+//    the pressure checks judge (checks/pooled_verdict.hpp: the inverse-variance weighted mean
+//    over a stated range, its permutation null from relabelling whole runs, plus the pointwise
+//    rule), relative to REF because REF is the standard. The range: --phi-min/--phi-max, else
+//    REF's scaling-fit window, else where both sets are past their compression transients.
+//    The grids: the values both share (multiples of a step) when there are at least two in the
+//    range, else DIR's samples interpolated linearly onto REF's grid; the reason says which.
+//    Detection at alpha / (comparisons), Bonferroni as finite_size; each pass a two one-sided
+//    test at alpha.
+//  compare_jamming: <phi_Ji> of DIR against REF, a permutation test of whole runs plus the two
+//    one-sided tests (as phi_init's jamming_point), with both spreads in the reason.
+//  compare_fit, compare_fit_phi_j: the per-(N, phi_init) fits of stats.h5 fit/families, beta
+//    and y relative to REF's and phi_J as a packing difference, judged with Student's t as
+//    fit_parameters judges them (checks/parameter_difference.hpp).
+#include "checks/compare_check.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <tuple>
+
+#include "checks/checks.hpp"
+#include "checks/margin.hpp"
+#include "checks/parameter_difference.hpp"
+#include "checks/pooled_verdict.hpp"
+#include "checks/regression_check.hpp"
+#include "checks/relative_difference.hpp"
+#include "checks/window_scatter.hpp"
+
+namespace jam::checks {
+namespace {
+
+constexpr double kRateTolerance = 1e-9;     // log10 rate: the same rate
+constexpr double kPhiInitTolerance = 1e-6;  // phi_init: the same start, as written by either code
+
+bool same_ensemble(const EnsembleTables& a, const EnsembleTables& b) {
+  return a.n == b.n && std::abs(a.log10_rate - b.log10_rate) < kRateTolerance &&
+         std::abs(a.phi_init - b.phi_init) < kPhiInitTolerance;
+}
+
+std::string describe(const EnsembleTables& e) {
+  return fmt::format("n{} phi_init {:g} rate 1e{:g}", e.n, e.phi_init, e.log10_rate);
+}
+
+struct Pair {
+  const EnsembleTables* dir;
+  const EnsembleTables* ref;
+};
+
+/// The words of a range's reason, said of REF (phi_range and z_range speak of "the campaign").
+std::string of_ref(std::string why) {
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"the campaign's scaling-fit window",
+                                            "REF's scaling-fit window"},
+        {"lies in the constant-Z fit's window", "lies in REF's constant-Z fit's window"},
+        {"lies in the scaling fit's window", "lies in REF's scaling-fit window"},
+        {"no scaling fit in stats.h5", "no scaling fit in REF's stats.h5"}}) {
+    const auto at = why.find(from);
+    if (at != std::string::npos) why.replace(at, from.size(), to);
+  }
+  return why;
+}
+
+/// How the grids were matched, in words for the reason.
+std::string grid_words(const GridMatch& m, const std::string& variable) {
+  const std::string steps =
+      fmt::format("{}_step {:.3g} vs {:.3g}", variable, m.step_dir, m.step_ref);
+  if (m.interpolated)
+    return fmt::format(
+        "DIR's samples interpolated linearly onto REF's grid ({}; {} grid value{} shared in the "
+        "range, {} of REF's values compared)",
+        steps, m.shared, m.shared == 1 ? "" : "s", m.aligned.grid.size());
+  return fmt::format("on the {} grid values both grids share in the range ({})",
+                     m.aligned.grid.size(), steps);
+}
+
+/// The pressure verdict of one pair at constant phi or Z.
+Verdict pressure_verdict(const Pair& p, bool at_z, Levels levels, const StatsData& ref,
+                         const CheckOptions& o) {
+  Verdict v;
+  v.check = "compare";
+  v.case_name = fmt::format("{}: DIR vs REF, constant {}", describe(*p.ref), at_z ? "Z" : "phi");
+  v.values = {{"n", static_cast<double>(p.dir->n)},   {"n_a", static_cast<double>(p.dir->n)},
+              {"n_b", static_cast<double>(p.ref->n)}, {"phi_init", p.ref->phi_init},
+              {"log10_rate", p.ref->log10_rate},      {"constant_z", at_z ? 1.0 : 0.0}};
+  const std::string variable = at_z ? "Z" : "phi";
+  if (at_z && (p.dir->pressure_at_z.empty() || p.ref->pressure_at_z.empty())) {
+    v.status = "inconclusive";
+    v.reason = fmt::format(
+        "no constant-Z table in {}'s stats.h5 (its runs stored no contacts per particle, or "
+        "`jam stats` made none)",
+        p.dir->pressure_at_z.empty() && p.ref->pressure_at_z.empty() ? "DIR's nor REF"
+        : p.dir->pressure_at_z.empty()                               ? "DIR"
+                                                                     : "REF");
+    return v;
+  }
+  // From where the compression, not the start, sets the pressure in both sets.
+  const double from = at_z ? std::max(p.dir->compressed_from_z, p.ref->compressed_from_z)
+                           : std::max(p.dir->compressed_from_phi, p.ref->compressed_from_phi);
+  v.values["compared_from"] = from;
+  PoolRange range =
+      at_z ? z_range(ref, o, *p.dir, *p.ref, from) : *phi_range(ref, o, from, false, nullptr);
+  range.why = of_ref(range.why);
+  const GridMatch m = at_z ? match_grids(p.dir->z_grid, p.dir->pressure_at_z, p.ref->z_grid,
+                                         p.ref->pressure_at_z, range.min, range.max)
+                           : match_grids(p.dir->phi_grid, p.dir->pressure_at_phi, p.ref->phi_grid,
+                                         p.ref->pressure_at_phi, range.min, range.max);
+  v.values["interpolated"] = m.interpolated ? 1.0 : 0.0;
+  v.values["shared_points"] = static_cast<double>(m.shared);
+  v.values["step_dir"] = m.step_dir;
+  v.values["step_ref"] = m.step_ref;
+  const std::string grids = grid_words(m, variable);
+  const std::string samples =
+      fmt::format("DIR {} samples, REF {}", m.aligned.a.size(), m.aligned.b.size());
+  if (m.aligned.grid.empty() || m.aligned.a.size() < 2 || m.aligned.b.size() < 2) {
+    v.status = "inconclusive";
+    v.reason = fmt::format(
+        "nothing to compare: no grid point of REF in {} within DIR's grid, or fewer than 2 "
+        "samples per set ({}; {}; {})",
+        range.why, samples, grids,
+        fmt::format("{} in [{:.4g}, {:.4g}]", variable, range.min, range.max));
+    return v;
+  }
+  try {
+    judge_pooled(v, m.aligned, range, levels, o.margin("compare"), o.permutations, 3,
+                 RelativeTo::b);
+    v.statistic_name = "|weighted mean (p_DIR - p_REF) / p_REF|";
+    v.reason += fmt::format("; {}; {}", samples, grids);
+  } catch (const std::invalid_argument& e) {
+    v.status = "inconclusive";
+    v.reason = fmt::format("{} ({}; {})", e.what(), samples, grids);
+  }
+  return v;
+}
+
+/// Sample standard deviation of the finite values (NaN with fewer than two).
+double spread(const std::vector<double>& x, std::size_t* count) {
+  double mean = 0, ss = 0;
+  std::size_t n = 0;
+  for (double y : x)
+    if (std::isfinite(y)) mean += y, ++n;
+  *count = n;
+  if (n < 2) return NAN;
+  mean /= static_cast<double>(n);
+  for (double y : x)
+    if (std::isfinite(y)) ss += (y - mean) * (y - mean);
+  return std::sqrt(ss / static_cast<double>(n - 1));
+}
+
+/// <phi_Ji> of DIR against REF.
+Verdict jamming_verdict(const Pair& p, Levels levels, const CheckOptions& o) {
+  Verdict j;
+  j.check = "compare_jamming";
+  j.case_name = fmt::format("{}: <phi_Ji> DIR vs REF", describe(*p.ref));
+  j.statistic_name = "|<phi_Ji>_DIR - <phi_Ji>_REF| / sigma";
+  j.values = {{"n", static_cast<double>(p.dir->n)},
+              {"phi_init", p.ref->phi_init},
+              {"log10_rate", p.ref->log10_rate},
+              {"constant_z", 0.0}};
+  std::size_t n_dir = 0, n_ref = 0;
+  const double s_dir = spread(p.dir->jamming_points, &n_dir),
+               s_ref = spread(p.ref->jamming_points, &n_ref);
+  j.values["spread_dir"] = s_dir;
+  j.values["spread_ref"] = s_ref;
+  const std::string spreads = fmt::format(
+      "spread of phi_Ji (standard deviation): DIR {:.3g} over {} runs, REF {:.3g} over {} runs",
+      s_dir, n_dir, s_ref, n_ref);
+  try {
+    const MeanDifference m =
+        compare_means(p.dir->jamming_points, p.ref->jamming_points, levels, o.permutations, 4);
+    judge(j, m, levels, o.margin("compare_jamming"), std::min(n_dir, n_ref));
+    j.values["difference"] = m.difference;
+    j.reason += "; " + spreads;
+  } catch (const std::invalid_argument& e) {
+    j = inconclusive("compare_jamming", j.case_name,
+                     fmt::format("{} ({}; NaN: no jamming point found)", e.what(), spreads));
+  }
+  return j;
+}
+
+/// The fitted parameters of each (N, phi_init) both campaigns fitted.
+void compare_fits(const StatsData& dir, const StatsData& ref, const CheckOptions& o,
+                  std::vector<Verdict>& out) {
+  if (dir.families.empty() || ref.families.empty()) {
+    const std::string which = dir.families.empty() && ref.families.empty() ? "DIR's nor REF's"
+                              : dir.families.empty()                       ? "DIR's"
+                                                                           : "REF's";
+    const std::string why = fmt::format(
+        "no per-size fits (fit/families) in {} stats.h5: no representative scaling fit, or "
+        "written by an older jam (rerun `jam stats`)",
+        which);
+    out.push_back(inconclusive("compare_fit", "all", why));
+    out.push_back(inconclusive("compare_fit_phi_j", "all", why));
+    return;
+  }
+  auto name = [](const FamilyParameters& f) {
+    return fmt::format("n{} phi_init {:g}", f.n, f.phi_init);
+  };
+  std::vector<std::pair<const FamilyParameters*, const FamilyParameters*>> pairs;
+  std::vector<bool> ref_matched(ref.families.size(), false);
+  std::string dir_only, ref_only;
+  for (const auto& f : dir.families) {
+    const FamilyParameters* partner = nullptr;
+    for (std::size_t k = 0; k < ref.families.size() && !partner; ++k) {
+      const auto& g = ref.families[k];
+      if (g.n == f.n && std::abs(g.phi_init - f.phi_init) < kPhiInitTolerance) {
+        partner = &g;
+        ref_matched[k] = true;
+      }
+    }
+    if (partner)
+      pairs.push_back({&f, partner});
+    else
+      dir_only += (dir_only.empty() ? "" : ", ") + name(f);
+  }
+  for (std::size_t k = 0; k < ref.families.size(); ++k)
+    if (!ref_matched[k]) ref_only += (ref_only.empty() ? "" : ", ") + name(ref.families[k]);
+  std::size_t fitted = 0;
+  for (const auto& [a, b] : pairs) fitted += a->failure.empty() && b->failure.empty();
+  const double detect = o.alpha / static_cast<double>(std::max<std::size_t>(1, fitted));
+  for (const auto& [a, b] : pairs) {
+    const std::string what = name(*b) + ": DIR vs REF";  // named by REF's start
+    const std::map<std::string, double> values = {{"n", static_cast<double>(a->n)},
+                                                  {"phi_init", b->phi_init}};
+    if (!a->failure.empty() || !b->failure.empty()) {
+      const std::string why =
+          !a->failure.empty() ? "no fit in DIR: " + a->failure : "no fit in REF: " + b->failure;
+      out.push_back(inconclusive("compare_fit", "exponents, " + what, why));
+      out.back().values = values;
+      out.push_back(inconclusive("compare_fit_phi_j", "phi_J, " + what, why));
+      out.back().values = values;
+      continue;
+    }
+    // Relative to REF's value, as the pressures: Delta = a / b - 1.
+    auto relative = [](const char* parameter, double x, double ex, double y, double ey) {
+      const double ratio = x / y;
+      return ParameterDifference{parameter, x, y, ratio - 1,
+                                 std::sqrt(ex * ex + ratio * ratio * ey * ey) / std::abs(y)};
+    };
+    const std::int64_t samples = std::min(a->samples, b->samples);
+    Verdict exponents =
+        judge_parameters("compare_fit", "exponents, " + what,
+                         {relative("beta", a->beta, a->beta_err, b->beta, b->beta_err),
+                          relative("y", a->y, a->y_err, b->y, b->y_err)},
+                         samples, detect, o.alpha, o.margin("compare_fit"));
+    Verdict phi_j = judge_parameters("compare_fit_phi_j", "phi_J, " + what,
+                                     {{"phi_J", a->phi_j, b->phi_j, a->phi_j - b->phi_j,
+                                       std::hypot(a->phi_j_err, b->phi_j_err)}},
+                                     samples, detect, o.alpha, o.margin("compare_fit_phi_j"));
+    exponents.values = values;
+    phi_j.values = values;
+    out.push_back(std::move(exponents));
+    out.push_back(std::move(phi_j));
+  }
+  if (!dir_only.empty() || !ref_only.empty()) {
+    out.push_back(inconclusive(
+        "compare_fit", "fits without a partner",
+        fmt::format("not compared: fitted in DIR only: {}; fitted in REF only: {}",
+                    dir_only.empty() ? "none" : dir_only, ref_only.empty() ? "none" : ref_only)));
+  }
+}
+
+}  // namespace
+
+double grid_step(const std::vector<double>& grid) {
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < grid.size(); ++k)
+    if (grid[k] > grid[k - 1]) steps.push_back(grid[k] - grid[k - 1]);
+  if (steps.empty()) return NAN;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+  return steps[steps.size() / 2];
+}
+
+GridMatch match_grids(const std::vector<double>& grid_dir,
+                      const std::vector<std::vector<double>>& dir,
+                      const std::vector<double>& grid_ref,
+                      const std::vector<std::vector<double>>& ref, double min, double max) {
+  GridMatch m;
+  m.step_dir = grid_step(grid_dir);
+  m.step_ref = grid_step(grid_ref);
+  Aligned shared = align(grid_dir, dir, grid_ref, ref, min, max);
+  m.shared = shared.grid.size();
+  if (m.shared >= 2) {
+    m.aligned = std::move(shared);
+    return m;
+  }
+  m.interpolated = true;
+  // REF's grid values in the range and within DIR's grid: the DIR point below each and the
+  // fraction of the way to the next.
+  std::vector<std::size_t> ref_index, below;
+  std::vector<double> fraction;
+  constexpr double kSlack = 1e-12;
+  for (std::size_t k = 0; k < grid_ref.size() && grid_dir.size() >= 2; ++k) {
+    const double g = grid_ref[k];
+    if (g < min - kSlack || g > max + kSlack) continue;
+    if (g < grid_dir.front() - kSlack || g > grid_dir.back() + kSlack) continue;
+    std::size_t j = static_cast<std::size_t>(std::upper_bound(grid_dir.begin(), grid_dir.end(), g) -
+                                             grid_dir.begin());
+    j = std::min(j == 0 ? 0 : j - 1, grid_dir.size() - 2);
+    const double width = grid_dir[j + 1] - grid_dir[j];
+    if (!(width > 0)) continue;
+    ref_index.push_back(k);
+    below.push_back(j);
+    fraction.push_back(std::clamp((g - grid_dir[j]) / width, 0.0, 1.0));
+    m.aligned.grid.push_back(g);
+  }
+  for (const auto& row : dir) {
+    std::vector<double> x;
+    for (std::size_t i = 0; i < below.size(); ++i) {
+      const double f = fraction[i], lo = row[below[i]], hi = row[below[i] + 1];
+      // At a grid value of DIR the value itself (a NaN next to it does not spread).
+      x.push_back(f == 0.0 ? lo : f == 1.0 ? hi : (1 - f) * lo + f * hi);
+    }
+    m.aligned.a.push_back(std::move(x));
+  }
+  for (const auto& row : ref) {
+    std::vector<double> x;
+    for (auto k : ref_index) x.push_back(row[k]);
+    m.aligned.b.push_back(std::move(x));
+  }
+  return m;
+}
+
+std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
+                                   const CheckOptions& o, const RegressionOptions&) {
+  if (dir.dim != ref.dim)
+    return {inconclusive("compare", "all",
+                         fmt::format("DIR is {}D, REF {}D: nothing to compare", dir.dim, ref.dim))};
+  if (dir.ensembles.empty() && ref.ensembles.empty()) {
+    std::vector<Verdict> out = {
+        inconclusive("compare", "all", "neither stats.h5 has an ensemble: no pressure to compare")};
+    compare_fits(dir, ref, o, out);
+    return out;
+  }
+  std::vector<Pair> pairs;
+  std::vector<bool> ref_matched(ref.ensembles.size(), false);
+  std::string dir_only, ref_only;
+  std::size_t unmatched = 0;
+  for (const auto& e : dir.ensembles) {
+    const EnsembleTables* partner = nullptr;
+    for (std::size_t k = 0; k < ref.ensembles.size() && !partner; ++k) {
+      if (!ref_matched[k] && same_ensemble(e, ref.ensembles[k])) {
+        partner = &ref.ensembles[k];
+        ref_matched[k] = true;
+      }
+    }
+    if (partner) {
+      pairs.push_back({&e, partner});
+    } else {
+      dir_only += (dir_only.empty() ? "" : ", ") + describe(e);
+      ++unmatched;
+    }
+  }
+  for (std::size_t k = 0; k < ref.ensembles.size(); ++k) {
+    if (ref_matched[k]) continue;
+    ref_only += (ref_only.empty() ? "" : ", ") + describe(ref.ensembles[k]);
+    ++unmatched;
+  }
+  // Bonferroni over the comparisons made: constant phi for every pair, constant Z where both
+  // have its table; the jamming points apart, over the pairs that carry them.
+  std::size_t comparisons = 0, jamming = 0;
+  auto has_jamming = [](const EnsembleTables& e) {
+    return std::any_of(e.jamming_points.begin(), e.jamming_points.end(),
+                       [](double x) { return std::isfinite(x); });
+  };
+  for (const auto& p : pairs) {
+    comparisons += 1 + (!p.dir->pressure_at_z.empty() && !p.ref->pressure_at_z.empty());
+    jamming += has_jamming(*p.dir) && has_jamming(*p.ref);
+  }
+  const Levels levels{o.alpha / static_cast<double>(std::max<std::size_t>(1, comparisons)),
+                      o.alpha};
+  const Levels jamming_levels{o.alpha / static_cast<double>(std::max<std::size_t>(1, jamming)),
+                              o.alpha};
+  std::vector<Verdict> out;
+  std::vector<ScatterSeries> series;  // the samples estimate pools each series over its rates
+  std::map<std::tuple<std::int64_t, double, bool>, int> series_of;
+  for (const auto& p : pairs) {
+    for (bool at_z : {false, true}) {
+      out.push_back(pressure_verdict(p, at_z, levels, ref, o));
+      if (!out.back().values.count("scatter_a")) continue;
+      const auto key = std::tuple{p.ref->n, p.ref->phi_init, at_z};
+      const int id = series_of.emplace(key, static_cast<int>(series_of.size())).first->second;
+      series.push_back({out.size() - 1, id, p.ref->log10_rate, 1.0, 1.0, "DIR", "REF"});
+    }
+    const bool dir_j = has_jamming(*p.dir), ref_j = has_jamming(*p.ref);
+    if (dir_j && ref_j) {
+      out.push_back(jamming_verdict(p, jamming_levels, o));
+    } else if (dir_j || ref_j) {
+      out.push_back(inconclusive(
+          "compare_jamming", fmt::format("{}: <phi_Ji> DIR vs REF", describe(*p.ref)),
+          fmt::format("only {} carries jamming points (phi_Ji found in its runs): nothing to "
+                      "compare them with",
+                      dir_j ? "DIR" : "REF")));
+      out.back().values = {{"n", static_cast<double>(p.dir->n)},
+                           {"phi_init", p.ref->phi_init},
+                           {"log10_rate", p.ref->log10_rate},
+                           {"constant_z", 0.0}};
+    }
+  }
+  if (unmatched > 0 || pairs.empty()) {
+    Verdict v = inconclusive(
+        "compare", "ensembles without a partner",
+        fmt::format("not compared (a partner has the same N, the same rate and phi_init within "
+                    "{:g}): in DIR only: {}; in REF only: {}",
+                    kPhiInitTolerance, dir_only.empty() ? "none" : dir_only,
+                    ref_only.empty() ? "none" : ref_only));
+    v.values = {{"unmatched", static_cast<double>(unmatched)},
+                {"matched", static_cast<double>(pairs.size())}};
+    out.push_back(std::move(v));
+  }
+  pool_window_scatter(out, series, o.for_estimate(levels), o.margin("compare"));
+  compare_fits(dir, ref, o, out);
+  return out;
+}
+
+}  // namespace jam::checks
