@@ -11,6 +11,7 @@
 #include "campaign/campaign_file.hpp"
 #include "checks/check_registry.hpp"
 #include "checks/run_checks.hpp"
+#include "checks/stats_data.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
 
@@ -37,14 +38,15 @@ struct CampaignPart {
   std::string name;
   std::map<std::string, double> margins;
   std::vector<std::string> expected;
+  std::vector<std::string> compare_with;  // other simulators' campaigns judged against this one
 };
 
 CampaignPart campaign_part(const std::string& directory) {
   const std::filesystem::path file = std::filesystem::path(directory) / "campaign.toml";
-  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}};
+  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}, {}};
   if (std::filesystem::exists(file)) {
     const Campaign campaign = read_campaign(file.string());
-    c = {campaign.name, campaign.margins, campaign.expected_failures};
+    c = {campaign.name, campaign.margins, campaign.expected_failures, campaign.compare_with};
   }
   return c;
 }
@@ -142,6 +144,31 @@ void write_verdict_files(const std::string& directory, const std::string& name,
              (dir / stem).string());
 }
 
+namespace {
+
+/// `all` of a campaign whose file names `compare_with`: each of those campaigns judged against
+/// this one (`jam check compare OTHER --against THIS`), its verdicts named by both campaigns.
+void append_comparisons(std::vector<checks::Verdict>& verdicts, const CampaignPart& campaign,
+                        const checks::CheckInputs& in) {
+  for (const std::string& other : campaign.compare_with) {
+    if (!std::filesystem::is_directory(other))
+      throw std::runtime_error(fmt::format("compare_with: {}: no such campaign directory", other));
+    checks::CheckInputs compare = in;
+    compare.directory = other;
+    compare.baseline_directory = in.directory;
+    const std::string other_name = checks::read_stats(other).campaign;
+    for (checks::Verdict v : checks::run_checks("compare", compare)) {
+      if (const auto at = v.case_name.find("DIR vs REF"); at != std::string::npos)
+        v.case_name.replace(at, 10, fmt::format("{} vs {}", other_name, campaign.name));
+      else
+        v.case_name = fmt::format("{} vs {}: {}", other_name, campaign.name, v.case_name);
+      verdicts.push_back(std::move(v));
+    }
+  }
+}
+
+}  // namespace
+
 nlohmann::json check_record(const CheckArgs& a) {
   const CampaignPart c = campaign_part(a.directory);
   return judging_record(a.judging, check_options(a.judging, a.name, c.margins));
@@ -183,6 +210,7 @@ int run_check_command(const CheckArgs& a) {
   in.lammps.use_lmp = !a.judging.no_lmp;
   in.lammps.regenerate = a.regenerate;
   std::vector<checks::Verdict> verdicts = checks::run_checks(a.name, in);
+  if (a.name == "all") append_comparisons(verdicts, campaign, in);
   mark_expected_failures(verdicts, campaign.expected);
   print_verdicts(verdicts, a.table);
   // `all` writes checks.*, the files reports read; a single check writes checks-NAME.*, so

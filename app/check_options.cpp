@@ -135,11 +135,14 @@ checks::CheckOptions check_options(const JudgingArgs& args, const std::string& n
   o.phi_max = args.phi_max;
   o.margins = campaign_margins;
   if (args.margin) {
-    // `all` sets every check's margin; a check sets its own and its parts' (phi_init:
-    // jamming_point).
+    // `all` sets the margin of every check in the unit of the named one (relative pressure
+    // differences when all); a check sets its own and those of its parts measured in the same
+    // unit (compare: compare_fit, not compare_jamming, a packing difference).
+    const checks::CheckEntry* named = checks::find_check(name == "all" ? "finite_size" : name);
     for (const auto& e : checks::check_registry()) {
       const auto* part = std::get_if<checks::PartOf>(&e.run);
-      if (name == "all" || name == e.name || (part && name == part->check))
+      const bool same_unit = named && e.margin_unit == named->margin_unit;
+      if (same_unit && (name == "all" || name == e.name || (part && name == part->check)))
         o.margins[std::string(e.name)] = *args.margin;
     }
   }

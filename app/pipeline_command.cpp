@@ -27,7 +27,8 @@ Time modified(const fs::path& p) {
 
 /// The newest of the campaign's run files, its campaign file and manifest.
 Time newest_input(const fs::path& dir) {
-  Time t = std::max(modified(dir / "campaign.toml"), modified(dir / "manifest.toml"));
+  Time t = std::max({modified(dir / "campaign.toml"), modified(dir / "manifest.toml"),
+                     modified(dir / "external.toml")});
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir / "runs", ec)) {
     if (e.path().extension() == ".h5") t = std::max(t, modified(e.path()));
@@ -54,14 +55,16 @@ nlohmann::json recorded_options(const fs::path& checks_json) {
 /// `check all`, when stats.h5 or the campaign file is newer than checks.json or the options
 /// differ from those it records (check_record: the options as given and every check's margin
 /// as used).
-void judge_unless_up_to_date(const fs::path& dir, const JudgingArgs& judging) {
+void judge_unless_up_to_date(const fs::path& dir, const JudgingArgs& judging,
+                             const std::vector<std::string>& compare_with) {
   CheckArgs check;
   check.name = "all";
   check.directory = dir.string();
   check.judging = judging;
   check.table = false;  // the report's summary prints it, with a headline per check
   const fs::path checks_json = dir / "checks.json";
-  const Time input = std::max(modified(dir / "stats.h5"), modified(dir / "campaign.toml"));
+  Time input = std::max(modified(dir / "stats.h5"), modified(dir / "campaign.toml"));
+  for (const auto& other : compare_with) input = std::max(input, modified(fs::path(other) / "stats.h5"));
   const bool inputs_newer = stale(checks_json, input);
   if (!inputs_newer && recorded_options(checks_json) == check_record(check)) {
     fmt::print("checks: {} is up to date\n", checks_json.string());
@@ -100,14 +103,20 @@ int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
   const fs::path dir(campaign.output);
   const fs::path report =
       a.report.empty() ? fs::path("reports") / campaign.name : fs::path(a.report);
-  if (stale(dir / "stats.h5", newest_input(dir))) {
-    StatsArgs stats;
-    stats.directory = dir.string();
-    run_stats_command(stats);
-  } else {
-    fmt::print("stats: {} is up to date\n", (dir / "stats.h5").string());
+  // This campaign's statistics, and those of the campaigns it is compared with (compare_with:
+  // other simulators' runs, imported).
+  std::vector<fs::path> averaged = {dir};
+  for (const auto& other : campaign.compare_with) averaged.emplace_back(other);
+  for (const fs::path& d : averaged) {
+    if (stale(d / "stats.h5", newest_input(d))) {
+      StatsArgs stats;
+      stats.directory = d.string();
+      run_stats_command(stats);
+    } else {
+      fmt::print("stats: {} is up to date\n", (d / "stats.h5").string());
+    }
   }
-  judge_unless_up_to_date(dir, a.judging);
+  judge_unless_up_to_date(dir, a.judging, campaign.compare_with);
   const Time report_input = std::max(modified(dir / "checks.json"), modified(dir / "stats.h5"));
   // What jam printed comes before the report's own output (both on standard output).
   std::fflush(stdout);

@@ -323,6 +323,9 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.output = r.string("output", true, "");
   c.margins = r.number_table("margins", checks::check_names());
   c.expected_failures = r.strings("expected_failures");
+  c.compare_with = r.strings("compare_with");
+  for (const auto& d : c.compare_with)
+    if (d.empty()) r.fail("compare_with", "'': must name campaign directories");
   for (const auto& e : c.expected_failures) {
     if (e.find(": ") == std::string::npos || e.find(": ") == 0) {
       r.fail("expected_failures", fmt::format("'{}': must read 'check: part of the case name'", e));

@@ -49,6 +49,10 @@ struct Campaign {
   // Verdicts the campaign expects to fail, "check: text" with text a part of the case name
   // ("phi_init: phi_init 0.8 vs"): the main job names them as expected, not as a bare FAIL.
   std::vector<std::string> expected_failures;
+  // Campaign directories of other simulators (external campaigns, docs/cross-simulator.md)
+  // that `jam check all` and the pipeline compare with this one (`jam check compare OTHER
+  // --against THIS`): this campaign is the reference.
+  std::vector<std::string> compare_with;
 
   std::string source_path;  // the file it was read from
   std::string source_text;  // its text, stored with the results

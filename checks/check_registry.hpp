@@ -95,7 +95,7 @@ inline constexpr std::string_view kLammps =
   X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                               \
   X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")                   \
   X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts")                                \
-  X(compare, &compare_check, 0.05, relative, kCompare, false, "verdicts")                          \
+  X(compare, &compare_check, 0.05, relative, kCompare, false, "compare")                           \
   X(compare_jamming, PartOf{"compare"}, 0.005, packing_fraction, kJammingPoint, false, "verdicts") \
   X(compare_fit, PartOf{"compare"}, 0.10, relative, kExponents, false, "verdicts")                 \
   X(compare_fit_phi_j, PartOf{"compare"}, 0.002, packing_fraction, kFitPhiJ, false, "verdicts")

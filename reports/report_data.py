@@ -58,7 +58,7 @@ COLLAPSE = ("x", "compression_rate", "in_fit", "scaled_pressure", "scaled_pressu
 SCAN = ("rate_max", "phi_min", "phi_max", "phi_j", "phi_j_error", "beta", "beta_error", "y",
         "y_error")
 # Curves a figure draws from the verdicts it shows, by figure (the registry's `figure`).
-CURVES = {"finite_size": ("grid", "delta", "sigma"),
+CURVES = {"finite_size": ("grid", "delta", "sigma"), "compare": ("grid", "delta", "sigma"),
           "lammps": ("grid", "pressure_jam", "pressure_lammps", "delta", "sigma")}
 JAMMING = ("mean", "error", "found")
 ENSEMBLE = ("n", "phi_init", "log10_rate", "compression_rate", "samples")

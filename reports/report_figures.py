@@ -14,6 +14,7 @@ import numpy as np
 
 from report_figures_checks import (finite_size_figure, finite_size_z_figure, lammps_figure,
                                    sample_pairs_figure)
+from report_figures_compare import compare_figure
 from report_figures_fit import collapse_figure, scan_figure
 from report_figures_jamming import jamming_width_figure
 from report_figures_pressure import pressure_figure, rate_figure
@@ -155,4 +156,4 @@ def jamming_figure(c, out_dir):
 # collapse of Fig. 3 and the scan of Fig. 2), then the supplement's and the cross-check.
 ALL = [pressure_figure, finite_size_figure, rate_figure, collapse_figure, scan_figure,
        finite_size_z_figure, relative_error_figure, jamming_figure, jamming_width_figure,
-       sample_pairs_figure, lammps_figure]
+       sample_pairs_figure, lammps_figure, compare_figure]
