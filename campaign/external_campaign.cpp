@@ -48,7 +48,8 @@ void write_external(const std::string& directory, const ExternalCampaign& c) {
                                {"source", r.source},
                                {"source_checksum", r.source_checksum},
                                {"simulator", r.simulator},
-                               {"simulator_version", r.simulator_version}});
+                               {"simulator_version", r.simulator_version},
+                               {"origin", r.origin}});
   for (const auto& s : c.set_aside)
     aside.push_back(toml::table{{"file", s.file}, {"reason", s.reason}});
   toml::table t{{"name", c.name},
@@ -155,6 +156,7 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
       x.source_checksum = text_of(*r, "source_checksum", where);
       x.simulator = text_of(*r, "simulator", where);
       x.simulator_version = text_of(*r, "simulator_version", where);
+      x.origin = (*r)["origin"].value_or(std::string());
       c.runs.push_back(std::move(x));
     }
   }
@@ -190,7 +192,7 @@ ImportOutcome import_runs(const std::string& directory, const std::vector<std::s
     }
     ExternalRun x{"", r.n, r.sample, r.phi_init, std::log10(r.compression_rate),
                   fs::absolute(file).lexically_normal().string(), checksum, r.simulator,
-                  r.simulator_version};
+                  r.simulator_version, r.source};
     // Its ensemble: the first run's nominal phi_init and rate, within what a run name tells.
     for (const auto& e : c.runs)
       if (e.n == x.n && std::abs(e.phi_init - x.phi_init) <= 1e-6 &&

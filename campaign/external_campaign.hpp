@@ -23,6 +23,7 @@ struct ExternalRun {
   std::int64_t n = 0, sample = 0;
   double phi_init = 0, log10_rate = 0;
   std::string source, source_checksum, simulator, simulator_version;
+  std::string origin;  // what the run itself names as made from (its `source`: a LAMMPS log...)
 };
 
 struct SetAside {
