@@ -112,7 +112,7 @@ def write_report(c, out, started):
     with staging(out) as temporary:
         import report_figures
         import report_html
-        figures = [f for f in (draw(c, temporary) for draw in report_figures.ALL) if f]
+        figures = [f for f in (draw(c, temporary) for draw in report_figures.page_order(c)) if f]
         page = report_html.page(c, figures, provenance(c, time.monotonic() - started))
         write_text(os.path.join(temporary, "index.html"), page)
         summary = report_html.text_summary(c, os.path.join(out, "index.html"))

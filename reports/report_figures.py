@@ -157,3 +157,11 @@ def jamming_figure(c, out_dir):
 ALL = [pressure_figure, finite_size_figure, rate_figure, collapse_figure, scan_figure,
        finite_size_z_figure, relative_error_figure, jamming_figure, jamming_width_figure,
        sample_pairs_figure, lammps_figure, compare_figure]
+
+
+def page_order(c):
+    """ALL, except that a campaign other simulators are compared with (compare verdicts: its
+    campaign file's compare_with) shows that comparison first: it is what it was run for."""
+    if any(v.figure == "compare" for v in c.verdicts):
+        return [compare_figure] + [f for f in ALL if f is not compare_figure]
+    return ALL

@@ -119,7 +119,7 @@ def compare_figure(c, out_dir):
     file = save(fig, out_dir, "compare.png", plotted)
     return Figure(file, "Other simulators against this campaign",
                   "Mean pressure at constant phi of each ensemble compared with this campaign "
-                  "(jam check compare; campaign key compare_with), one row per compared "
+                  "(jam check compare; campaign key compare_with), two rows per compared "
                   "campaign, one column per rate: this campaign's mean (black) with the margin "
                   "band, the other's (red, with the error the check uses) on this campaign's "
                   "grid; below each, their relative difference with the margin band (green) "

@@ -130,6 +130,18 @@ def main():
         assert "diameter_ratio 1.35, the campaign's 1.4" in out.stderr, out.stderr
         status = run([jam, "campaign", "status", "runs/other"], cwd)
         assert "set aside" in status.stdout and "wrong.h5" in status.stdout, status.stdout
+
+        # The main job of the reference, with both compared: check all judges them, and the
+        # report shows the comparison first.
+        with open(os.path.join(cwd, "reference.toml"), "a") as f:
+            f.write('compare_with = ["runs/other", "runs/planted"]\n')
+        run([jam, "pipeline", "reference.toml", "--no-lmp", "--report", "report"], cwd)
+        with open(os.path.join(cwd, "runs", "reference", "checks.json")) as f:
+            named = [v["case"] for v in json.load(f)["verdicts"] if v["check"] == "compare"]
+        assert len(named) == 8 and all(" vs reference, constant" in c for c in named), named
+        with open(os.path.join(cwd, "report", "index.html")) as f:
+            images = re.findall(r"src=['\"]([a-z_]+)\.png", f.read())
+        assert images and images[0] == "compare", images
     print("walkthrough: passed")
     return 0
 
