@@ -7,7 +7,10 @@ another simulator's name: the same physics from another code, other starts and a
 count. The walkthrough's five commands (read from the page's block marked `<!-- walkthrough
 -->`, split into argument vectors and run without a shell; a `*` is expanded here) must all
 succeed and judge the comparison without a failure. The same commands on runs with the pressure
-planted 15% higher must fail it; a file of another model is set aside with its reason.
+planted 15% higher must fail it; a file of another model is set aside with its reason; the
+reference's pipeline with `compare_with` judges both and its report shows the comparison first;
+and the stored demonstration (reference/results/cross-lammps), judged again from its stored
+statistics, passes LAMMPS of the model and fails both planted wrong LAMMPS inputs.
 
 Usage (ctest runs it): test_cross_simulator.py --jam build/jam --source .
 """
@@ -142,6 +145,19 @@ def main():
         with open(os.path.join(cwd, "report", "index.html")) as f:
             images = re.findall(r"src=['\"]([a-z_]+)\.png", f.read())
         assert images and images[0] == "compare", images
+
+        # The stored demonstration judged again from its stored statistics (copies: a check
+        # writes next to them): LAMMPS of the model passes every comparison, the planted wrong
+        # simulators fail every one.
+        stored = os.path.join(args.source, "reference", "results", "cross-lammps")
+        import shutil
+        shutil.copytree(stored, os.path.join(cwd, "stored"))
+        expected = {"right": {"pass"}, "d135": {"fail"}, "k110": {"fail"}}
+        for name, statuses in expected.items():
+            other = os.path.join("stored", f"lammps-{name}")
+            run([jam, "check", "compare", other, "--against", "stored"], cwd, expect=(0, 1, 3))
+            got = [v["status"] for v in compare_verdicts(cwd, other)]
+            assert len(got) == 4 and set(got) == statuses, (name, got)
     print("walkthrough: passed")
     return 0
 
