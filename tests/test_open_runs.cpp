@@ -61,6 +61,19 @@ void refused(const OpenRun& r, const std::string& field) {
   }
 }
 
+/// The open run's attributes of a frames file of one small and one big particle in 2D.
+void frames_attributes(jam::h5::File& f, double phi_init) {
+  f.write_attribute("dim", std::int64_t{2});
+  f.write_attribute("n", std::int64_t{2});
+  f.write_attribute("diameter_ratio", 1.4);
+  f.write_attribute("contact", std::string("harmonic"));
+  f.write_attribute("compression_rate", 1e-3);
+  f.write_attribute("phi_init", phi_init);
+  f.write_attribute("simulator", std::string("hoomd-blue"));
+  f.write_attribute("simulator_version", std::string("4"));
+  f.write_attribute("sample", std::int64_t{0});
+}
+
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(a_run_reads_back_as_written) {
@@ -145,15 +158,7 @@ BOOST_AUTO_TEST_CASE(frames_are_measured_to_the_analytic_pair) {
   const double length = 10.0, r = 1.1, dij = 1.2, delta = 1 - r / dij;
   {
     jam::h5::File f = jam::h5::File::create((d / "frames.h5").string());
-    f.write_attribute("dim", std::int64_t{2});
-    f.write_attribute("n", std::int64_t{2});
-    f.write_attribute("diameter_ratio", 1.4);
-    f.write_attribute("contact", std::string("harmonic"));
-    f.write_attribute("compression_rate", 1e-3);
-    f.write_attribute("phi_init", jam::packing_fraction_of(2, 2, 1.4, length));
-    f.write_attribute("simulator", std::string("hoomd-blue"));
-    f.write_attribute("simulator_version", std::string("4"));
-    f.write_attribute("sample", std::int64_t{0});
+    frames_attributes(f, jam::packing_fraction_of(2, 2, 1.4, length));
     // Frame 2: the same pair seen across the periodic boundary, in a box shrunk at the rate.
     const double later = length * std::exp(-1e-3 * 5.0);
     f.write_dataset("box_length", std::vector<double>{length, later});
@@ -182,15 +187,7 @@ BOOST_AUTO_TEST_CASE(frames_of_another_model_are_refused) {
   const fs::path d = scratch("frames_bad");
   {
     jam::h5::File f = jam::h5::File::create((d / "frames.h5").string());
-    f.write_attribute("dim", std::int64_t{2});
-    f.write_attribute("n", std::int64_t{2});
-    f.write_attribute("diameter_ratio", 1.4);
-    f.write_attribute("contact", std::string("harmonic"));
-    f.write_attribute("compression_rate", 1e-3);
-    f.write_attribute("phi_init", 0.1);
-    f.write_attribute("simulator", std::string("x"));
-    f.write_attribute("simulator_version", std::string(""));
-    f.write_attribute("sample", std::int64_t{0});
+    frames_attributes(f, 0.1);
     f.write_dataset("box_length", std::vector<double>{10.0});
     f.write_dataset("diameters", std::vector<double>{1.0, 1.35});  // not the stated ratio
     f.write_dataset("positions", std::vector<double>{0, 0, 1, 0}, {1, 2, 2});

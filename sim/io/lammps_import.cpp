@@ -19,13 +19,6 @@
 namespace jam {
 namespace {
 
-std::vector<std::string> words(const std::string& line) {
-  std::istringstream in(line);
-  std::vector<std::string> w;
-  for (std::string x; in >> x;) w.push_back(x);
-  return w;
-}
-
 /// The thermo must describe one compression forward in time: increasing finite times and steps,
 /// non-negative energies and contact numbers. Anything else would make a run file that jam's
 /// own checks call corrupt.
@@ -76,10 +69,10 @@ double small_mass(const std::string& path) {
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line)) {
-    const auto w0 = words(line);
+    const auto w0 = lammps_words(line);
     if (w0.size() == 1 && w0[0] == "Masses") {
       while (std::getline(in, line)) {
-        const auto w = words(line);
+        const auto w = lammps_words(line);
         if (w.size() >= 2 && w[0] == "1") {
           const double m = lammps_number(w[1], path + ": Masses", "mass of type 1");
           if (!(m > 0))

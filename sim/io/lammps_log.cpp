@@ -14,13 +14,6 @@
 namespace jam {
 namespace {
 
-std::vector<std::string> words(const std::string& line) {
-  std::istringstream in(line);
-  std::vector<std::string> w;
-  for (std::string x; in >> x;) w.push_back(x);
-  return w;
-}
-
 bool literal(const std::string& word) {
   return !word.empty() && word[0] != '$' && word[0] != 'v' && word.find("${") == std::string::npos;
 }
@@ -64,6 +57,13 @@ bool has_all(const std::vector<std::string>& header, const std::vector<std::stri
 
 }  // namespace
 
+std::vector<std::string> lammps_words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> w;
+  for (std::string x; in >> x;) w.push_back(x);
+  return w;
+}
+
 double lammps_number(const std::string& text, const std::string& where, const std::string& field) {
   double v = 0.0;
   const char* end = text.data() + text.size();
@@ -79,6 +79,11 @@ LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string
   check_input_file("LAMMPS log", path);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot read LAMMPS log", path));
+  return read_lammps_log(in, path, columns);
+}
+
+LammpsLog read_lammps_log(std::istream& in, const std::string& path,
+                          const std::vector<std::string>& columns) {
   LammpsLog log;
   for (const auto& c : columns) log.columns[c];
   std::vector<std::string> header;  // the current block's, when it has every column
@@ -87,7 +92,7 @@ LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string
   std::size_t rows_in_block = 0;
   std::string line;
   for (int line_no = 1; std::getline(in, line); ++line_no) {
-    const auto w = words(line);
+    const auto w = lammps_words(line);
     if (w.empty()) continue;
     const std::string where = fmt::format("{}:{}", path, line_no);
     if (line_no == 1 && w[0] == "LAMMPS" && line.find('(') != std::string::npos) {

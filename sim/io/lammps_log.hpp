@@ -5,6 +5,7 @@
 // `timestep`, the `trate` of `fix deform` and the atoms created or read. Values must be whole
 // finite numbers; anything else is one line naming the file, line, column and value.
 #include <cstdint>
+#include <istream>
 #include <map>
 #include <optional>
 #include <string>
@@ -23,6 +24,9 @@ struct LammpsLog {
   std::vector<int> lines;                              // the log line of each row
 };
 
+/// The blank-separated words of a line.
+std::vector<std::string> lammps_words(const std::string& line);
+
 /// The whole of `text` as a finite number, else one line naming where, the field and the value.
 double lammps_number(const std::string& text, const std::string& where, const std::string& field);
 
@@ -30,5 +34,9 @@ double lammps_number(const std::string& text, const std::string& where, const st
 /// Volume, c_virial, v_Z, ...). Throws std::runtime_error when none of its headers has them
 /// all, or a row under such a header is not a row of numbers.
 LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string>& columns);
+
+/// The same from a stream; `name` stands for the file in messages.
+LammpsLog read_lammps_log(std::istream& in, const std::string& name,
+                          const std::vector<std::string>& columns);
 
 }  // namespace jam
