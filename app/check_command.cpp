@@ -9,6 +9,7 @@
 #include <map>
 
 #include "campaign/campaign_file.hpp"
+#include "campaign/external_campaign.hpp"
 #include "checks/check_registry.hpp"
 #include "checks/run_checks.hpp"
 #include "checks/stats_data.hpp"
@@ -209,6 +210,7 @@ int run_check_command(const CheckArgs& a) {
       (std::filesystem::path(a.judging.reference_dir) / "lammps").string();
   in.lammps.use_lmp = !a.judging.no_lmp;
   in.lammps.regenerate = a.regenerate;
+  in.runs_of_another_simulator = is_external_campaign(a.directory);
   std::vector<checks::Verdict> verdicts = checks::run_checks(a.name, in);
   if (a.name == "all") append_comparisons(verdicts, campaign, in);
   mark_expected_failures(verdicts, campaign.expected);

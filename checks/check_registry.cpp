@@ -109,8 +109,12 @@ std::vector<Verdict> run_check(const std::string& name, const StatsData& d, cons
 
 std::vector<Verdict> run_checks(const std::string& name, const CheckInputs& in) {
   std::vector<const CheckEntry*> chosen;
-  for (const auto& e : kRegistry)
-    if (runs_by_name(e) && (e.name == name || (name == "all" && e.in_all))) chosen.push_back(&e);
+  for (const auto& e : kRegistry) {
+    const bool of_jam = std::holds_alternative<LammpsCheck>(e.run);
+    if (runs_by_name(e) && (e.name == name || (name == "all" && e.in_all &&
+                                               !(of_jam && in.runs_of_another_simulator))))
+      chosen.push_back(&e);
+  }
   if (chosen.empty() && name != "all")
     throw std::invalid_argument(
         fmt::format("check '{}': unknown ({})", name, joined(command_names())));

@@ -19,6 +19,9 @@ struct CheckInputs {
   std::string baseline_directory;  // a baseline check's --against (a directory with stats.h5)
   RegressionOptions regression;
   LammpsCheckOptions lammps;  // its margin is set from options.margin(name)
+  // The campaign's runs are not jam's (an external campaign, campaign/external_campaign.hpp):
+  // `all` leaves out the checks of jam's own simulator against LAMMPS, which say nothing of them.
+  bool runs_of_another_simulator = false;
 };
 
 /// The verdicts of the check `name` ("all": every member of `all`, in table order). Throws

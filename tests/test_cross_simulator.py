@@ -111,6 +111,11 @@ def main():
         assert len(verdicts) == 4, verdicts  # 2 rates, at constant phi and Z
         assert not [v for v in verdicts if v["status"] == "fail"], verdicts
         print("equal physics:", [v["status"] for v in verdicts])
+        # `check all` of the imported campaign leaves out jam's own checks against LAMMPS.
+        run([jam, "check", "all", "runs/other", "--no-lmp"], cwd, expect=(0, 1, 3))
+        with open(os.path.join(cwd, "runs", "other", "checks.json")) as f:
+            checked = {v["check"] for v in json.load(f)["verdicts"]}
+        assert checked and "lammps" not in checked, checked
 
         # Planted: the same runs, 15% more pressure. The same commands fail the comparison.
         write_other_code(cwd, jam, "planted-code", pressure_factor=1.15)
