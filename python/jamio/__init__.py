@@ -38,7 +38,8 @@ from .hdf5 import Group
 from .runs import Run, load_external_runs, load_run, load_runs, run_files
 from .stats import Ensemble, EnsembleKey, FamilyFit, Fit, Stats, load_stats
 from .units import unit_of
-from .write import OpenRun, validate_run, write_frames, write_run
+from .open_run import OpenRun, validate_run
+from .write import write_frames, write_run
 
 __version__ = "0.2.0"
 

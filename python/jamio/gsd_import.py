@@ -35,9 +35,9 @@ import tempfile
 import numpy as np
 
 from .errors import JamioError, cause, reading, require_file, shown
-from .write import (CONTACTS, DYNAMICS, RATE_TOLERANCE, Invalid, _diameter_ratio, _one_of,
-                    _phi_init, _positive, _publish, _sample, _target, packing_fraction_of,
-                    validate_run, write_frames, write_run)
+from .open_run import (CONTACTS, DYNAMICS, RATE_TOLERANCE, Invalid, _diameter_ratio, _one_of,
+                       _phi_init, _positive, _sample, validate_run)
+from .write import _publish, _target, packing_fraction_of, write_frames, write_run
 
 SIMULATOR = "hoomd-blue"
 # Diameters and boxes are single precision in a GSD file.

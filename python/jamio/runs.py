@@ -3,7 +3,7 @@ load_run, all of a campaign as one table with load_runs.
 
 An external campaign (external.toml, campaign.py) holds open runs of any simulator, or jam's
 own run files, imported by `jam campaign import`: its runs are those external.toml lists (a
-file in runs/ it does not list is not read), each read through validate_run (write.py) and
+file in runs/ it does not list is not read), each read through validate_run (open_run.py) and
 checked to be still the run imported under its name."""
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import numpy as np
 from .campaign import is_external, load_external
 from .errors import JamioError, optional_module, reading
 from .hdf5 import array, attrs, read_hdf5, require, units
-from .write import REQUIRED_SERIES, SERIES_UNITS, validate_run
+from .open_run import REQUIRED_SERIES, SERIES_UNITS, validate_run
 
 # The datasets every run file has (one entry per output point) and those only some have.
 SERIES = ("packing_fraction", "pressure", "contacts_per_particle", "energy_per_particle", "time")

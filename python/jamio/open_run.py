@@ -1,0 +1,454 @@
+"""The open run format (docs/cross-simulator.md): its rules, and the reader of an open run.
+
+    validate_run(path)       an open run, or a run file of jam's own -> OpenRun (its attributes
+                             and series), every field checked as the format's tables say
+
+The rules (`_model`, `_series` and the field checks they call) are those the writers
+(write.py) apply before anything is written. A violation raises JamioError, one line naming the
+file, the field and the value.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from dataclasses import dataclass, field
+
+import h5py
+import numpy as np
+
+from .errors import JamioError, cause, shown
+from .hdf5 import MOST_STRING_BYTES, _check_size, _kind, _plain_type, read_hdf5, value
+
+FORMAT = "jam-open-run"
+FORMAT_VERSION = 1
+PROTOCOL = "isotropic-compression"
+UNITS = "jam"
+CONTACTS = ("harmonic", "hertzian")
+DYNAMICS = ("overdamped", "inertial")
+# The series of an open run, each with the unit its `units` attribute must state when present.
+SERIES_UNITS = {"packing_fraction": "1", "pressure": "k_e/d_s^D", "contacts_per_particle": "1",
+                "energy_per_particle": "k_e", "time": "t0"}
+REQUIRED_SERIES = ("packing_fraction", "pressure")
+# The frames file's datasets and their units.
+FRAMES_UNITS = {"box_length": "d_s", "positions": "d_s", "diameters": "d_s", "time": "t0"}
+# The first packing may lie this far (relative) below phi_init: round-off.
+PHI_INIT_SLACK = 1e-9
+# phi(t) = phi_init exp(D rate t) must hold to this, relative.
+RATE_TOLERANCE = 1e-6
+# The order of the root attributes in the format's table (and in a written file's listing).
+ATTRIBUTES = ("format", "format_version", "dim", "n", "diameter_ratio", "contact", "dynamics",
+              "q", "protocol", "compression_rate", "phi_init", "simulator", "simulator_version",
+              "sample", "units")
+OPTIONAL_ATTRIBUTES = ("jamming_packing_fraction", "source", "source_checksum", "interpolation")
+
+
+class Invalid(ValueError):
+    """One field of a run that the format refuses; its message names the field and the value."""
+
+
+# ---- the checks, shared by the writers and the reader -------------------------------------------
+
+def _integer(name, v):
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)):
+        raise Invalid(f"{name} {shown(v)} must be an integer")
+    return int(v)
+
+
+def _number(name, v):
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+        raise Invalid(f"{name} {shown(v)} must be a number")
+    return float(v)
+
+
+def _string(name, v):
+    if not isinstance(v, str):
+        raise Invalid(f"{name} {shown(v)} must be a string")
+    if "\0" in v:
+        raise Invalid(f"{name} {shown(v)} must not contain a NUL character")
+    return v
+
+
+def _one_of(name, v, allowed):
+    v = _string(name, v)
+    if v not in allowed:
+        words = " or ".join(repr(a) for a in allowed)
+        raise Invalid(f"{name} {shown(v)} must be {words}")
+    return v
+
+
+def _positive(name, v):
+    x = _number(name, v)
+    if not (math.isfinite(x) and x > 0):
+        raise Invalid(f"{name} {shown(x)} must be > 0 and finite")
+    return x
+
+
+def _dim(v):
+    d = _integer("dim", v)
+    if d not in (2, 3):
+        raise Invalid(f"dim {d} must be 2 or 3")
+    return d
+
+
+def _n(v):
+    n = _integer("n", v)
+    if n < 2 or n % 2:
+        raise Invalid(f"n {n} must be even and >= 2 (half small, half big)")
+    return n
+
+
+def _diameter_ratio(v):
+    r = _number("diameter_ratio", v)
+    if not 1.0 <= r <= 2.0:
+        raise Invalid(f"diameter_ratio {shown(r)} must be in [1, 2]")
+    return r
+
+
+def _phi_init(v):
+    x = _number("phi_init", v)
+    if not 0.0 < x < 1.0:
+        raise Invalid(f"phi_init {shown(x)} must be in (0, 1)")
+    return x
+
+
+def _simulator(v):
+    s = _string("simulator", v)
+    if not s.strip():
+        raise Invalid(f"simulator {shown(s)} must not be empty")
+    return s
+
+
+def _sample(v):
+    k = _integer("sample", v)
+    if k < 0:
+        raise Invalid(f"sample {k} must be >= 0")
+    return k
+
+
+def _q(dynamics, v, zero_is_absent=False):
+    """Q: > 0 with inertial dynamics, absent with overdamped (jam's own files store 0 there)."""
+    if dynamics == "inertial":
+        if v is None:
+            raise Invalid("q missing: dynamics 'inertial' needs the quality factor q > 0")
+        return _positive("q", v)
+    if v is None or (zero_is_absent and not isinstance(v, (str, bool)) and v == 0):
+        return None
+    raise Invalid(f"q {shown(v)} is only for dynamics 'inertial' (dynamics is {shown(dynamics)})")
+
+
+def _jamming_packing_fraction(v):
+    x = _number("jamming_packing_fraction", v)
+    if not (math.isnan(x) or 0.0 < x < 1.0):
+        raise Invalid(f"jamming_packing_fraction {shown(x)} must be in (0, 1), or NaN when "
+                      "not found")
+    return x
+
+
+def _source_checksum(v):
+    s = _string("source_checksum", v)
+    if not re.fullmatch("[0-9a-fA-F]{16}", s):
+        raise Invalid(f"source_checksum {shown(s)} must be 16 hex digits (FNV-1a of the source)")
+    return s
+
+
+def _equal(name, v, expected):
+    if isinstance(expected, str):
+        v = _string(name, v)
+    else:
+        v = _integer(name, v)
+    if v != expected:
+        raise Invalid(f"{name} {shown(v)} must be {shown(expected)}")
+    return v
+
+
+def _model(a):
+    """The root attributes of an open run (a dict; absent optional ones None), checked in the
+    order of the format's table; the values as Python values."""
+    out = {"format": _equal("format", a["format"], FORMAT),
+           "format_version": _equal("format_version", a["format_version"], FORMAT_VERSION),
+           "dim": _dim(a["dim"]), "n": _n(a["n"]),
+           "diameter_ratio": _diameter_ratio(a["diameter_ratio"]),
+           "contact": _one_of("contact", a["contact"], CONTACTS),
+           "dynamics": _one_of("dynamics", a["dynamics"], DYNAMICS)}
+    out["q"] = _q(out["dynamics"], a.get("q"), zero_is_absent=a.get("_native", False))
+    out["protocol"] = _equal("protocol", a["protocol"], PROTOCOL)
+    out["compression_rate"] = _positive("compression_rate", a["compression_rate"])
+    out["phi_init"] = _phi_init(a["phi_init"])
+    out["simulator"] = _simulator(a["simulator"])
+    out["simulator_version"] = _string("simulator_version", a["simulator_version"])
+    out["sample"] = None if a.get("sample") is None else _sample(a["sample"])
+    out["units"] = _equal("units", a["units"], UNITS)
+    checks = {"jamming_packing_fraction": _jamming_packing_fraction,
+              "source": lambda v: _string("source", v),
+              "source_checksum": _source_checksum,
+              "interpolation": lambda v: _string("interpolation", v)}
+    for name, check in checks.items():
+        out[name] = None if a.get(name) is None else check(a[name])
+    return out
+
+
+def _array(name, v, ndim=1):
+    """An array-like of numbers as float64 of `ndim` dimensions (checked before converting)."""
+    try:
+        x = np.asarray(v)
+    except (ValueError, TypeError) as e:
+        raise Invalid(f"{name} is not an array of numbers ({cause(e)})") from e
+    if x.dtype.kind not in "iuf":
+        raise Invalid(f"{name} holds {x.dtype} values, expected numbers")
+    if x.ndim != ndim:
+        expected = "one dimension" if ndim == 1 else f"{ndim} dimensions"
+        raise Invalid(f"{name} has shape {x.shape}, expected {expected}")
+    return np.ascontiguousarray(x, dtype=np.float64)
+
+
+def _first_bad(mask):
+    """The first index where mask holds, or None."""
+    where = np.flatnonzero(mask)
+    return int(where[0]) if where.size else None
+
+
+def _finite(name, x):
+    k = _first_bad(~np.isfinite(x))
+    if k is not None:
+        raise Invalid(f"{name}[{k}] = {shown(float(x[k]))} must be finite")
+
+
+def _increasing(name, x):
+    k = _first_bad(np.diff(x) <= 0)
+    if k is not None:
+        raise Invalid(f"{name}[{k + 1}] = {shown(float(x[k + 1]))} is not above {name}[{k}] = "
+                      f"{shown(float(x[k]))} (must increase strictly)")
+
+
+def _not_negative(name, x):
+    k = _first_bad(x < 0)
+    if k is not None:
+        raise Invalid(f"{name}[{k}] = {shown(float(x[k]))} must be >= 0")
+
+
+def _lengths(series):
+    """All series of one length M >= 2 (shapes only: nothing read)."""
+    first, m = next(iter(series.items()))
+    for name, length in series.items():
+        if length != m:
+            raise Invalid(f"{name} has {length} values and {first} {m}: the series must have "
+                          "equal lengths")
+    if m < 2:
+        raise Invalid(f"{first} has {m} values; a run needs at least 2 points")
+    return m
+
+
+def _packing(name, phi, phi_init):
+    _finite(name, phi)
+    k = _first_bad((phi <= 0) | (phi >= 1))
+    if k is not None:
+        raise Invalid(f"{name}[{k}] = {shown(float(phi[k]))} must be in (0, 1)")
+    _increasing(name, phi)
+    if phi[0] < phi_init * (1 - PHI_INIT_SLACK):
+        raise Invalid(f"{name}[0] = {shown(float(phi[0]))} is below phi_init {shown(phi_init)}")
+
+
+def _time(t):
+    _finite("time", t)
+    _not_negative("time", t)
+    _increasing("time", t)
+
+
+def _at_rate(name, phi, t, phi_init, rate, dim):
+    """phi(t) = phi_init exp(D rate t) to RATE_TOLERANCE, relative."""
+    expected = phi_init * np.exp(dim * rate * t)
+    off = phi / expected - 1
+    k = _first_bad(~(np.abs(off) <= RATE_TOLERANCE))
+    if k is not None:
+        raise Invalid(f"{name}[{k}] = {shown(float(phi[k]))} at time {shown(float(t[k]))} is not "
+                      f"phi_init exp(D rate t) = {shown(float(expected[k]))} (relative difference "
+                      f"{float(off[k]):.3g}, at most {RATE_TOLERANCE:g}): the box does not shrink "
+                      f"at compression_rate {shown(rate)}")
+
+
+def _series(data, model):
+    """The series of a run (name -> float64 array, absent ones left out), checked as the
+    format's table says."""
+    for name in REQUIRED_SERIES:
+        if name not in data:
+            raise Invalid(f"dataset '{name}' missing")
+    _lengths({k: len(v) for k, v in data.items()})
+    _packing("packing_fraction", data["packing_fraction"], model["phi_init"])
+    for name in ("pressure", "contacts_per_particle", "energy_per_particle"):
+        if name in data:
+            _finite(name, data[name])
+            _not_negative(name, data[name])
+    if "time" in data:
+        _time(data["time"])
+        _at_rate("packing_fraction", data["packing_fraction"], data["time"], model["phi_init"],
+                 model["compression_rate"], model["dim"])
+
+
+# ---- reading ------------------------------------------------------------------------------------
+
+@dataclass(repr=False)
+class OpenRun:
+    """A run as the open run format sees it: the root attributes (absent optional ones None;
+    `q` None unless inertial, `sample` None for a run file of jam's own outside a campaign),
+    `data` (series name -> float64 array: packing_fraction, pressure and those of
+    contacts_per_particle, energy_per_particle, time present) and `units` (series -> its units
+    attribute, where stored). `native`: a run file of jam's own (simulator "jam",
+    simulator_version its `version`; `format`, `format_version`, `protocol`, `units` None)."""
+
+    path: str
+    native: bool
+    dim: int
+    n: int
+    diameter_ratio: float
+    contact: str
+    dynamics: str
+    q: float | None
+    compression_rate: float
+    phi_init: float
+    simulator: str
+    simulator_version: str
+    sample: int | None
+    format: str | None = None
+    format_version: int | None = None
+    protocol: str | None = None
+    units: str | None = None
+    jamming_packing_fraction: float | None = None
+    source: str | None = None
+    source_checksum: str | None = None
+    interpolation: str | None = None
+    data: dict = field(default_factory=dict)
+    series_units: dict = field(default_factory=dict)
+
+    @property
+    def points(self):
+        return len(self.data["packing_fraction"])
+
+    def __getitem__(self, key):
+        return self.data[key]
+
+    def __contains__(self, key):
+        return key in self.data
+
+    def __repr__(self):
+        phi = self.data["packing_fraction"]
+        version = f" {self.simulator_version}" if self.simulator_version else ""
+        sample = "" if self.sample is None else f", sample {self.sample}"
+        return (f"OpenRun {os.path.basename(self.path)}: {self.simulator}{version}, D {self.dim}, "
+                f"N {self.n}, rate {self.compression_rate:.4g}, phi_init {self.phi_init:.6g}"
+                f"{sample}, {len(phi)} points (phi {phi[0]:.6g} to {phi[-1]:.6g})")
+
+
+def _scalar_attribute(obj, key, where="attribute"):
+    """One attribute: one value (a scalar dataspace, not an array) of a number or string type,
+    its shape and type checked before its value is read."""
+    attribute = obj.attrs.get_id(key)
+    shape, dtype = attribute.shape, attribute.dtype
+    if shape is None:
+        raise Invalid(f"{where} '{key}' holds no value (a null dataspace)")
+    if shape != ():
+        raise Invalid(f"{where} '{key}' is an array of shape {shape}, expected one value")
+    if not _plain_type(dtype):
+        raise Invalid(f"{where} '{key}' is {_kind(dtype)}, expected a number or a string")
+    if dtype.kind == "S" and dtype.itemsize > MOST_STRING_BYTES:
+        raise Invalid(f"{where} '{key}' is a string of {dtype.itemsize} bytes "
+                      f"(at most {MOST_STRING_BYTES})")
+    try:
+        return value(obj.attrs[key])
+    except (ValueError, TypeError, OverflowError) as e:  # UnicodeDecodeError included
+        raise Invalid(f"{where} '{key}' cannot be read ({cause(e)})") from e
+
+
+def _root_attributes(f):
+    """The format's root attributes of f (absent: not in the dict), and whether f is a run
+    file of jam's own."""
+    native = "format" not in f.attrs and "checksum" in f.attrs
+    if "format" not in f.attrs and not native:
+        raise Invalid("attribute 'format' missing: neither an open run (format "
+                      f"{FORMAT!r}) nor a run file of jam's own (attribute 'checksum')")
+    names = ATTRIBUTES + OPTIONAL_ATTRIBUTES + (("version", "checksum") if native else ())
+    a = {k: _scalar_attribute(f, k) for k in names if k in f.attrs}
+    if native:
+        # jam's own run files: simulator "jam" at its version; protocol and units need not be
+        # stated (their `units` is a sentence), q is 0 for overdamped runs, sample is there
+        # for campaign runs only; files from before the contact law was a choice are harmonic.
+        version = _string("version", a.get("version", ""))
+        a.update(format=FORMAT, format_version=FORMAT_VERSION, protocol=PROTOCOL, units=UNITS,
+                 simulator="jam", simulator_version=version, _native=True)
+        a.setdefault("contact", "harmonic")
+    for k in ATTRIBUTES:
+        if k not in a and k not in ("q", "sample"):
+            raise Invalid(f"attribute '{k}' missing")
+    if not native and "sample" not in a:
+        raise Invalid("attribute 'sample' missing")
+    return a, native
+
+
+def _read_series(f):
+    """The series of f as float64 arrays: each an HDF5 dataset of one dimension of floats, all
+    of one length, its units attribute (if any) the format's; shapes, types and sizes checked
+    before any value is read."""
+    datasets = {}
+    for name in SERIES_UNITS:
+        if name not in f:
+            if name in REQUIRED_SERIES:
+                raise Invalid(f"dataset '{name}' missing")
+            continue
+        d = f.get(name)
+        if not isinstance(d, h5py.Dataset):
+            raise Invalid(f"'{name}' is not a dataset")
+        if len(d.shape) != 1:
+            raise Invalid(f"dataset '{name}' has shape {d.shape}, expected one dimension")
+        if d.dtype.kind != "f" or d.dtype.names or d.dtype.subdtype is not None:
+            raise Invalid(f"dataset '{name}' is {_kind(d.dtype)}, expected floating point")
+        datasets[name] = d
+    _lengths({k: d.shape[0] for k, d in datasets.items()})
+    units = {}
+    for name, d in datasets.items():
+        if "units" in d.attrs:
+            u = _scalar_attribute(d, "units", where=f"dataset '{name}': attribute")
+            if u != SERIES_UNITS[name]:
+                raise Invalid(f"dataset '{name}' has units {shown(u)}, expected "
+                              f"{shown(SERIES_UNITS[name])}")
+            units[name] = u
+    data = {}
+    for name, d in datasets.items():
+        try:
+            _check_size(d)
+        except ValueError as e:
+            raise Invalid(str(e)) from e
+        data[name] = np.asarray(d[()], dtype=np.float64)
+    return data, units
+
+
+def _read_run(path, f):
+    try:
+        a, native = _root_attributes(f)
+        model = _model(a)
+        data, units = _read_series(f)
+        _series(data, model)
+    except Invalid as e:
+        raise JamioError(path, str(e)) from None
+    del model["format"], model["format_version"], model["protocol"], model["units"]
+    run = OpenRun(path=path, native=native, data=data, series_units=units, **model)
+    if not native:
+        run.format, run.format_version, run.protocol, run.units = (
+            FORMAT, FORMAT_VERSION, PROTOCOL, UNITS)
+    return run
+
+
+def validate_run(path):
+    """Reads the run file at `path` and checks it as the open run format says
+    (docs/cross-simulator.md): every root attribute one value of its type and within its
+    range, the series one-dimensional float datasets of one length (shapes before values),
+    their units attributes, values and the compression rate. A run file of jam's own
+    (recognised by its `checksum` and no `format`) is read as simulator "jam" at its
+    `version`; its checksum is not verified here (jam does that).
+
+    Returns an OpenRun; raises JamioError, one line naming the file, the field and the value."""
+    path = os.fspath(path)
+    return read_hdf5(path, "run file", lambda f: _read_run(path, f))
+
+
+__all__ = ["OpenRun", "validate_run"]
