@@ -221,20 +221,26 @@ ImportOutcome import_runs(const std::string& directory, const std::vector<std::s
   return out;
 }
 
+std::string stored_run_problem(const std::string& directory, const ExternalRun& run,
+                               OpenRun* read) {
+  try {
+    const std::string path = (fs::path(directory) / "runs" / (run.name + ".h5")).string();
+    OpenRun r = read_open_run(path);
+    if (file_checksum(path) != run.source_checksum)
+      return "changed since it was imported (its checksum differs)";
+    if (read) *read = std::move(r);
+    return "";
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
 int print_external_status(const std::string& directory, bool json) {
   const ExternalCampaign c = read_external_campaign(directory);
   std::map<std::tuple<std::int64_t, double, double>, std::pair<int, int>> ensembles;  // ok, bad
   nlohmann::json runs = nlohmann::json::array();
   for (const auto& r : c.runs) {
-    std::string problem;
-    try {
-      const std::string path = (fs::path(directory) / "runs" / (r.name + ".h5")).string();
-      read_open_run(path);
-      if (file_checksum(path) != r.source_checksum)
-        problem = "changed since it was imported (its checksum differs)";
-    } catch (const std::exception& e) {
-      problem = e.what();
-    }
+    const std::string problem = stored_run_problem(directory, r);
     auto& [ok, bad] = ensembles[{r.n, r.phi_init, r.log10_rate}];
     (problem.empty() ? ok : bad) += 1;
     runs.push_back({{"name", r.name},

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/io/open_run.hpp"
+
 namespace jam {
 
 /// An imported run: where it came from and where it is.
@@ -63,6 +65,11 @@ struct ImportOutcome {
 /// campaign), then rewrites external.toml atomically.
 ImportOutcome import_runs(const std::string& directory, const std::vector<std::string>& files,
                           const ImportOptions& options);
+
+/// Why runs/<run.name>.h5 of `directory` cannot be used ("" when it can): it must read as an
+/// open run and still have the checksum it was imported with. The run read goes to *read.
+std::string stored_run_problem(const std::string& directory, const ExternalRun& run,
+                               OpenRun* read = nullptr);
 
 /// `jam campaign status` of an external campaign: runs per ensemble, and the files set aside.
 /// Returns the exit status (0; 1 when a stored run no longer reads).

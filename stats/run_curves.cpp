@@ -2,13 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
-
 #include "campaign/campaign_dir.hpp"
 #include "campaign/external_campaign.hpp"
 #include "campaign/run_plan.hpp"
 #include "sim/io/hdf5_file.hpp"
-#include "sim/io/open_run.hpp"
 
 namespace jam::stats {
 
@@ -24,14 +21,9 @@ CampaignData read_external_runs(const std::string& directory) {
   data.dim = campaign.dim;
   data.phi_step = campaign.phi_step;
   for (const ExternalRun& run : campaign.runs) {
-    const std::string path = (std::filesystem::path(directory) / "runs" / (run.name + ".h5")).string();
     OpenRun r;
-    try {
-      r = read_open_run(path);
-      if (file_checksum(path) != run.source_checksum)
-        throw std::runtime_error("changed since it was imported (its checksum differs)");
-    } catch (const std::exception& e) {
-      fmt::print(stderr, "jam stats: warning: corrupt run {} left out: {}\n", run.name, e.what());
+    if (const std::string why = stored_run_problem(directory, run, &r); !why.empty()) {
+      fmt::print(stderr, "jam stats: warning: corrupt run {} left out: {}\n", run.name, why);
       data.skipped.push_back(fmt::format("{} (corrupt)", run.name));
       continue;
     }
