@@ -6,6 +6,7 @@
 //   elastic energy per particle
 // with the system's contact law (sim/model/contact_law.hpp) and its one contact test.
 //   optionally Z with rattlers removed (sim/observables/rattlers.hpp).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "sim/dynamics/system.hpp"
+#include "sim/observables/pair_measure.hpp"
 #include "sim/observables/rattlers.hpp"
 
 namespace jam {
@@ -37,9 +39,9 @@ Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) 
   sys.update_neighbors(box_length);
   const Contact& contact = sys.contact;
   const auto& p = sys.particles;
-  const auto& offsets = sys.neighbors.offsets();
-  const auto& nbr = sys.neighbors.neighbors();
   const std::size_t n = sys.size();
+  const PairLoopInput<D, Contact> in = sys.pair_loop_input(box_length);
+  const std::uint32_t pairs = sys.neighbors.offsets()[n];
 
   Observables<D> obs;
   obs.time = t;
@@ -47,19 +49,22 @@ Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) 
   double energy = 0.0;
   std::size_t contacts = 0;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> contact_pairs;
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const std::uint32_t j = nbr[k];
-      std::array<double, D> dr;
-      const double r2 = pair_separation(p, i, j, box_length, dr);
-      const int pair = p.type[i] + p.type[j];
-      if (!contact.in_contact(r2, pair)) continue;
+  // Pair by pair in the list's order (rows i ascending, j ascending within a row), the
+  // separations and f/r from the blocked first pass (pair_measure.hpp: the same bits).
+  MeasureBlock<D> block;
+  for (std::uint32_t k0 = 0; k0 < pairs; k0 += kMeasureBlockPairs) {
+    const std::uint32_t k1 = std::min(pairs, k0 + kMeasureBlockPairs);
+    measure_pairs(in, k0, k1, block);
+    for (std::uint32_t k = k0; k < k1; ++k) {
+      const double c = block.force_over_r[k - k0];
+      if (!(c > 0.0)) continue;  // in contact exactly where the force loop gives a force
+      const std::uint32_t i = in.row_of_pair[k], j = in.neighbors[k];
       ++contacts;
-      energy += contact.energy(r2, pair);
-      const double c = contact.force_over_r(r2, pair);
+      energy += contact.energy(block.r2[k - k0], p.type[i] + p.type[j]);
       for (int a = 0; a < D; ++a)
-        for (int b = 0; b < D; ++b) obs.stress[a][b] += c * dr[a] * dr[b];
-      if (remove_rattlers) contact_pairs.emplace_back(static_cast<std::uint32_t>(i), j);
+        for (int b = 0; b < D; ++b)
+          obs.stress[a][b] += c * block.dr[a][k - k0] * block.dr[b][k - k0];
+      if (remove_rattlers) contact_pairs.emplace_back(i, j);
     }
   }
   const double volume = std::pow(box_length, D);
