@@ -2,7 +2,8 @@
 // coefficients (stage times end at 1, the stability interval grows as ~0.65 s^2), the
 // stability interval on a harmonic chain whose eigenvalues are known in closed form, second
 // order measured on two relaxing particles, and the error controller rejecting a step across a
-// planted stiff event and still landing on the reference.
+// planted stiff event and still landing on the reference, and the continuous extension (dense
+// output) within the step's tolerance of a converged solution from the same start.
 #define BOOST_TEST_MODULE chebyshev
 #include <boost/test/unit_test.hpp>
 #include <cmath>
@@ -142,4 +143,94 @@ BOOST_AUTO_TEST_CASE(controller_rejects_a_step_across_a_stiff_event) {
   // Local errors of 1e-6 per step over a few hundred steps, all decaying (the relaxation
   // contracts): well below 1e-4, while a step that skipped the event would be off by ~0.1.
   BOOST_TEST(worst < 1e-4);
+}
+
+namespace {
+
+// Largest physical distance between the positions of a and b (minimum image).
+template <class Positions>
+double largest_distance(const Positions& a, const Positions& b, double box_length) {
+  double worst = 0.0;
+  for (int d = 0; d < 2; ++d)
+    for (std::size_t i = 0; i < a[d].size(); ++i)
+      worst = std::max(worst, box_length * std::abs(minimum_image(a[d][i] - b[d][i])));
+  return worst;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(continuous_extension_on_two_relaxing_particles) {
+  // delta(t) = delta0 exp(-2 t) (as above). One step of h = 0.2 with 4 stages, then the
+  // extension at theta against the exact separation: no further off than the step's end
+  // step's own error (which it carries, growing from 0 at theta = 0 to the step's at 1), and
+  // exactly the step's ends at theta = 0 and 1 (to round-off).
+  const double L = 10.0, r0 = 0.8, h = 0.2;
+  auto sys = test::make_system<2>({{-0.5 * r0, 0.0}, {0.5 * r0, 0.0}}, {0, 0}, L);
+  const auto start = sys.particles.s;
+  OverdampedChebyshev<2> stepper(sys.size(), 1.0, h);
+  stepper.fixed_step(sys, 0.0, h, 4);
+  BOOST_TEST(stepper.last_step_start() == 0.0);
+  BOOST_TEST(stepper.last_step_size() == h);
+  std::array<std::vector<double>, 2> between;
+  stepper.interpolate(0.0, between);
+  BOOST_TEST(largest_distance(between, start, L) < 1e-14);
+  stepper.interpolate(h, between);
+  BOOST_TEST(largest_distance(between, sys.particles.s, L) < 1e-14);
+  const double step_error =
+      std::abs(L * minimum_image(sys.particles.s[0][1] - sys.particles.s[0][0]) -
+               (1.0 - (1.0 - r0) * std::exp(-2.0 * h)));
+  for (double theta : {0.25, 0.5, 0.75}) {
+    stepper.interpolate(theta * h, between);
+    const double r = L * minimum_image(between[0][1] - between[0][0]);
+    const double exact = 1.0 - (1.0 - r0) * std::exp(-2.0 * theta * h);
+    // The straight line between the step's ends misses exp's curvature by
+    // (1/2) theta (1 - theta) h^2 4 (1 - r0) ~ 3e-3: the extension must do far better.
+    const double line = 1.0 - (1.0 - r0) * (1.0 - theta + theta * std::exp(-2.0 * h));
+    BOOST_TEST_MESSAGE("theta " << theta << ": extension off by " << std::abs(r - exact)
+                                << ", straight line by " << std::abs(line - exact)
+                                << ", the step's end by " << step_error);
+    BOOST_TEST(std::abs(r - exact) <= step_error);
+    BOOST_TEST(std::abs(line - exact) > 2.0 * std::abs(r - exact));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(continuous_extension_within_the_tolerance) {
+  // A random start at phi 0.86, heavily overlapping, compressed at rate 1e-3: the violent
+  // relaxation of the start is where the extension has the most to follow. After each accepted
+  // step, the extension at theta = 1/3, 1/2, 2/3 against Heun at dt = h/2000 from the same
+  // y_n: within the tolerance (the step's own error bound; the extension adds at most 0.37 of
+  // it, overdamped_chebyshev.hpp), while the straight line between the ends is not.
+  auto sys = test::random_system<2>(256, 0.86, 11, 1e-3);
+  const double tolerance = 1e-4;
+  OverdampedChebyshev<2> stepper(sys.size(), tolerance, 0.1);
+  std::array<std::vector<double>, 2> between;
+  double t = 0.0, worst = 0.0, worst_line = 0.0;
+  for (int k = 0; k < 12; ++k) {
+    const auto before = sys;
+    const double h = stepper.step(sys, t, 1e9);
+    for (double theta : {1.0 / 3.0, 0.5, 2.0 / 3.0}) {
+      auto reference = before;
+      OverdampedHeun<2> heun(reference.size());
+      const int substeps = 2000;
+      const double dt = theta * h / substeps;
+      for (int m = 0; m < substeps; ++m) heun.step(reference, t + m * dt, dt);
+      stepper.interpolate(t + theta * h, between);
+      const double L = sys.box.length(t + theta * h);
+      worst = std::max(worst, largest_distance(between, reference.particles.s, L));
+      std::array<std::vector<double>, 2> line;
+      for (int d = 0; d < 2; ++d) {
+        line[d].resize(sys.size());
+        for (std::size_t i = 0; i < sys.size(); ++i)
+          line[d][i] =
+              wrap_unit(before.particles.s[d][i] +
+                        theta * minimum_image(sys.particles.s[d][i] - before.particles.s[d][i]));
+      }
+      worst_line = std::max(worst_line, largest_distance(line, reference.particles.s, L));
+    }
+    t += h;
+  }
+  BOOST_TEST_MESSAGE("inside the steps: extension off by at most " << worst << ", straight line by "
+                                                                   << worst_line);
+  BOOST_TEST(worst < tolerance);
+  BOOST_TEST(worst_line > 2.0 * tolerance);  // the comparison resolves a wrong interpolant
 }

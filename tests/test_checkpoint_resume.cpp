@@ -114,6 +114,15 @@ BOOST_AUTO_TEST_CASE(chained_start_killed) {
                3, SIGKILL, 5);
 }
 
+// An unrelaxed start at a fast rate: the start's transient at its own tolerance (the switch
+// decided from the recorded points) and every output point from the continuous extension.
+BOOST_AUTO_TEST_CASE(chebyshev_unrelaxed_dense_output_killed) {
+  check_resume(
+      "--dim 2 --n 8192 --phi-init 0.75 --phi-stop 0.88 --phi-step 0.0005 --rate 1e-4 "
+      "--relax 0 --quiet",
+      3, SIGKILL, 6);
+}
+
 BOOST_AUTO_TEST_CASE(inertial_2d_killed_keeps_velocities) {
   check_resume(
       "--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 1e-3 --dynamics inertial "

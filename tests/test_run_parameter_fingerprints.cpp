@@ -169,7 +169,9 @@ BOOST_AUTO_TEST_CASE(contact_law_is_a_suffix_only_when_not_harmonic) {
 // 1e-4, the one tolerance before "auto", keeps the identity it had, and every other value is a
 // suffix. The relaxation is at 1e-4 whatever the rate: one relaxed start serves every rate.
 BOOST_AUTO_TEST_CASE(chebyshev_tolerance_is_a_suffix_only_when_not_1e_4) {
-  SimConfig c;  // today's defaults: chebyshev, tolerance auto, rate 1e-4 -> 1e-2
+  SimConfig c;             // today's defaults: chebyshev, tolerance auto, rate 1e-4 -> 1e-2
+  c.dense_output = false;  // as before dense output (its own case below)
+  c.transient_tolerance = "off";
   BOOST_TEST(c.resolved_integrator() == "chebyshev");
   BOOST_TEST(jam::fingerprint(c) ==
              "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
@@ -205,10 +207,14 @@ BOOST_AUTO_TEST_CASE(chebyshev_tolerance_is_a_suffix_only_when_not_1e_4) {
   BOOST_TEST(jam::fingerprint(c).find("tolerance") == std::string::npos);
 }
 
-BOOST_AUTO_TEST_CASE(auto_tolerance_is_100_rate_within_1e_4_and_1e_2) {
-  BOOST_TEST(jam::auto_tolerance(1e-3) == 1e-2);
-  BOOST_TEST(jam::auto_tolerance(1e-4) == 1e-2);
+BOOST_AUTO_TEST_CASE(auto_tolerance_is_100_rate_within_1e_4_and_3e_3) {
+  // With dense output the fast rates' steps are no longer capped by the output grid: at most
+  // 3e-3 (sim_config.hpp says what 1e-2 left).
+  BOOST_TEST(jam::auto_tolerance(1e-3) == 3e-3);
+  BOOST_TEST(jam::auto_tolerance(1e-4) == 3e-3);
   BOOST_TEST(jam::auto_tolerance(1e-5) == 1e-3, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(jam::auto_tolerance(1e-3, false) == 1e-2);
+  BOOST_TEST(jam::auto_tolerance(1e-4, false) == 1e-2);
   BOOST_TEST(jam::auto_tolerance(3e-6) == 3e-4, boost::test_tools::tolerance(1e-15));
   BOOST_TEST(jam::auto_tolerance(1e-6) == 1e-4, boost::test_tools::tolerance(1e-15));
   BOOST_TEST(jam::auto_tolerance(1e-9) == 1e-4);
@@ -219,4 +225,41 @@ BOOST_AUTO_TEST_CASE(auto_tolerance_is_100_rate_within_1e_4_and_1e_2) {
   });
   c.tolerance = "0";
   BOOST_CHECK_THROW(c.resolved_tolerance(), jam::ConfigError);
+}
+
+// Dense output and the transient tolerance change the compression's numbers: a run at today's
+// defaults says so in its fingerprint, a run with both off keeps the identity of the versions
+// before them, and neither touches the relaxed start (one start serves both).
+BOOST_AUTO_TEST_CASE(dense_output_and_transient_tolerance_are_suffixes) {
+  SimConfig c;  // chebyshev at rate 1e-4: tolerance 3e-3, transient at the relaxation's 1e-4
+  const std::string relaxation = jam::relaxation_fingerprint(c);
+  BOOST_TEST(jam::fingerprint(c).ends_with(
+      " tolerance=0.0030000000000000001 dense_output=true transient_tolerance=0.0001"));
+  c.dense_output = false;  // landed steps: auto is 1e-2 at this rate, as before dense output
+  BOOST_TEST(jam::fingerprint(c).ends_with(" tolerance=0.01 transient_tolerance=0.0001"));
+  c.transient_tolerance = "3e-5";
+  BOOST_TEST(jam::fingerprint(c).ends_with(" transient_tolerance=3.0000000000000001e-05"));
+  c.transient_tolerance = "off";
+  BOOST_TEST(jam::fingerprint(c).ends_with(" tolerance=0.01"));
+  BOOST_TEST(jam::relaxation_fingerprint(c) == relaxation);
+  // At 1e-6 the compression's tolerance is the relaxation's: no transient tolerance to apply.
+  c = SimConfig{};
+  c.compression_rate = 1e-6;
+  BOOST_TEST(jam::fingerprint(c).find("transient_tolerance") == std::string::npos);
+  BOOST_TEST(jam::fingerprint(c).ends_with(" dense_output=true"));
+  // Integrators without error control have neither.
+  c.integrator = "heun";
+  c.compression_rate = 1e-3;
+  BOOST_TEST(jam::fingerprint(c).find("dense_output") == std::string::npos);
+  BOOST_TEST(jam::fingerprint(c).find("transient") == std::string::npos);
+  // A malformed value: one line naming the option.
+  c.integrator = "";
+  c.transient_tolerance = "-1";
+  try {
+    c.resolved_transient_tolerance();
+    BOOST_TEST(false, "accepted --transient-tolerance -1");
+  } catch (const jam::ConfigError& e) {
+    BOOST_TEST(std::string(e.what()).find("--transient-tolerance -1") != std::string::npos,
+               e.what());
+  }
 }

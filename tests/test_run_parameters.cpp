@@ -55,6 +55,8 @@ const std::map<std::string, Given> kOptions = {
     {"--diameter-ratio", {"1.5", 1.5}},
     {"--contact", {"hertzian", std::string("hertzian")}},
     {"--tolerance", {"1e-7", std::string("1e-7")}},
+    {"--dense-output", {"0", false}},
+    {"--transient-tolerance", {"off", std::string("off")}},
     {"--relax", {"0", false}},
     {"--relax-energy", {"1e-9", std::string("1e-9")}},
     {"--relax-time-max", {"100", 100.0}},
@@ -87,6 +89,8 @@ const std::map<std::string, Given> kCampaignKeys = {
     {"diameter_ratio", {"1.5", 1.5}},
     {"contact", {"\"hertzian\"", std::string("hertzian")}},
     {"tolerance", {"\"1e-7\"", std::string("1e-7")}},
+    {"dense_output", {"false", false}},
+    {"transient_tolerance", {"\"1e-5\"", std::string("1e-5")}},
     {"relax", {"false", false}},
     {"relax_energy", {"\"1e-9\"", std::string("1e-9")}},
     {"relax_time_max", {"100.0", 100.0}},
@@ -281,7 +285,8 @@ BOOST_AUTO_TEST_CASE(run_file_carries_every_parameter_attribute) {
   }
   BOOST_TEST(f.read_attribute_string("contact") == "hertzian");
   BOOST_TEST(f.read_attribute_string("integrator") == "chebyshev");
-  BOOST_TEST(f.read_attribute_double("tolerance") == 1e-2);  // auto at rate 1e-2
+  BOOST_TEST(f.read_attribute_double("tolerance") == 3e-3);  // auto at rate 1e-2
+  BOOST_TEST(f.read_attribute_int("dense_output") == 1);
   BOOST_TEST(f.read_attribute_double("compression_rate") == 1e-2);
   BOOST_TEST(f.read_attribute_double("q") == 0.0);  // overdamped
   BOOST_TEST(f.read_attribute_int("relax") == 0);

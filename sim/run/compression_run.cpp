@@ -1,120 +1,31 @@
 #include "sim/run/compression_run.hpp"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <limits>
 
 #include "sim/dynamics/integrators.hpp"
 #include "sim/initial_state.hpp"
-#include "sim/io/atomic_file.hpp"
 #include "sim/io/chain_start.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/lammps_data.hpp"
-#include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/model/contact_laws.hpp"
 #include "sim/observables/observables.hpp"
 #include "sim/run/checkpointer.hpp"
+#include "sim/run/output_grid.hpp"
 #include "sim/run/output_recorder.hpp"
 #include "sim/run/progress.hpp"
+#include "sim/run/run_inputs.hpp"
 #include "sim/run/run_state.hpp"
 #include "sim/run/stability_guard.hpp"
+#include "sim/run/start_transient.hpp"
 
 namespace jam {
 namespace {
-
-/// Fails early, before any work, if the output is not a regular file or a new name
-/// (output_path.hpp) or cannot be written; returns the path to write (a link's target).
-std::string checked_writable(const std::string& option, const std::string& path) {
-  const std::string target = checked_output_file(option, path);
-  // The longest name written beside it: "<name>.checkpoint.<pid>-<tid>.partial" (pid and tid
-  // of at most 10 digits). A name the file system cannot hold would otherwise fail only at the
-  // first checkpoint, after the work.
-  constexpr std::size_t kLongestSuffix = sizeof(".checkpoint.4294967295-4294967295.partial") - 1;
-  const std::filesystem::path p(target);
-  const std::string directory = p.has_parent_path() ? p.parent_path().string() : ".";
-  const long name_max = ::pathconf(directory.c_str(), _PC_NAME_MAX);
-  const std::size_t length = p.filename().string().size();
-  if (name_max > 0 && length + kLongestSuffix > static_cast<std::size_t>(name_max)) {
-    throw ConfigError(fmt::format(
-        "--{} {}: a file name of {} characters is too long (at most {} here, leaving room for "
-        "the names of its checkpoint and temporaries)",
-        option, path, length, static_cast<std::size_t>(name_max) - kLongestSuffix));
-  }
-  const std::string probe = AtomicFile::temporary_name(target);
-  std::FILE* f = std::fopen(probe.c_str(), "w");
-  if (!f) {
-    throw ConfigError(
-        fmt::format("--{} {}: cannot write there: {}", option, path, std::strerror(errno)));
-  }
-  std::fclose(f);
-  std::remove(probe.c_str());
-  return target;
-}
-
-template <int D>
-struct Start {
-  ParticleData<D> particles;
-  double box_length = 0.0;
-  std::string description;
-};
-
-template <int D>
-Start<D> make_start(const SimConfig& c, const Species<D>& species) {
-  Start<D> start;
-  if (!c.read_start.empty()) {
-    ChainStart<D> chained;
-    try {
-      chained = read_chain_start<D>(c.read_start, c.start_identity);
-    } catch (const std::runtime_error& e) {
-      throw ConfigError(fmt::format("--read-start {}: {}", c.read_start, e.what()));
-    }
-    if (static_cast<std::int64_t>(chained.particles.size()) != c.n) {
-      throw ConfigError(fmt::format("--read-start {}: holds {} particles, not --n {}", c.read_start,
-                                    chained.particles.size(), c.n));
-    }
-    start.particles = std::move(chained.particles);
-    start.box_length = chained.box_length;
-    // Named by its identity, not its path: a campaign's run files do not depend on where the
-    // directory is.
-    start.description = "chained start " + chain_start_key(chained.identity);
-  } else if (!c.read_lammps_data.empty()) {
-    LammpsData<D> data = read_lammps_data<D>(c.read_lammps_data);
-    start.particles = std::move(data.particles);
-    start.box_length = data.box_length;
-    start.description = c.read_lammps_data;
-    sort_spatially(start.particles, species, start.box_length);
-  } else {
-    RandomStart<D> r = random_start<D>(static_cast<std::size_t>(c.n), c.seed, species, c.phi_init);
-    start.particles = std::move(r.particles);
-    start.box_length = r.box_length;
-    start.description = "random";
-  }
-  return start;
-}
-
-/// Output times: t = 0, then the first step at or after each packing k * phi_step strictly
-/// between phi_init and phi_stop, then exactly phi_stop.
-template <int D>
-std::vector<double> output_times(const CompressingBox<D>& box, double phi_init, double phi_stop,
-                                 double phi_step) {
-  std::vector<double> t;
-  for (auto k = static_cast<long long>(std::floor(phi_init / phi_step)) + 1;; ++k) {
-    const double phi = static_cast<double>(k) * phi_step;
-    if (phi >= phi_stop * (1.0 - 1e-12)) break;
-    if (phi > phi_init * (1.0 + 1e-12)) t.push_back(box.time_at_packing(phi));
-  }
-  t.push_back(box.time_at_packing(phi_stop));
-  return t;
-}
 
 /// One compression run in named phases: resume (from the run's checkpoint), relax (at zero
 /// rate, or from the sample's cached relaxed start), compress (to phi_stop, recording output
@@ -156,8 +67,14 @@ class CompressionRun {
     } else {
       sys_.box = compressing_box_;  // resumed in the compression phase
     }
-    // Error control at the compression's tolerance ("auto": rate-dependent, sim_config.hpp).
-    if constexpr (kAdaptive) stepper_.set_tolerance(c_.resolved_tolerance());
+    // Error control at the compression's tolerance ("auto": rate-dependent, sim_config.hpp),
+    // at the transient's while the start's transient lasts (start_transient.hpp).
+    if constexpr (kAdaptive) {
+      in_transient_ = c_.resolved_transient_tolerance() > 0.0 &&
+                      !start_transient_over(st_.points, c_.resolved_relax_energy());
+      stepper_.set_tolerance(in_transient_ ? c_.resolved_transient_tolerance()
+                                           : c_.resolved_tolerance());
+    }
     if (!compress()) return interrupted();
     return finish();
   }
@@ -235,13 +152,16 @@ class CompressionRun {
     recorder_.record(sys_, st_, 0.0);
   }
 
-  /// Compression at the rate to phi_stop, with output points at the first step at or after
-  /// each target time. False: stopped on request.
+  /// Compression at the rate to phi_stop, with output points at each target time: from the
+  /// continuous extension of the step that passes it (dense output), or at the end of the
+  /// step that reaches it (steps cut to land on it; fixed steps: the first at or after it).
+  /// False: stopped on request.
   bool compress() {
     const std::vector<double> targets =
         output_times(sys_.box, meta_.phi_init, c_.phi_stop, c_.phi_step);
     t_stop_ = targets.back();
     const auto n_targets = static_cast<std::int64_t>(targets.size());
+    const bool dense = kAdaptive && c_.resolved_dense_output();
     while (st_.next_output < n_targets) {
       const auto step = st_.steps;
       const double t = kAdaptive ? st_.time : static_cast<double>(step) * c_.dt;
@@ -254,18 +174,25 @@ class CompressionRun {
         if (pause_due()) return false;
       }
       if (stop_now()) return pause_at_once(static_cast<std::size_t>(step & 255));
-      const double t_after = advance(t, targets[st_.next_output]);
+      // Dense output lands only on phi_stop, whose configuration ends the run.
+      const double limit = dense ? t_stop_ : targets[st_.next_output];
+      const double t_after = advance(t, limit);
       ++st_.steps;
       ++steps_here_;
       bool due = false;
       while (st_.next_output < n_targets && t_after >= targets[st_.next_output]) {
-        due = true;
+        if (dense && targets[st_.next_output] < t_after) {
+          record_interpolated(targets[st_.next_output]);
+        } else {
+          due = true;
+        }
         ++st_.next_output;
       }
       if (due) {
         recorder_.record(sys_, st_, t_after);
         leave_chain_start(t_after);
       }
+      if constexpr (kAdaptive) leave_transient_when_over();
     }
     count_steps(static_cast<std::size_t>(st_.steps % 256));
     if (!kAdaptive) {
@@ -274,6 +201,30 @@ class CompressionRun {
     }
     progress_.finish();
     return true;
+  }
+
+  /// The output point at time t inside the step just taken, from its continuous extension:
+  /// the interpolated positions stand in for the particles while the recorder measures them
+  /// (one force evaluation) and a chained start is taken from them, and the step's own end is
+  /// put back.
+  void record_interpolated(double t) {
+    if constexpr (kAdaptive) {
+      stepper_.interpolate(t, between_);
+      std::swap(sys_.particles.s, between_);
+      recorder_.record(sys_, st_, t);
+      leave_chain_start(t);
+      std::swap(sys_.particles.s, between_);
+    }
+  }
+
+  /// From the transient's tolerance to the compression's, once, when the recorded points say
+  /// the start's transient is over.
+  void leave_transient_when_over() {
+    if (!in_transient_ || st_.points.size() == transient_checked_) return;
+    transient_checked_ = st_.points.size();
+    if (!start_transient_over(st_.points, c_.resolved_relax_energy())) return;
+    in_transient_ = false;
+    stepper_.set_tolerance(c_.resolved_tolerance());
   }
 
   /// At the first output point at or after --write-start-at (never again on resuming past it):
@@ -404,6 +355,9 @@ class CompressionRun {
   std::size_t builds_before_;
   std::size_t steps_here_ = 0;  // relaxation and compression steps done by this invocation
   double t_stop_ = 0.0;
+  bool in_transient_ = false;                   // at the transient tolerance (adaptive)
+  std::size_t transient_checked_ = 0;           // points seen by leave_transient_when_over
+  std::array<std::vector<double>, D> between_;  // positions inside a step (dense output)
 };
 
 /// The integrator named by the config, on a system of the config's contact law.

@@ -36,6 +36,14 @@ ParameterValue relaxation_tolerance(const SimConfig& c) {
   return c.relaxation_tolerance();
 }
 
+ParameterValue resolved_transient_tolerance(const SimConfig& c) {
+  return c.resolved_transient_tolerance();
+}
+
+ParameterValue resolved_dense_output(const SimConfig& c) {
+  return c.resolved_dense_output();
+}
+
 std::vector<std::string> dynamics_names() {
   return {kDynamics.begin(), kDynamics.end()};
 }
@@ -160,7 +168,8 @@ std::vector<RunParameter> make_table() {
        .field = &SimConfig::tolerance,
        .help = "chebyshev integrator: the largest local error of one particle's displacement in "
                "one step (units of d_s); --dt is then its first step. auto = 100 rate within "
-               "[1e-4, 1e-2] while compressing, 1e-4 while relaxing",
+               "[1e-4, 3e-3] while compressing ([1e-4, 1e-2] with --dense-output 0), 1e-4 while "
+               "relaxing",
        .campaign = C::optional,
        .identity = I::suffix_unless_default,
        .relaxation_position = 16,
@@ -170,6 +179,28 @@ std::vector<RunParameter> make_table() {
        .resolve_relaxation = relaxation_tolerance,
        // 1e-4 was the one default before "auto": runs at it keep their identity.
        .unmarked = ParameterValue{kRelaxationTolerance}},
+      // Both change only the compression (not the relaxed start); runs from before them, which
+      // landed on every output point at one tolerance throughout, keep their identity.
+      {.name = "dense_output",
+       .field = &SimConfig::dense_output,
+       .help = "chebyshev integrator: observables at output points from the continuous "
+               "extension of the step (1), or steps cut to land on each output point (0)",
+       .campaign = C::optional,
+       .identity = I::suffix_unless_default,
+       .attribute = "dense_output",
+       .resolve = resolved_dense_output,
+       .unmarked = ParameterValue{false}},
+      {.name = "transient_tolerance",
+       .field = &SimConfig::transient_tolerance,
+       .help = "chebyshev integrator: the tolerance until the start's transient is over (the "
+               "energy at an output point at or below the relaxation target, or no longer "
+               "falling); auto = the relaxation's when tighter than the compression's; off",
+       .campaign = C::optional,
+       .identity = I::suffix_unless_default,
+       .attribute = "transient_tolerance",
+       .unit = "d_s",
+       .resolve = resolved_transient_tolerance,
+       .unmarked = ParameterValue{0.0}},
       {.name = "relax",
        .field = &SimConfig::relax,
        .help = "Relax the start at zero rate before compressing (the paper's protocol)",

@@ -81,12 +81,31 @@ double SimConfig::resolved_relax_energy() const {
 
 double SimConfig::resolved_tolerance() const {
   if (const auto v = explicit_tolerance(tolerance)) return *v;
-  return is_adaptive_integrator(resolved_integrator()) ? auto_tolerance(compression_rate)
-                                                       : kRelaxationTolerance;
+  return is_adaptive_integrator(resolved_integrator())
+             ? auto_tolerance(compression_rate, dense_output)
+             : kRelaxationTolerance;
 }
 
 double SimConfig::relaxation_tolerance() const {
   return explicit_tolerance(tolerance).value_or(kRelaxationTolerance);
+}
+
+double SimConfig::resolved_transient_tolerance() const {
+  if (!is_adaptive_integrator(resolved_integrator()) || transient_tolerance == "off") return 0.0;
+  if (transient_tolerance == "auto") {
+    const double tight = relaxation_tolerance();
+    return tight < resolved_tolerance() ? tight : 0.0;
+  }
+  const double v = whole_number(transient_tolerance);
+  if (!(v > 0.0)) {
+    reject("transient-tolerance", transient_tolerance.empty() ? "''" : transient_tolerance,
+           "must be 'auto', 'off' or a number > 0");
+  }
+  return v;
+}
+
+bool SimConfig::resolved_dense_output() const {
+  return dense_output && is_adaptive_integrator(resolved_integrator());
 }
 
 std::uint64_t parse_seed(const std::string& option, const std::string& text) {
@@ -168,6 +187,7 @@ void validate(const SimConfig& c) {
   }
   c.resolved_relax_energy();
   c.resolved_tolerance();
+  c.resolved_transient_tolerance();
   if (!std::isfinite(c.relax_time_max) || c.relax_time_max < 0.0) {
     reject("relax-time-max", str(c.relax_time_max), "must be >= 0");
   }
