@@ -65,6 +65,8 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
   c->add_option("--relax-time", o.relax_time,
                 "Relaxation of the starts stops after this time (t0) or at 1e-10 per particle");
   c->add_flag("!--no-lammps", o.lammps, "Without LAMMPS");
+  c->add_flag("!--no-unrelaxed", o.unrelaxed,
+              "Whole processes from the relaxed starts only (not also from unrelaxed ones)");
   c->add_option("--jobs", o.jobs, "Runs at once (timings are cleanest with 1)");
   c->add_option("--out-dir", o.out_dir, "Where the report files go");
   c->add_option("--reference-dir", o.reference_dir, "LAMMPS inputs");

@@ -13,12 +13,15 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <tuple>
 
 #include "bench/accuracy_runs.hpp"
 #include "bench/lammps_bench.hpp"
+#include "bench/process_runs.hpp"
 #include "bench/report_files.hpp"
 #include "sim/dynamics/integrator_list.hpp"
 #include "sim/model/paper_values.hpp"
+#include "sim/run/sim_config.hpp"
 
 namespace jam::bench {
 namespace fs = std::filesystem;
@@ -50,6 +53,13 @@ void run_pool(std::vector<std::function<void()>>& tasks, int jobs) {
   worker();
   for (auto& t : threads) t.join();
   if (error) std::rethrow_exception(error);
+}
+
+// The defaults of `jam sim` (its q writes the data files' masses, which overdamped runs ignore).
+const SimConfig kDefaults;
+
+std::string process_data(int dim, int seed, const std::string& start) {
+  return fmt::format("process_{}_{}d_s{}.data", start, dim, seed);
 }
 
 double median(std::vector<double> v) {
@@ -90,16 +100,17 @@ void validate(const AccuracyOptions& o) {
 
 void analyse(AccuracyResult& res) {
   // Reference per (dim, rate) and seed: Richardson from the two finest Heun runs.
-  std::map<std::pair<int, double>, std::vector<std::array<double, 3>>> p_ref;
+  std::map<std::tuple<int, double, std::string>, std::vector<std::array<double, 3>>> p_ref;
   for (auto& ref : res.references) {
     const Method* h[3] = {nullptr, nullptr, nullptr};
     for (const auto& m : res.methods) {
-      if (m.dim != ref.dim || m.rate != ref.rate || !m.is_reference) continue;
+      if (m.dim != ref.dim || m.rate != ref.rate || m.start != ref.start || !m.is_reference)
+        continue;
       const int level = m.integrator == "reference-h" ? 0 : m.integrator == "reference-h/2" ? 1 : 2;
       h[level] = &m;
     }
     const std::size_t seeds = h[2]->pressure.size();
-    auto& pr = p_ref[{ref.dim, ref.rate}];
+    auto& pr = p_ref[{ref.dim, ref.rate, ref.start}];
     pr.resize(seeds);
     for (int k = 0; k < 3; ++k) {
       double d01 = 0, d12 = 0, rem = 0, mean = 0;
@@ -119,7 +130,8 @@ void analyse(AccuracyResult& res) {
   }
   for (auto& m : res.methods) {
     m.wall_median = median(m.wall);
-    const auto& pr = p_ref[{m.dim, m.rate}];
+    if (!m.process_wall.empty()) m.process_wall_median = median(m.process_wall);
+    const auto& pr = p_ref[{m.dim, m.rate, m.start}];
     const std::size_t seeds = m.pressure.size();
     m.max_error = 0;
     for (int k = 0; k < 3; ++k) {
@@ -143,6 +155,7 @@ void analyse(AccuracyResult& res) {
 
 AccuracyResult run_accuracy(const AccuracyOptions& o) {
   validate(o);
+  for (int d : o.dims) require_on_grid(accuracy_packings(d));
   const bool lammps = o.lammps && lmp_available();
   if (o.lammps && !lammps) fmt::print(stderr, "jam bench: no lmp on the PATH, jam only\n");
   const fs::path work = make_work_directory("jam-bench-accuracy");
@@ -165,14 +178,23 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     fmt::print(stderr, "jam bench accuracy: relaxing {} starts\n", tasks.size());
     run_pool(tasks, o.jobs);
   }
+  std::map<std::pair<int, int>, Start> unrelaxed;
+  if (o.unrelaxed)
+    for (int d : o.dims)
+      for (int s = 0; s < o.seeds; ++s)
+        unrelaxed[{d, s}] =
+            unrelaxed_start(d, o.n, static_cast<std::uint64_t>(1000 + s), o.start_packing(d));
+  auto start_of = [&](const Method& m, int s) -> const Start& {
+    return m.start == "unrelaxed" ? unrelaxed.at({m.dim, s}) : starts.at({m.dim, s});
+  };
 
   AccuracyResult res;
   for (int d : o.dims) {
     const double bound_unit = 4.0 / d;  // stability bound of Verlet: 4 Q^2 / D
     for (double rate : o.rates) {
-      res.references.push_back({d, rate, accuracy_packings(d), {}, {}, {}});
+      res.references.push_back({d, rate, "relaxed", accuracy_packings(d), {}, {}, {}});
       auto add = [&](const std::string& engine, const std::string& integrator, double q, double dt,
-                     bool reference) {
+                     bool reference, const std::string& start = "relaxed") {
         Method m;
         m.dim = d;
         m.rate = rate;
@@ -181,13 +203,36 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
         m.q = q;
         m.dt = dt;
         m.is_reference = reference;
+        m.start = start;
         m.wall.resize(o.seeds);
         m.pressure.resize(o.seeds);
         res.methods.push_back(m);
       };
-      add("jam", "reference-h", 0, o.reference_dt, true);
-      add("jam", "reference-h/2", 0, o.reference_dt / 2, true);
-      add("jam", "reference-h/4", 0, o.reference_dt / 4, true);
+      auto add_references = [&](const std::string& start) {
+        add("jam", "reference-h", 0, o.reference_dt, true, start);
+        add("jam", "reference-h/2", 0, o.reference_dt / 2, true, start);
+        add("jam", "reference-h/4", 0, o.reference_dt / 4, true, start);
+      };
+      add_references("relaxed");
+      // The headline: `jam sim` processes at its defaults, and with the output points landed
+      // on (as before dense output); from unrelaxed starts also without the transient
+      // tolerance, the error it removes.
+      auto add_process = [&](const std::string& name, std::vector<std::string> args,
+                             const std::string& start) {
+        add("jam-process", name, 0, kDefaults.dt, false, start);
+        res.methods.back().args = std::move(args);
+        res.methods.back().tolerance = auto_tolerance(rate);  // its cost estimate
+        res.methods.back().process_wall.resize(o.seeds);
+      };
+      add_process("defaults", {}, "relaxed");
+      add_process("landed", {"--dense-output", "0"}, "relaxed");
+      if (o.unrelaxed) {
+        res.references.push_back({d, rate, "unrelaxed", accuracy_packings(d), {}, {}, {}});
+        add_references("unrelaxed");
+        add_process("defaults", {}, "unrelaxed");
+        add_process("landed", {"--dense-output", "0"}, "unrelaxed");
+        add_process("no transient tolerance", {"--transient-tolerance", "off"}, "unrelaxed");
+      }
       for (double dt : o.euler_dt) add("jam", "euler", 0, dt, false);
       for (double dt : o.heun_dt) add("jam", "heun", 0, dt, false);
       for (double tol : o.chebyshev_tolerance) {
@@ -199,7 +244,9 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
         if (lammps)
           for (double f : o.lammps_fraction) {
             add("lammps", "verlet", q, f * bound_unit * q * q, false);
+            res.methods.back().process_wall.resize(o.seeds);
             add("lammps-shifted", "verlet", q, f * bound_unit * q * q, false);  // same runs
+            res.methods.back().process_wall.resize(o.seeds);
           }
       }
     }
@@ -212,41 +259,57 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
             start, q,
             (work / fmt::format("start_{}d_s{}_q{:g}.data", key.first, key.second, q)).string());
   }
+  // ... and one per (start, dimension, seed) for the jam processes.
+  for (const auto& [key, start] : starts)
+    write_start(start, kDefaults.q,
+                (work / process_data(key.first, key.second, "relaxed")).string());
+  for (const auto& [key, start] : unrelaxed)
+    write_start(start, kDefaults.q,
+                (work / process_data(key.first, key.second, "unrelaxed")).string());
   // Every (method, seed) is a task; longest first so that the pool ends together.
   std::vector<std::function<void()>> tasks;
   std::vector<double> cost;
   std::atomic<int> done{0};
+  int total = 0;
   for (std::size_t mi = 0; mi < res.methods.size(); ++mi) {
     if (res.methods[mi].engine == "lammps-shifted") continue;  // filled by the run before
     for (int s = 0; s < o.seeds; ++s) {
       Method& m = res.methods[mi];
       const double t_end =
           std::log(accuracy_packings(m.dim)[2] / o.start_packing(m.dim)) / (m.dim * m.rate);
-      cost.push_back(t_end * force_evaluations_per_time(m.integrator, m.dt, m.rate, m.tolerance) *
+      const std::string costed = m.engine == "jam-process" ? "chebyshev" : m.integrator;
+      cost.push_back(t_end * force_evaluations_per_time(costed, m.dt, m.rate, m.tolerance) *
                      (m.engine == "lammps" ? 3 : 1) * (m.dim == 3 ? 2 : 1));
       tasks.push_back([&, mi, s] {
         Method& m = res.methods[mi];
         const auto phi = accuracy_packings(m.dim);
         RunResult r;
-        if (m.engine == "lammps") {
+        if (m.engine == "jam-process") {
+          r = run_jam_process(work, process_data(m.dim, s, m.start),
+                              fmt::format("m{}_s{}.h5", mi, s), m.rate, m.args, phi);
+          m.process_wall[s] = r.wall;
+        } else if (m.engine == "lammps") {
           r = run_lammps_compression(
               work, o.reference_dir, fmt::format("start_{}d_s{}_q{:g}.data", m.dim, s, m.q),
               fmt::format("m{}_s{}.log", mi, s), m.dim, m.rate, m.dt, o.start_packing(m.dim), phi);
         } else {
           const std::string integrator = m.is_reference ? std::string("heun") : m.integrator;
-          r = run_jam(starts.at({m.dim, s}), m.rate, integrator, m.q, m.tolerance, m.dt, phi);
+          r = run_jam(start_of(m, s), m.rate, integrator, m.q, m.tolerance, m.dt, phi);
         }
         m.wall[s] = r.wall;
         m.pressure[s] = r.pressure;
         if (m.engine == "lammps") {
+          m.process_wall[s] = res.methods[mi + 1].process_wall[s] = r.process_wall;
           res.methods[mi + 1].wall[s] = r.wall;
           res.methods[mi + 1].pressure[s] = r.pressure_shifted;
         }
-        fmt::print(stderr, "  [{}] {}D rate {:g} {} {} q {:g} dt {:g} seed {}: {:.2f} s\n", ++done,
-                   m.dim, m.rate, m.engine, m.integrator, m.q, m.dt, s, r.wall);
+        fmt::print(stderr, "  [{}/{}] {}D rate {:g} {} {} {} q {:g} dt {:g} seed {}: {:.2f} s\n",
+                   ++done, total, m.dim, m.rate, m.start, m.engine, m.integrator, m.q, m.dt, s,
+                   r.wall);
       });
     }
   }
+  total = static_cast<int>(tasks.size());
   std::vector<std::size_t> order(tasks.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(),

@@ -32,6 +32,7 @@ struct RunResult {
   std::array<double, 3> pressure{};
   std::array<double, 3> pressure_shifted{};  // LAMMPS only: the line of step m read at (m-1) dt
   double wall = 0.0;
+  double process_wall = 0.0;  // LAMMPS: the whole lmp process (start-up and reading included)
 };
 RunResult run_jam(const Start& start, double rate, const std::string& integrator, double q,
                   double tolerance, double dt, const std::array<double, 3>& phi);
