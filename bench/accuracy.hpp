@@ -102,7 +102,8 @@ AccuracyResult run_accuracy(const AccuracyOptions& o);
 /// Writes accuracy.csv, accuracy.md (with the time to 1% and 0.1% error) and accuracy.png.
 void write_accuracy_report(const AccuracyOptions& o, const AccuracyResult& r);
 
-/// The packings of the benchmark: phi_J - 0.01, phi_J, phi_J + 0.015 (phi_J the paper's).
+/// The packings of the benchmark: phi_J - 0.01, phi_J, phi_J + 0.015 (phi_J the paper's,
+/// rounded to the output grid of 0.0005).
 std::array<double, 3> accuracy_packings(int dim);
 
 }  // namespace jam::bench
