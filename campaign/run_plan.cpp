@@ -11,6 +11,7 @@
 
 #include "campaign/added_samples.hpp"
 #include "sim/io/chain_start.hpp"
+#include "sim/observables/jamming_point.hpp"
 
 namespace jam {
 namespace {
@@ -26,15 +27,37 @@ std::uint64_t splitmix64(std::uint64_t x) {
 // reach 1e-12 per particle. A rough, conservative allowance for the cost estimate.
 constexpr double kRelaxTimeEstimate = 400.0;
 
-/// Particle-steps of a run compressing from `phi_from` (relaxing first if its config says so).
+// FIRE steps of one jamming-point minimization at N = 1024 (see jamming_search_particle_steps).
+constexpr double kFireStepsAt1024 = 2.5e4;
+
+/// The jamming point's search (observables/jamming_point.hpp): a bisection over the saved
+/// output points and then along the path to kJammingResolution, each probe a FIRE minimization
+/// to a largest force of 1e-10 near phi_J. Measured 2026-11-26 (2D, rate 1e-4, 0.80 -> 0.86,
+/// phi_step 0.0005, 15 minimizations each): about 0.6 s per minimization at N = 1024, 41 s at
+/// N = 16384, so FIRE steps per minimization grow as ~ N^0.5 from ~2.5e4 at N = 1024; the
+/// search cost 10x (N = 1024) to 40x (N = 16384) the compression itself there.
+double jamming_search_particle_steps(const SimConfig& s, double phi_from) {
+  if (!s.jamming_point) return 0.0;
+  const double from = std::max(phi_from, s.jamming_search_from);
+  const double points = std::max(2.0, (s.phi_stop - from) / s.phi_step);
+  const double minimizations =
+      std::ceil(std::log2(points)) + std::ceil(std::log2(s.phi_step / kJammingResolution));
+  const double n = static_cast<double>(s.n);
+  return minimizations * kFireStepsAt1024 * std::sqrt(n / 1024.0) * n;
+}
+
+/// Particle-steps of a run compressing from `phi_from` (relaxing first if its config says so,
+/// searching its jamming point after if it asks for one).
 double estimated_particle_steps(const SimConfig& s, double phi_from) {
   const std::string integrator = s.resolved_integrator();
   const double compression_time = std::log(s.phi_stop / phi_from) / (s.dim * s.compression_rate);
   const double relax_time = s.relax ? kRelaxTimeEstimate : 0.0;
   return static_cast<double>(s.n) *
-         (force_evaluations_per_time(integrator, s.dt, s.compression_rate, s.resolved_tolerance()) *
-              compression_time +
-          relaxation_evaluations_per_time(integrator, s.dt) * relax_time);
+             (force_evaluations_per_time(integrator, s.dt, s.compression_rate,
+                                         s.resolved_tolerance()) *
+                  compression_time +
+              relaxation_evaluations_per_time(integrator, s.dt) * relax_time) +
+         jamming_search_particle_steps(s, phi_from);
 }
 
 /// Chained starts: each rate with a chain_phi_init continues from the next faster rate of the

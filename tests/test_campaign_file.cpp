@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <boost/test/unit_test.hpp>
+#include <map>
 #include <cmath>
 #include <set>
 #include <string>
@@ -180,6 +181,27 @@ BOOST_AUTO_TEST_CASE(plan_is_complete_and_longest_first) {
   const double compression = 2 * 128 * std::log(0.86 / 0.7) / (2 * std::pow(10.0, -3.5) * 0.1);
   BOOST_TEST(plan.front().estimated_particle_steps > compression);
   BOOST_TEST(plan.front().config.out == "out/runs/n128_phi0.7000_r-3.50_s000.h5");
+}
+
+// The jamming point's search is costed: measured, it costs the compression itself 10-40 times
+// over at N = 1024 ... 16384 (run_plan.cpp). With jamming_point on, every run's estimate grows
+// by the minimizations of its bisection (log2 of the saved points, then of phi_step / 1e-5),
+// each ~ N^1.5 particle-steps; the search, not the compression, then sets the largest run.
+BOOST_AUTO_TEST_CASE(plan_costs_the_jamming_point_search) {
+  const auto without = plan_runs(parse_campaign(kGood, "c.toml"));
+  const auto with = plan_runs(parse_campaign(kGood + "jamming_point = true\n", "c.toml"));
+  BOOST_TEST_REQUIRE(with.size() == without.size());
+  std::map<std::string, double> extra;
+  for (const auto& r : with) extra[r.name] = r.estimated_particle_steps;
+  for (const auto& r : without) extra[r.name] -= r.estimated_particle_steps;
+  for (const auto& r : with) {
+    // phi_step 0.001 (default) over phi_init -> 0.86: ceil(log2(points)) + ceil(log2(100)).
+    const double points = (0.86 - r.phi_init) / 0.001;
+    const double minimizations = std::ceil(std::log2(points)) + 7;
+    const double n = static_cast<double>(r.n);
+    BOOST_TEST(extra[r.name] == minimizations * 2.5e4 * std::sqrt(n / 1024) * n,
+               boost::test_tools::tolerance(1e-12));
+  }
 }
 
 // Values that used to become failed runs, or to pass through silently, are refused up front
