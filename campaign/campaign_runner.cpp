@@ -368,6 +368,31 @@ int print_campaign_status(const std::string& directory, bool json) {
   return status;
 }
 
+/// The plan's error so far: the finished runs' recorded CPU seconds (thread clock) against what
+/// the plan gives them at this throughput, in all and per rate.
+void print_measured_against_plan(const std::vector<PlannedRun>& plan, double speed) {
+  std::map<double, std::pair<double, double>> by_rate;  // log10 rate -> (measured, planned)
+  double measured = 0.0, planned = 0.0;
+  std::size_t finished = 0;
+  for (const auto& run : plan) {
+    const auto seconds = recorded_core_seconds(run);
+    if (!seconds) continue;
+    ++finished;
+    measured += *seconds;
+    planned += run.estimated_particle_steps / speed;
+    by_rate[run.log10_rate].first += *seconds;
+    by_rate[run.log10_rate].second += run.estimated_particle_steps / speed;
+  }
+  if (finished == 0) return;
+  std::string rates;
+  for (const auto& [rate, mp] : by_rate)
+    rates += fmt::format("{}1e{:g} {:.2f}", rates.empty() ? "" : ", ", rate, mp.first / mp.second);
+  fmt::print(
+      "  measured so far: {} finished runs took {:.3g} core-hours, planned {:.3g} for them "
+      "(measured / planned {:.2f}; by rate {})\n",
+      finished, measured / 3600.0, planned / 3600.0, measured / planned, rates);
+}
+
 int print_campaign_plan(const Campaign& c, double* measured_speed) {
   const std::vector<PlannedRun> plan = plan_runs(c);
   double total = 0.0;
@@ -404,6 +429,7 @@ int print_campaign_plan(const Campaign& c, double* measured_speed) {
         "with every rate compressed from phi_init\n",
         100.0 * (1.0 - total / unchained_total), core_hours, unchained_total / speed / 3600.0);
   }
+  print_measured_against_plan(plan, speed);
   // What the phi_init check found for this campaign's directory, if it ran there.
   const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
   if (std::filesystem::exists(checks)) {

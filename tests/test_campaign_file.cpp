@@ -4,8 +4,8 @@
 #include <fmt/format.h>
 
 #include <boost/test/unit_test.hpp>
-#include <map>
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 

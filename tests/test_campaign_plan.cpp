@@ -89,3 +89,27 @@ BOOST_AUTO_TEST_CASE(a_pilot_runs_the_first_samples_and_plans_from_them) {
   // The campaign itself is untouched.
   BOOST_TEST(!fs::exists(kDir / "p"));
 }
+
+// Once runs of the campaign have finished, the plan states its own error on them: their
+// recorded CPU seconds against what it gives them, in all and per rate. A campaign with nothing
+// run says nothing of the kind.
+BOOST_AUTO_TEST_CASE(the_plan_measures_itself_on_finished_runs) {
+  const fs::path file = write_campaign(
+      "f",
+      "dim = 2\nsizes = [64]\nphi_init = [0.70]\nlog10_rates = [-2.5, -3.0]\nsamples = 2\n"
+      "phi_stop = 0.86\nphi_step = 0.002\nseed = 5\n");
+  auto o = run_jam("campaign plan " + file.string());
+  BOOST_TEST(o.status == 0, o.output);
+  BOOST_TEST(o.output.find("measured so far") == std::string::npos, o.output);
+  BOOST_TEST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  o = run_jam("campaign plan " + file.string());
+  BOOST_TEST(o.status == 0, o.output);
+  std::smatch m;
+  const bool found = std::regex_search(
+      o.output, m,
+      std::regex("measured so far: 4 finished runs took [0-9.e+-]+ core-hours, planned "
+                 "[0-9.e+-]+ for them \\(measured / planned ([0-9.]+); by rate 1e-3 [0-9.]+, "
+                 "1e-2.5 [0-9.]+\\)"));
+  BOOST_TEST_REQUIRE(found, o.output);
+  BOOST_TEST(std::stod(m[1]) > 0.0);
+}
