@@ -287,7 +287,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
         const auto phi = accuracy_packings(m.dim);
         RunResult r;
         if (m.engine == "jam-process") {
-          r = run_jam_process(work, process_data(m.dim, s, m.start),
+          r = run_jam_process(work, m.dim, process_data(m.dim, s, m.start),
                               fmt::format("m{}_s{}.h5", mi, s), m.rate, m.args, phi);
           m.process_wall[s] = r.wall;
         } else if (m.engine == "lammps") {
@@ -320,9 +320,9 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
   for (auto k : order) sorted.push_back(std::move(tasks[k]));
   try {
     run_pool(sorted, o.jobs);
-  } catch (...) {
-    fs::remove_all(work);
-    throw;
+  } catch (const std::exception& e) {
+    // The logs the error names stay for reading.
+    throw std::runtime_error(fmt::format("{} (work directory {} kept)", e.what(), work.string()));
   }
   fs::remove_all(work);
   analyse(res);

@@ -24,11 +24,13 @@ void require_on_grid(const std::array<double, 3>& phi) {
   }
 }
 
-RunResult run_jam_process(const fs::path& dir, const std::string& data, const std::string& out,
-                          double rate, const std::vector<std::string>& extra,
-                          const std::array<double, 3>& phi) {
+RunResult run_jam_process(const fs::path& dir, int dim, const std::string& data,
+                          const std::string& out, double rate,
+                          const std::vector<std::string>& extra, const std::array<double, 3>& phi) {
   std::vector<std::string> argv = {(executable_directory() / "jam").string(),
                                    "sim",
+                                   "--dim",
+                                   std::to_string(dim),
                                    "--read-lammps-data",
                                    data,
                                    "--relax",

@@ -14,11 +14,11 @@ namespace jam::bench {
 /// The output spacing of every stored campaign, which the whole-process runs write.
 inline constexpr double kCampaignPhiStep = 0.0005;
 
-/// `jam sim --read-lammps-data DATA --relax 0 --rate R --phi-stop phi[2] --phi-step 0.0005
+/// `jam sim --dim D --read-lammps-data DATA --relax 0 --rate R --phi-stop phi[2] --phi-step 0.0005
 /// [extra] --out OUT --quiet --checkpoint-interval 0` in `dir` (this executable, argument
 /// vector): the pressures at the packings (output points of the grid; phi[2] is the last) and
 /// the process's wall time. Throws naming the command when it fails or a packing is missing.
-RunResult run_jam_process(const std::filesystem::path& dir, const std::string& data,
+RunResult run_jam_process(const std::filesystem::path& dir, int dim, const std::string& data,
                           const std::string& out, double rate,
                           const std::vector<std::string>& extra, const std::array<double, 3>& phi);
 

@@ -139,6 +139,27 @@ BOOST_AUTO_TEST_CASE(accuracy_table_is_complete_and_the_reference_converges) {
   BOOST_TEST(fs::file_size(out / "accuracy.md") > 0);
 }
 
+// The whole processes in 3D (each `jam sim` told its dimension: a 3D data file read as 2D is
+// refused), without LAMMPS.
+BOOST_AUTO_TEST_CASE(whole_processes_run_in_3d) {
+  const fs::path out = kDir / "accuracy-3d";
+  BOOST_REQUIRE_EQUAL(
+      run_jam("bench accuracy --dims 3 --n 128 --rates 1e-2 --seeds 1 --euler-dt 0.05 "
+              "--heun-dt 0.05 --chebyshev-tolerance 1e-3 --verlet-q 0.1 --reference-dt 0.02 "
+              "--no-lammps --out-dir " +
+              out.string()),
+      0);
+  const Csv csv = read_csv(out / "accuracy.csv");
+  int processes = 0;
+  for (const auto& row : csv.rows) {
+    if (row[csv.column("engine")] != "jam-process") continue;
+    ++processes;
+    BOOST_TEST(row[csv.column("dim")] == "3");
+    BOOST_TEST(std::stod(row[csv.column("max_error")]) < 0.05);
+  }
+  BOOST_TEST(processes == 5);
+}
+
 BOOST_AUTO_TEST_CASE(bad_options_are_rejected_in_one_line) {
   BOOST_TEST(run_jam("bench throughput --n-min 3 --out-dir " + (kDir / "bad").string()) != 0);
   BOOST_TEST(!fs::exists(kDir / "bad" / "throughput.csv"));
