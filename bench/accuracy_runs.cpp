@@ -47,13 +47,8 @@ Start relaxed(std::int64_t n, std::uint64_t seed, double phi, double relax_time)
     }
     stepper.step(sys, 0.0, kRelaxDt);
   }
-  Start start;
-  start.dim = D;
+  Start start = start_from(sys.particles, r.box_length);
   start.energy_per_particle = measure(sys, 0.0, false).energy_per_particle;
-  for (int d = 0; d < D; ++d) start.s.push_back(sys.particles.s[d]);
-  start.type = sys.particles.type;
-  start.id = sys.particles.id;
-  start.box_length = r.box_length;
   return start;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bench/accuracy.hpp"
+#include "sim/model/particles.hpp"
 
 namespace jam::bench {
 
@@ -20,6 +21,18 @@ struct Start {
   double box_length = 0.0;
   double energy_per_particle = 0.0;  // left after the relaxation
 };
+
+/// A start holding these particles in a box of this length (energy not measured).
+template <int D>
+Start start_from(const ParticleData<D>& p, double box_length) {
+  Start start;
+  start.dim = D;
+  for (int d = 0; d < D; ++d) start.s.push_back(p.s[d]);
+  start.type = p.type;
+  start.id = p.id;
+  start.box_length = box_length;
+  return start;
+}
 
 Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed, double phi, double relax_time);
 

@@ -82,12 +82,7 @@ template <int D>
 Start unrelaxed(std::int64_t n, std::uint64_t seed, double phi) {
   const Species<D> species;
   RandomStart<D> r = random_start<D>(static_cast<std::size_t>(n), seed, species, phi);
-  Start start;
-  start.dim = D;
-  for (int d = 0; d < D; ++d) start.s.push_back(r.particles.s[d]);
-  start.type = r.particles.type;
-  start.id = r.particles.id;
-  start.box_length = r.box_length;
+  Start start = start_from(r.particles, r.box_length);
   return start;
 }
 }  // namespace
