@@ -105,6 +105,8 @@ int run_sim_command(const SimConfig& given) {
     fmt::print("  bulk viscosity p/rate {:.6e}\n", s.final_pressure / c.compression_rate);
     fmt::print("  wall time {:.2f} s, {:.3g} particle-steps/s, {} neighbor-list builds\n",
                s.wall_seconds, s.particle_steps_per_second, s.neighbor_builds);
+    fmt::print("  {} force evaluations, {} rejected steps{}\n", s.force_evaluations,
+               s.rejected_steps, s.resumed ? " (since the resume)" : "");
     fmt::print("  wrote {}\n", c.out);
   }
   return 0;

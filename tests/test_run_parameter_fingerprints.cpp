@@ -172,6 +172,7 @@ BOOST_AUTO_TEST_CASE(chebyshev_tolerance_is_a_suffix_only_when_not_1e_4) {
   SimConfig c;             // today's defaults: chebyshev, tolerance auto, rate 1e-4 -> 1e-2
   c.dense_output = false;  // as before dense output (its own case below)
   c.transient_tolerance = "off";
+  c.stiffest_mode = "bound";
   BOOST_TEST(c.resolved_integrator() == "chebyshev");
   BOOST_TEST(jam::fingerprint(c) ==
              "dim=2 n=1024 phi_init=0.59999999999999998 phi_stop=0.85999999999999999 "
@@ -232,6 +233,7 @@ BOOST_AUTO_TEST_CASE(auto_tolerance_is_100_rate_within_1e_4_and_3e_3) {
 // before them, and neither touches the relaxed start (one start serves both).
 BOOST_AUTO_TEST_CASE(dense_output_and_transient_tolerance_are_suffixes) {
   SimConfig c;  // chebyshev at rate 1e-4: tolerance 3e-3, transient at the relaxation's 1e-4
+  c.stiffest_mode = "bound";  // its own case below
   const std::string relaxation = jam::relaxation_fingerprint(c);
   BOOST_TEST(jam::fingerprint(c).ends_with(
       " tolerance=0.0030000000000000001 dense_output=true transient_tolerance=0.0001"));
@@ -245,6 +247,7 @@ BOOST_AUTO_TEST_CASE(dense_output_and_transient_tolerance_are_suffixes) {
   // At 1e-6 the compression's tolerance is the relaxation's: no transient tolerance to apply.
   c = SimConfig{};
   c.compression_rate = 1e-6;
+  c.stiffest_mode = "bound";
   BOOST_TEST(jam::fingerprint(c).find("transient_tolerance") == std::string::npos);
   BOOST_TEST(jam::fingerprint(c).ends_with(" dense_output=true"));
   // Integrators without error control have neither.
@@ -262,4 +265,20 @@ BOOST_AUTO_TEST_CASE(dense_output_and_transient_tolerance_are_suffixes) {
     BOOST_TEST(std::string(e.what()).find("--transient-tolerance -1") != std::string::npos,
                e.what());
   }
+}
+
+// The stiffest-mode estimate changes the compression's numbers too: today's default says so
+// last in the fingerprint, "bound" keeps the identity of the runs before it, the relaxed start
+// is the same with either, and integrators without error control never carry it.
+BOOST_AUTO_TEST_CASE(stiffest_mode_is_a_suffix) {
+  SimConfig c;
+  BOOST_TEST(jam::fingerprint(c).ends_with(" transient_tolerance=0.0001 stiffest_mode=estimate"));
+  const std::string relaxation = jam::relaxation_fingerprint(c);
+  const std::string estimate = jam::fingerprint(c);
+  c.stiffest_mode = "bound";
+  BOOST_TEST(jam::fingerprint(c) + " stiffest_mode=estimate" == estimate);
+  BOOST_TEST(jam::relaxation_fingerprint(c) == relaxation);
+  c.stiffest_mode = "estimate";
+  c.integrator = "heun";
+  BOOST_TEST(jam::fingerprint(c).find("stiffest_mode") == std::string::npos);
 }

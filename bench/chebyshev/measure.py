@@ -71,19 +71,22 @@ def main():
         "cheb-1e-2": ["--integrator", "chebyshev", "--tolerance", "1e-2"],
         "cheb-1e-3": ["--integrator", "chebyshev", "--tolerance", "1e-3"],
         "cheb-1e-4": ["--integrator", "chebyshev", "--tolerance", "1e-4"],
+        "cheb-1e-4-bound": ["--integrator", "chebyshev", "--tolerance", "1e-4",
+                            "--stiffest-mode", "bound"],
+        "cheb-auto": ["--integrator", "chebyshev"],
+        "cheb-auto-bound": ["--integrator", "chebyshev", "--stiffest-mode", "bound"],
         "cheb-1e-5": ["--integrator", "chebyshev", "--tolerance", "1e-5"],
         "cheb-1e-6": ["--integrator", "chebyshev", "--tolerance", "1e-6"],
     }
     if a.methods:
         methods = {k: v for k, v in methods.items() if k in a.methods or k == a.reference}
     base = ["sim", "--dim", str(d)]
-    jobs = []
-    for rate in a.rates:
-        for s in range(a.seeds):
-            start = os.path.join(a.work, f"start_d{d}_n{a.n}_s{s}.data")
-            jobs.append((0, base + ["--n", str(a.n), "--phi-init", str(phi_init), "--phi-stop", str(phi_init * 1.0001),
-                                    "--seed", str(100 + s), "--write-lammps-data", start],
-                         os.path.join(a.work, f"start_d{d}_n{a.n}_s{s}.h5")))
+    jobs = []  # one start per seed, shared by every rate
+    for s in range(a.seeds):
+        start = os.path.join(a.work, f"start_d{d}_n{a.n}_s{s}.data")
+        jobs.append((0, base + ["--n", str(a.n), "--phi-init", str(phi_init), "--phi-stop", str(phi_init * 1.0001),
+                                "--seed", str(100 + s), "--write-lammps-data", start],
+                     os.path.join(a.work, f"start_d{d}_n{a.n}_s{s}.h5")))
     with ThreadPoolExecutor(a.jobs) as pool:
         list(pool.map(lambda j: run(j[1], j[2]), [j for j in jobs if not os.path.exists(j[2])]))
     runs = []

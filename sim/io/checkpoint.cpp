@@ -61,6 +61,7 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     f.write_attribute("relax_steps", state.relax_steps);
     f.write_attribute("relax_converged", std::int64_t{state.relax_converged});
     f.write_attribute("steps", state.steps);
+    f.write_attribute("force_evaluations", state.force_evaluations);
     f.write_attribute("next_output", state.next_output);
     f.write_attribute("time", state.time);
     f.write_attribute("relax_time", state.relax_time);
@@ -149,6 +150,9 @@ void read_counters(const h5::File& f, RunState<D>& s) {
   s.relax_steps = read_in_range(f, "relax_steps", 0, kMaxSteps);
   s.relax_converged = f.read_attribute_int("relax_converged") != 0;
   s.steps = read_in_range(f, "steps", 0, kMaxSteps);
+  // Checkpoints from before the count have none: it then counts from the resume.
+  if (f.has_attribute("force_evaluations"))
+    s.force_evaluations = read_in_range(f, "force_evaluations", 0, kMaxSteps);
   s.next_output = read_in_range(f, "next_output", 0, static_cast<std::int64_t>(kMaxPoints));
   // Times of adaptive steps (fixed-step runs compute theirs from the step count).
   if (f.has_attribute("time")) s.time = read_finite(f, "time");
@@ -192,8 +196,12 @@ StepperState read_stepper(const h5::File& f, std::size_t n) {
   const std::int64_t fields = read_in_range(f, "stepper_fields", 0, kMaxFields);
   for (std::int64_t k = 0; k < fields; ++k) {
     const std::string name = f.read_attribute_string(fmt::format("stepper_field_{}", k));
-    const bool scalar = name == "h_next" || name == "have_forces";
-    stepper.emplace_back(name, f.read_dataset("stepper_" + name, h5::exactly(scalar ? 1 : n)));
+    // Shapes: one value (the next step, a flag), the stiffest-mode estimate and its age (two),
+    // or one per particle (velocities, forces).
+    const std::size_t size = name == "h_next" || name == "have_forces" ? 1
+                             : name == "stiffest_mode"                 ? 2
+                                                                       : n;
+    stepper.emplace_back(name, f.read_dataset("stepper_" + name, h5::exactly(size)));
   }
   return stepper;
 }

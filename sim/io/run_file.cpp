@@ -221,6 +221,7 @@ void write_run_file(const std::string& path, const SimConfig& c, const RunMetada
     f.write_attribute("relax_steps", meta.relax_steps);
     f.write_attribute("relax_converged", std::int64_t{meta.relax_converged});
     f.write_attribute("steps", meta.steps);
+    f.write_attribute("force_evaluations", meta.force_evaluations);
     f.write_attribute("version", std::string(kVersion));
     f.write_attribute("schema_version", std::int64_t{kRunFileSchemaVersion});
     f.write_attribute("fingerprint", fingerprint(c));

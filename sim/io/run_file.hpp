@@ -17,6 +17,7 @@ struct RunMetadata {
   std::string integrator;
   std::string initial_configuration;  // "random" or the data file read
   std::int64_t steps = 0;
+  std::int64_t force_evaluations = 0;  // the compression's (RunState::force_evaluations)
   std::int64_t relax_steps = 0;
   bool relax_converged = true;
   double jamming_packing_fraction = 0.0;  // NaN when not bracketed; written only when asked for

@@ -74,6 +74,7 @@ class CompressionRun {
                       !start_transient_over(st_.points, c_.resolved_relax_energy());
       stepper_.set_tolerance(in_transient_ ? c_.resolved_transient_tolerance()
                                            : c_.resolved_tolerance());
+      stepper_.set_stiffest_mode_estimate(c_.resolved_stiffest_mode() == "estimate");
     }
     if (!compress()) return interrupted();
     return finish();
@@ -88,6 +89,9 @@ class CompressionRun {
     sys_.neighbors.invalidate();
     stepper_.load_state(saved->stepper);
     st_ = std::move(saved->state);
+    // An adaptive stepper recomputes the first slope of its next step, which the uninterrupted
+    // run carried over: not counted, so that a resumed run's file is the same.
+    evaluations_redone_ = kAdaptive && st_.phase == RunState<D>::kCompressing ? 1 : 0;
     return true;
   }
 
@@ -162,6 +166,7 @@ class CompressionRun {
     t_stop_ = targets.back();
     const auto n_targets = static_cast<std::int64_t>(targets.size());
     const bool dense = kAdaptive && c_.resolved_dense_output();
+    evaluations_mark_ = sys_.force_evaluations();
     while (st_.next_output < n_targets) {
       const auto step = st_.steps;
       const double t = kAdaptive ? st_.time : static_cast<double>(step) * c_.dt;
@@ -277,7 +282,9 @@ class CompressionRun {
       meta_.jamming_packing_fraction = j.packing_fraction;
       meta_.jamming_minimizations = j.minimizations;
     }
+    tally_evaluations();
     meta_.steps = st_.steps;
+    meta_.force_evaluations = st_.force_evaluations;
     meta_.relax_steps = st_.relax_steps;
     meta_.relax_converged = !c_.relax || st_.relax_converged;
     if (!c_.write_final_lammps_data.empty()) {
@@ -308,6 +315,7 @@ class CompressionRun {
   /// True when the run must stop (a checkpoint then holds its state).
   bool pause_due() {
     count_steps(256);
+    tally_evaluations();
     return checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
   }
 
@@ -319,8 +327,20 @@ class CompressionRun {
   /// Stops now, with a checkpoint; `steps` since the last count. Always false (stopped).
   bool pause_at_once(std::size_t steps) {
     count_steps(steps);
+    tally_evaluations();
     checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
     return false;
+  }
+
+  /// The compression's force evaluations since the last tally into the run state.
+  void tally_evaluations() {
+    if (st_.phase != RunState<D>::kCompressing) return;
+    const std::uint64_t now = sys_.force_evaluations();
+    if (now == evaluations_mark_) return;
+    st_.force_evaluations +=
+        static_cast<std::int64_t>(now - evaluations_mark_ - evaluations_redone_);
+    evaluations_mark_ = now;
+    evaluations_redone_ = 0;
   }
 
   void count_steps(std::size_t steps) {
@@ -353,6 +373,8 @@ class CompressionRun {
   RunSummary summary_;
   Clock::time_point wall_start_;
   std::size_t builds_before_;
+  std::uint64_t evaluations_mark_ = 0;    // sys_.force_evaluations() at the last tally
+  std::uint64_t evaluations_redone_ = 0;  // of those since, not the run's own (resume())
   std::size_t steps_here_ = 0;  // relaxation and compression steps done by this invocation
   double t_stop_ = 0.0;
   bool in_transient_ = false;                   // at the transient tolerance (adaptive)

@@ -44,6 +44,10 @@ ParameterValue resolved_dense_output(const SimConfig& c) {
   return c.resolved_dense_output();
 }
 
+ParameterValue resolved_stiffest_mode(const SimConfig& c) {
+  return c.resolved_stiffest_mode();
+}
+
 std::vector<std::string> dynamics_names() {
   return {kDynamics.begin(), kDynamics.end()};
 }
@@ -201,6 +205,18 @@ std::vector<RunParameter> make_table() {
        .unit = "d_s",
        .resolve = resolved_transient_tolerance,
        .unmarked = ParameterValue{0.0}},
+      // Changes only the compression, as the two above; runs from before it keep their identity.
+      {.name = "stiffest_mode",
+       .field = &SimConfig::stiffest_mode,
+       .help = "chebyshev integrator: lambda_max, which sets a step's stages, while compressing: "
+               "estimate (1.2 times a Lanczos estimate, renewed every 25 steps and after a "
+               "rejected step) or bound (the Gershgorin bound, every step)",
+       .campaign = C::optional,
+       .identity = I::suffix_unless_default,
+       .attribute = "stiffest_mode",
+       .choices = {"estimate", "bound"},
+       .resolve = resolved_stiffest_mode,
+       .unmarked = ParameterValue{std::string("bound")}},
       {.name = "relax",
        .field = &SimConfig::relax,
        .help = "Relax the start at zero rate before compressing (the paper's protocol)",

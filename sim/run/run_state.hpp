@@ -16,7 +16,10 @@ struct RunState {
   std::int64_t phase = kRelaxing;
   std::int64_t relax_steps = 0;
   bool relax_converged = false;
-  std::int64_t steps = 0;        // compression steps done
+  std::int64_t steps = 0;  // compression steps done
+  // The compression's force evaluations so far (output points included), across resumes: the
+  // machine-independent cost the planner models (campaign/campaign_plan.*).
+  std::int64_t force_evaluations = 0;
   std::int64_t next_output = 0;  // index of the next output time
   // Time reached by an adaptive integrator's accumulated steps (compression, relaxation);
   // fixed-step integrators use t = k dt from the step counts instead.

@@ -60,6 +60,11 @@ struct SimConfig {
   // tolerance when it is tighter than the compression's (an unrelaxed start's violent
   // transient integrated at 1e-2 left 1.3% in the pressure at rate 1e-4); "off": none.
   std::string transient_tolerance = "auto";
+  // chebyshev: lambda_max, which sets the stages of a step, while compressing: "estimate" (1.2
+  // times a Lanczos estimate renewed every 25 steps and after a rejected step) or "bound" (the
+  // Gershgorin bound every step, the behaviour of runs before the estimate existed; about twice
+  // lambda_max on jammed packings: docs/performance.md, "The stiffest mode").
+  std::string stiffest_mode = "estimate";
   double q = 0.03;  // quality factor, inertial dynamics only
   std::uint64_t seed = 1;
   double skin = 0.3;
@@ -122,6 +127,8 @@ struct SimConfig {
   double resolved_transient_tolerance() const;
   /// Whether output points come from the continuous extension (adaptive integrators only).
   bool resolved_dense_output() const;
+  /// "estimate" or "bound" for adaptive integrators; "bound" (unused) for the others.
+  std::string resolved_stiffest_mode() const;
 
   /// The integrator after applying the dynamics-dependent default.
   std::string resolved_integrator() const {
