@@ -145,6 +145,28 @@ BOOST_AUTO_TEST_CASE(controller_rejects_a_step_across_a_stiff_event) {
   BOOST_TEST(worst < 1e-4);
 }
 
+// The two error norms on the same step: one overlapping pair of small particles along x among
+// m - 2 particles that touch nothing. Only the pair moves, symmetrically, so its two particles
+// carry equal errors |est| along x and every other entry is zero: the largest component is
+// |est|, the root mean square over the m particles sqrt(2 / m) |est|.
+BOOST_AUTO_TEST_CASE(error_norms_on_one_pair) {
+  const int m = 50;
+  std::vector<std::array<double, 2>> r{{{0.0, 0.0}}, {{0.8, 0.0}}};
+  std::vector<int> type{0, 0};
+  for (int k = 2; k < m; ++k) {
+    r.push_back({{3.0 * (k % 7) - 9.5, 3.0 * (k / 7) + 3.0}});
+    type.push_back(0);
+  }
+  auto a = test::make_system<2>(r, type, 60.0);
+  auto b = a;
+  OverdampedChebyshev<2> largest(a.size(), 1e-4, 0.1), mean(b.size(), 1e-4, 0.1);
+  mean.set_error_norm_rms(true);
+  const double err_max = largest.fixed_step(a, 0.0, 0.5, 4);
+  const double err_rms = mean.fixed_step(b, 0.0, 0.5, 4);
+  BOOST_TEST(err_max > 0.0);
+  BOOST_TEST(err_rms == std::sqrt(2.0 / m) * err_max, boost::test_tools::tolerance(1e-12));
+}
+
 namespace {
 
 // Largest physical distance between the positions of a and b (minimum image).

@@ -282,3 +282,19 @@ BOOST_AUTO_TEST_CASE(stiffest_mode_is_a_suffix) {
   c.integrator = "heun";
   BOOST_TEST(jam::fingerprint(c).find("stiffest_mode") == std::string::npos);
 }
+
+// So does the error norm: "rms" comes last; "max", the default, keeps the identity of the
+// runs before it; the relaxed start is the same with either.
+BOOST_AUTO_TEST_CASE(error_norm_is_a_suffix) {
+  SimConfig c;
+  c.error_norm = "rms";
+  BOOST_TEST(jam::fingerprint(c).ends_with(" stiffest_mode=estimate error_norm=rms"));
+  const std::string relaxation = jam::relaxation_fingerprint(c);
+  const std::string rms = jam::fingerprint(c);
+  c.error_norm = "max";
+  BOOST_TEST(jam::fingerprint(c) + " error_norm=rms" == rms);
+  BOOST_TEST(jam::relaxation_fingerprint(c) == relaxation);
+  c.integrator = "euler";
+  c.error_norm = "rms";
+  BOOST_TEST(jam::fingerprint(c).find("error_norm") == std::string::npos);
+}

@@ -58,6 +58,7 @@ const std::map<std::string, Given> kOptions = {
     {"--dense-output", {"0", false}},
     {"--transient-tolerance", {"off", std::string("off")}},
     {"--stiffest-mode", {"bound", std::string("bound")}},
+    {"--error-norm", {"rms", std::string("rms")}},
     {"--relax", {"0", false}},
     {"--relax-energy", {"1e-9", std::string("1e-9")}},
     {"--relax-time-max", {"100", 100.0}},
@@ -93,6 +94,7 @@ const std::map<std::string, Given> kCampaignKeys = {
     {"dense_output", {"false", false}},
     {"transient_tolerance", {"\"1e-5\"", std::string("1e-5")}},
     {"stiffest_mode", {"\"bound\"", std::string("bound")}},
+    {"error_norm", {"\"rms\"", std::string("rms")}},
     {"relax", {"false", false}},
     {"relax_energy", {"\"1e-9\"", std::string("1e-9")}},
     {"relax_time_max", {"100.0", 100.0}},
@@ -290,6 +292,7 @@ BOOST_AUTO_TEST_CASE(run_file_carries_every_parameter_attribute) {
   BOOST_TEST(f.read_attribute_double("tolerance") == 3e-3);  // auto at rate 1e-2
   BOOST_TEST(f.read_attribute_int("dense_output") == 1);
   BOOST_TEST(f.read_attribute_string("stiffest_mode") == "estimate");
+  BOOST_TEST(f.read_attribute_string("error_norm") == "max");
   BOOST_TEST(f.read_attribute_double("compression_rate") == 1e-2);
   BOOST_TEST(f.read_attribute_double("q") == 0.0);  // overdamped
   BOOST_TEST(f.read_attribute_int("relax") == 0);

@@ -75,6 +75,8 @@ def main():
                             "--stiffest-mode", "bound"],
         "cheb-auto": ["--integrator", "chebyshev"],
         "cheb-auto-bound": ["--integrator", "chebyshev", "--stiffest-mode", "bound"],
+        "cheb-auto-rms": ["--integrator", "chebyshev", "--error-norm", "rms"],
+        "cheb-1e-5-rms": ["--integrator", "chebyshev", "--tolerance", "1e-5", "--error-norm", "rms"],
         "cheb-1e-5": ["--integrator", "chebyshev", "--tolerance", "1e-5"],
         "cheb-1e-6": ["--integrator", "chebyshev", "--tolerance", "1e-6"],
     }

@@ -48,6 +48,10 @@ ParameterValue resolved_stiffest_mode(const SimConfig& c) {
   return c.resolved_stiffest_mode();
 }
 
+ParameterValue resolved_error_norm(const SimConfig& c) {
+  return c.resolved_error_norm();
+}
+
 std::vector<std::string> dynamics_names() {
   return {kDynamics.begin(), kDynamics.end()};
 }
@@ -170,8 +174,9 @@ std::vector<RunParameter> make_table() {
        .choices = contact_law_names()},
       {.name = "tolerance",
        .field = &SimConfig::tolerance,
-       .help = "chebyshev integrator: the largest local error of one particle's displacement in "
-               "one step (units of d_s); --dt is then its first step. auto = 100 rate within "
+       .help = "chebyshev integrator: the local error of the displacements allowed in one step "
+               "(units of d_s, in the norm of --error-norm); --dt is then its first step. auto = "
+               "100 rate within "
                "[1e-4, 3e-3] while compressing ([1e-4, 1e-2] with --dense-output 0), 1e-4 while "
                "relaxing",
        .campaign = C::optional,
@@ -217,6 +222,16 @@ std::vector<RunParameter> make_table() {
        .choices = {"estimate", "bound"},
        .resolve = resolved_stiffest_mode,
        .unmarked = ParameterValue{std::string("bound")}},
+      {.name = "error_norm",
+       .field = &SimConfig::error_norm,
+       .help = "chebyshev integrator: the norm of a step's local error while compressing: max "
+               "(the largest component) or rms (root mean square over the particles)",
+       .campaign = C::optional,
+       .identity = I::suffix_unless_default,
+       .attribute = "error_norm",
+       .choices = {"max", "rms"},
+       .resolve = resolved_error_norm,
+       .unmarked = ParameterValue{std::string("max")}},
       {.name = "relax",
        .field = &SimConfig::relax,
        .help = "Relax the start at zero rate before compressing (the paper's protocol)",

@@ -112,6 +112,10 @@ std::string SimConfig::resolved_stiffest_mode() const {
   return is_adaptive_integrator(resolved_integrator()) ? stiffest_mode : std::string("bound");
 }
 
+std::string SimConfig::resolved_error_norm() const {
+  return is_adaptive_integrator(resolved_integrator()) ? error_norm : std::string("max");
+}
+
 std::uint64_t parse_seed(const std::string& option, const std::string& text) {
   const bool digits = !text.empty() && text.size() <= 19 &&
                       text.find_first_not_of("0123456789") == std::string::npos;

@@ -46,7 +46,7 @@ struct SimConfig {
   double dt = 0.1;
   std::string dynamics = "overdamped";  // overdamped | inertial
   std::string integrator;               // empty: the dynamics' default (integrator_list.hpp)
-  // chebyshev: the largest local error of one particle's displacement in one step (d_s);
+  // chebyshev: the local error of the displacements allowed in one step (d_s; error_norm);
   // --dt is then its first step. "auto": the compression at auto_tolerance(rate), the
   // relaxation at kRelaxationTolerance (see below).
   std::string tolerance = "auto";
@@ -65,6 +65,11 @@ struct SimConfig {
   // Gershgorin bound every step, the behaviour of runs before the estimate existed; about twice
   // lambda_max on jammed packings: docs/performance.md, "The stiffest mode").
   std::string stiffest_mode = "estimate";
+  // chebyshev: the norm of the step's local error while compressing: "max" (the largest
+  // component) or "rms" (root mean square over the particles, as in the RKC code; with the
+  // largest, every rearrangement anywhere in the box shortens the step, so that steps shorten as
+  // N grows: docs/performance.md, "The error norm", measures both).
+  std::string error_norm = "max";
   double q = 0.03;  // quality factor, inertial dynamics only
   std::uint64_t seed = 1;
   double skin = 0.3;
@@ -129,6 +134,8 @@ struct SimConfig {
   bool resolved_dense_output() const;
   /// "estimate" or "bound" for adaptive integrators; "bound" (unused) for the others.
   std::string resolved_stiffest_mode() const;
+  /// "rms" or "max" for adaptive integrators; "max" (unused) for the others.
+  std::string resolved_error_norm() const;
 
   /// The integrator after applying the dynamics-dependent default.
   std::string resolved_integrator() const {
