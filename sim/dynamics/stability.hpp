@@ -70,6 +70,23 @@ double stiffest_mode_bound(const System<D, Contact>& sys, double box_length, con
   return n ? *std::max_element(row.begin(), row.end()) : 0.0;
 }
 
+/// x[d][i] <- deterministic pseudo-random values in [-0.5, 0.5) for n particles (the same
+/// bits on every machine): the start vector of the iterations here and of the Lanczos
+/// estimate (stiffest_mode_estimate.hpp).
+template <int D>
+void deterministic_start_vector(std::array<std::vector<double>, D>& x, std::size_t n) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (int d = 0; d < D; ++d) {
+    x[d].resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      h ^= h >> 31;
+      h *= 0xbf58476d1ce4e5b9ULL;
+      h ^= h >> 29;
+      x[d][i] = static_cast<double>(h >> 11) * 0x1.0p-53 - 0.5;
+    }
+  }
+}
+
 /// lambda_max(W^-1/2 H_n W^-1/2) by power iteration (Rayleigh quotient after `iterations`
 /// products; H_n is positive semidefinite, so the iteration converges to the top of the
 /// spectrum from below). Deterministic start vector. Same list requirement as above.
@@ -79,17 +96,8 @@ double stiffest_mode(const System<D, Contact>& sys, double box_length, const Mod
   const std::size_t n = sys.size();
   const auto& type = sys.particles.type;
   std::array<std::vector<double>, D> x, y;
-  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-  for (int d = 0; d < D; ++d) {
-    x[d].resize(n);
-    y[d].assign(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      h ^= h >> 31;
-      h *= 0xbf58476d1ce4e5b9ULL;
-      h ^= h >> 29;
-      x[d][i] = static_cast<double>(h >> 11) * 0x1.0p-53 - 0.5;
-    }
-  }
+  deterministic_start_vector<D>(x, n);
+  for (int d = 0; d < D; ++d) y[d].assign(n, 0.0);
   auto norm2 = [&](const std::array<std::vector<double>, D>& v) {
     double s = 0.0;
     for (int d = 0; d < D; ++d)

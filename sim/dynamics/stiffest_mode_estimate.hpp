@@ -93,17 +93,10 @@ class StiffestModeEstimate {
 
   /// A deterministic start (the same bits on every machine), normalized.
   void start_vector(std::size_t n) {
-    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+    deterministic_start_vector<D>(q_, n);
     for (int d = 0; d < D; ++d) {
-      q_[d].resize(n);
       q_prev_[d].assign(n, 0.0);
       v_[d].resize(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        h ^= h >> 31;
-        h *= 0xbf58476d1ce4e5b9ULL;
-        h ^= h >> 29;
-        q_[d][i] = static_cast<double>(h >> 11) * 0x1.0p-53 - 0.5;
-      }
     }
     const double norm = std::sqrt(dot(q_, q_));
     for (int d = 0; d < D; ++d)

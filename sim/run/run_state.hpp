@@ -17,8 +17,8 @@ struct RunState {
   std::int64_t relax_steps = 0;
   bool relax_converged = false;
   std::int64_t steps = 0;  // compression steps done
-  // The compression's force evaluations so far (output points included), across resumes: the
-  // machine-independent cost the planner models (campaign/campaign_plan.*).
+  // The integrator's force evaluations while compressing (not the measurements at output
+  // points, one each), across resumes: the machine-independent cost the planner models.
   std::int64_t force_evaluations = 0;
   std::int64_t next_output = 0;  // index of the next output time
   // Time reached by an adaptive integrator's accumulated steps (compression, relaxation);
