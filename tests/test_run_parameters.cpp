@@ -293,6 +293,9 @@ BOOST_AUTO_TEST_CASE(run_file_carries_every_parameter_attribute) {
   BOOST_TEST(f.read_attribute_int("dense_output") == 1);
   BOOST_TEST(f.read_attribute_string("stiffest_mode") == "estimate");
   BOOST_TEST(f.read_attribute_string("error_norm") == "max");
+  // Every Chebyshev step takes at least two force evaluations (s >= 2 stages).
+  BOOST_TEST(f.read_attribute_int("force_evaluations") >= 2 * f.read_attribute_int("steps"));
+  BOOST_TEST(f.read_attribute_int("steps") > 0);
   BOOST_TEST(f.read_attribute_double("compression_rate") == 1e-2);
   BOOST_TEST(f.read_attribute_double("q") == 0.0);  // overdamped
   BOOST_TEST(f.read_attribute_int("relax") == 0);
