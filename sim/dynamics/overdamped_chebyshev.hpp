@@ -27,7 +27,7 @@
 // rejected twice, after the RKC code of Sommeijer et al. (1998), which renews its power-method
 // estimate every 25 steps with the same factor (and after every rejection: here a single
 // rejection, which near jamming follows a rearrangement, not an instability, renewed it for
-// nothing at a cost of 15% of the run). The bound is about twice lambda_max on jammed
+// nothing at a cost of 20% of the run). The bound is about twice lambda_max on jammed
 // packings, and stages grow as sqrt(h lambda): the estimate saves ~1.25x of the force
 // evaluations. An estimate that falls behind a stiffening network lets the stiffest modes grow
 // until the error estimate rejects the step: accuracy stays under error control either way.
@@ -222,15 +222,20 @@ class OverdampedChebyshev {
   /// out = F(t, current positions) = f^el / (gamma L(t)), scaled units.
   template <class Contact>
   void slope(System<D, Contact>& sys, double t, std::array<std::vector<double>, D>& out) {
-    const double length = sys.box.length(t);
-    sys.compute_elastic_forces(length);
-    const std::array<double, 2> c = {sys.species.mobility[0] / length,
-                                     sys.species.mobility[1] / length};
+    const auto c = forces_at(sys, sys.box.length(t));
     const auto* type = sys.particles.type.data();
     for_particle_chunks(sys.size(), sys.threads(), [&](std::size_t first, std::size_t last) {
       for (int d = 0; d < D; ++d)
         for (std::size_t i = first; i < last; ++i) out[d][i] = c[type[i]] * sys.force[d][i];
     });
+  }
+
+  /// The elastic forces at box length L, and the factor per type that makes them slopes:
+  /// F_i = c[type_i] f_i^el, c = 1 / (gamma L) (scaled units).
+  template <class Contact>
+  static std::array<double, 2> forces_at(System<D, Contact>& sys, double length) {
+    sys.compute_elastic_forces(length);
+    return {sys.species.mobility[0] / length, sys.species.mobility[1] / length};
   }
 
   /// The s stages from y_n = s0_ (slope f0_) to y_{n+1}, left in the system; returns err.
@@ -254,11 +259,8 @@ class OverdampedChebyshev {
       }
     });
     for (int j = 2; j <= k.stages; ++j) {
-      // F(Y_{j-1}) = f^el / (gamma L) (slope()), then Y_j, and the particles there.
-      const double length = sys.box.length(t + k.c[j - 1] * h);
-      sys.compute_elastic_forces(length);
-      const std::array<double, 2> c = {sys.species.mobility[0] / length,
-                                       sys.species.mobility[1] / length};
+      // F(Y_{j-1}) = c f^el (slope()), then Y_j, and the particles there.
+      const auto c = forces_at(sys, sys.box.length(t + k.c[j - 1] * h));
       const double mu = k.mu[j], nu = k.nu[j], a = k.mu_tilde[j] * h, g = k.gamma_tilde[j] * h;
       for_particle_chunks(n, sys.threads(), [&](std::size_t first, std::size_t last) {
         for (int d = 0; d < D; ++d) {
