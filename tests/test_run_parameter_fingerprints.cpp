@@ -219,6 +219,21 @@ BOOST_AUTO_TEST_CASE(auto_tolerance_is_100_rate_within_1e_4_and_3e_3) {
   BOOST_TEST(jam::auto_tolerance(3e-6) == 3e-4, boost::test_tools::tolerance(1e-15));
   BOOST_TEST(jam::auto_tolerance(1e-6) == 1e-4, boost::test_tools::tolerance(1e-15));
   BOOST_TEST(jam::auto_tolerance(1e-9) == 1e-4);
+  // The root-mean-square norm is at most the largest component: a tenth of it, as measured.
+  BOOST_TEST(jam::auto_tolerance(1e-3, true, true) == 3e-4, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(jam::auto_tolerance(1e-7, true, true) == 1e-5, boost::test_tools::tolerance(1e-15));
+  SimConfig r;
+  r.compression_rate = 1e-5;
+  r.error_norm = "rms";
+  BOOST_TEST(r.resolved_tolerance() == 1e-4, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(r.relaxation_tolerance() == 1e-4);  // the relaxation keeps its norm and value
+  r.compression_rate = 1e-7;
+  BOOST_TEST(r.resolved_tolerance() == 1e-5, boost::test_tools::tolerance(1e-15));
+  BOOST_TEST(r.resolved_transient_tolerance() == 0.0);  // the relaxation's is not tighter
+  BOOST_TEST(jam::fingerprint(r).find(" tolerance=1.0000000000000001e-05 ") != std::string::npos);
+  BOOST_TEST(jam::fingerprint(r).ends_with(" error_norm=rms"));
+  r.integrator = "heun";  // no error control: neither applies
+  BOOST_TEST(r.resolved_tolerance() == 1e-4);
   SimConfig c;
   c.tolerance = "tight";
   BOOST_CHECK_EXCEPTION(c.resolved_tolerance(), jam::ConfigError, [](const jam::ConfigError& e) {
@@ -284,9 +299,11 @@ BOOST_AUTO_TEST_CASE(stiffest_mode_is_a_suffix) {
 }
 
 // So does the error norm: "rms" comes last; "max", the default, keeps the identity of the
-// runs before it; the relaxed start is the same with either.
+// runs before it; the relaxed start is the same with either. (With tolerance "auto" the norm
+// also sets the tolerance: auto_tolerance_is_100_rate_within_1e_4_and_3e_3.)
 BOOST_AUTO_TEST_CASE(error_norm_is_a_suffix) {
   SimConfig c;
+  c.tolerance = "3e-3";
   c.error_norm = "rms";
   BOOST_TEST(jam::fingerprint(c).ends_with(" stiffest_mode=estimate error_norm=rms"));
   const std::string relaxation = jam::relaxation_fingerprint(c);

@@ -177,8 +177,8 @@ std::vector<RunParameter> make_table() {
        .help = "chebyshev integrator: the local error of the displacements allowed in one step "
                "(units of d_s, in the norm of --error-norm); --dt is then its first step. auto = "
                "100 rate within "
-               "[1e-4, 3e-3] while compressing ([1e-4, 1e-2] with --dense-output 0), 1e-4 while "
-               "relaxing",
+               "[1e-4, 3e-3] while compressing ([1e-4, 1e-2] with --dense-output 0; a tenth of it "
+               "with --error-norm rms), 1e-4 while relaxing",
        .campaign = C::optional,
        .identity = I::suffix_unless_default,
        .relaxation_position = 16,
