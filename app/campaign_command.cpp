@@ -53,8 +53,9 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
       "Exit status: 0 every run is done; 1 a run failed or is corrupt; 4 runs are "
       "missing or partial (none failed); 2 the directory is not a campaign's.");
   CLI::App* import = campaign->add_subcommand(
-      "import", "Import runs jam did not plan (open runs of any simulator, docs/cross-simulator.md) "
-                "into an external campaign directory, for status, stats, check and report");
+      "import",
+      "Import runs jam did not plan (open runs of any simulator, docs/cross-simulator.md) "
+      "into an external campaign directory, for status, stats, check and report");
   import->add_option("directory", a.directory, "Campaign directory (new, or an external one)")
       ->required();
   import->add_option("files", a.import_files, "Run files (HDF5): open runs or jam's own")
@@ -62,8 +63,9 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   import->add_option("--phi-step", a.import_options.phi_step,
                      "Grid of packings the statistics average on (default 0.0005)");
   import->add_option("--name", a.import_options.name, "Campaign name (default: the directory's)");
-  import->footer("Exit status: 0 every file imported (or already there); 1 a file was set aside "
-                 "(the reason is printed and kept in external.toml); 2 bad input.");
+  import->footer(
+      "Exit status: 0 every file imported (or already there); 1 a file was set aside "
+      "(the reason is printed and kept in external.toml); 2 bad input.");
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
@@ -184,7 +186,7 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
     if (!a.scatter_from.empty()) throw CLI::ValidationError("--scatter-from", e.what());
     no_model = e.what();
   }
-  double speed = 0;
+  Throughput speed;
   print_campaign_plan(c, &speed);
   if (no_model.empty())
     print_decidability(c, model, speed);

@@ -146,7 +146,7 @@ std::string kind_of(const Planned& p) {
 
 }  // namespace
 
-int print_decidability(const Campaign& c, const ScatterModel& model, double speed) {
+int print_decidability(const Campaign& c, const ScatterModel& model, const Throughput& speed) {
   const std::vector<Planned> planned = planned_comparisons(c);
   if (planned.empty()) {
     fmt::print("  what it can decide: no size or phi_init comparison (one size, one phi_init)\n");
@@ -157,15 +157,16 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
       "constant phi, residual factor {:.2f} on s, from {}):\n",
       model.at_phi.c0, model.at_phi.c1, model.at_phi.c2, std::exp(model.at_phi.residual / 2),
       fmt::join(model.sources, ", "));
-  // Per-sample particle-steps of every ensemble (the cost of one more sample there).
-  std::map<EnsembleKey, double> steps, runs;
-  double planned_steps = 0;
+  // Per-sample core-seconds of every ensemble (the cost of one more sample there).
+  std::map<EnsembleKey, double> cost, runs;
+  double planned_seconds = 0;
   for (const auto& r : plan_runs(c, SampleCounts{})) {  // the file's design, not the directory's
-    steps[{r.n, r.phi_init, r.log10_rate}] += r.estimated_particle_steps;
+    const double seconds = speed.core_seconds(r.n, r.estimated_particle_steps);
+    cost[{r.n, r.phi_init, r.log10_rate}] += seconds;
     runs[{r.n, r.phi_init, r.log10_rate}] += 1;
-    planned_steps += r.estimated_particle_steps;
+    planned_seconds += seconds;
   }
-  for (auto& [k, s] : steps) s /= runs[k];
+  for (auto& [k, s] : cost) s /= runs[k];
   std::map<std::string, int> count, decided;
   std::map<std::string, SampleCounts> want;  // samples per ensemble, per check
   std::map<std::string, double> most;
@@ -190,8 +191,8 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
       continue;
     }
     const checks::SamplesNeeded n =
-        checks::samples_for_sigma(target, sa, sb, steps[{p.n_a, p.phi_a, p.log10_rate}],
-                                  steps[{p.n_b, p.phi_b, p.log10_rate}], samples, samples);
+        checks::samples_for_sigma(target, sa, sb, cost[{p.n_a, p.phi_a, p.log10_rate}],
+                                  cost[{p.n_b, p.phi_b, p.log10_rate}], samples, samples);
     most[kind] = std::max(most[kind], n.equal);
     for (const auto& [id, needed] : {std::pair{EnsembleId{p.n_a, p.phi_a, p.log10_rate}, n.a},
                                      std::pair{EnsembleId{p.n_b, p.phi_b, p.log10_rate}, n.b}}) {
@@ -207,15 +208,15 @@ int print_decidability(const Campaign& c, const ScatterModel& model, double spee
     }
     // The extra runs: the plan with these samples (on a chained campaign the faster rates
     // its runs continue from follow, samples_per_ensemble) less the plan as it is.
-    double extra = -planned_steps;
+    double extra = -planned_seconds;
     for (const auto& r : plan_runs(c, samples_per_ensemble(c, want[kind])))
-      extra += r.estimated_particle_steps;
+      extra += speed.core_seconds(r.n, r.estimated_particle_steps);
     ++warnings;
     fmt::print(
         "    warning: {}: {} of {} comparisons decide with {} samples; the other {} need up to "
         "{:.0f} samples per set (or the cheapest split per ensemble), about {:.2g} core-hours "
         "more\n",
-        kind, yes, total, c.samples, total - yes, most[kind], extra / speed / 3600.0);
+        kind, yes, total, c.samples, total - yes, most[kind], extra / 3600.0);
   }
   for (const ScatterFit* f : {&model.at_phi, &model.at_z}) {
     const auto [lo, hi] = std::minmax_element(c.sizes.begin(), c.sizes.end());

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "campaign/campaign_file.hpp"
+#include "campaign/throughput.hpp"
 
 namespace jam {
 
@@ -42,8 +43,8 @@ ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files);
 std::vector<std::string> default_scatter_sources(int dim);
 
 /// Prints, after the cost lines of `jam campaign plan`, what each check can decide; `speed`
-/// is the measured particle-steps per core-second. Returns the number of checks with
+/// is the measured throughput by size. Returns the number of checks with
 /// comparisons the design cannot decide (each printed as a warning line).
-int print_decidability(const Campaign& c, const ScatterModel& model, double speed);
+int print_decidability(const Campaign& c, const ScatterModel& model, const Throughput& speed);
 
 }  // namespace jam

@@ -370,7 +370,7 @@ int print_campaign_status(const std::string& directory, bool json) {
 
 /// The plan's error so far: the finished runs' recorded CPU seconds (thread clock) against what
 /// the plan gives them at this throughput, in all and per rate.
-void print_measured_against_plan(const std::vector<PlannedRun>& plan, double speed) {
+void print_measured_against_plan(const std::vector<PlannedRun>& plan, const Throughput& speed) {
   std::map<double, std::pair<double, double>> by_rate;  // log10 rate -> (measured, planned)
   double measured = 0.0, planned = 0.0;
   std::size_t finished = 0;
@@ -378,10 +378,11 @@ void print_measured_against_plan(const std::vector<PlannedRun>& plan, double spe
     const auto seconds = recorded_core_seconds(run);
     if (!seconds) continue;
     ++finished;
+    const double p = speed.core_seconds(run.n, run.estimated_particle_steps);
     measured += *seconds;
-    planned += run.estimated_particle_steps / speed;
+    planned += p;
     by_rate[run.log10_rate].first += *seconds;
-    by_rate[run.log10_rate].second += run.estimated_particle_steps / speed;
+    by_rate[run.log10_rate].second += p;
   }
   if (finished == 0) return;
   std::string rates;
@@ -393,41 +394,45 @@ void print_measured_against_plan(const std::vector<PlannedRun>& plan, double spe
       finished, measured / 3600.0, planned / 3600.0, measured / planned, rates);
 }
 
-int print_campaign_plan(const Campaign& c, double* measured_speed) {
+int print_campaign_plan(const Campaign& c, Throughput* measured_speed) {
   const std::vector<PlannedRun> plan = plan_runs(c);
-  double total = 0.0;
+  double total = 0.0, seconds = 0.0;
   std::map<std::int64_t, double> by_size;
+  const Throughput speed = measure_throughput(c.run, c.sizes);
   for (const auto& run : plan) {
     total += run.estimated_particle_steps;
     by_size[run.n] += run.estimated_particle_steps;
+    seconds += speed.core_seconds(run.n, run.estimated_particle_steps);
   }
-  const double speed = measure_throughput(c.run.dim);
   if (measured_speed) *measured_speed = speed;
-  const double core_hours = total / speed / 3600.0;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   fmt::print("campaign {}: {}D, {} runs ({} sizes x {} phi_init x {} rates x {} samples)\n", c.name,
              c.run.dim, plan.size(), c.sizes.size(), c.phi_init.size(), c.log10_rates.size(),
              c.samples);
   fmt::print("  particle-steps (force evaluations x particles, relaxation included): {:.3g}\n",
              total);
   for (const auto& [n, steps] : by_size) {
-    fmt::print("    N = {:>7}: {:.3g} ({:.1f}%)\n", n, steps, 100.0 * steps / total);
+    fmt::print("    N = {:>7}: {:.3g} ({:.1f}%), probe {:.3g} particle-steps/s per core\n", n,
+               steps, 100.0 * steps / total, speed.at(n));
   }
-  fmt::print("  measured throughput of this build: {:.3g} particle-steps/s per core ({}D)\n", speed,
-             c.run.dim);
-  fmt::print("  estimated cost: {:.3g} core-hours; {} on {} cores of this machine\n", core_hours,
-             duration(total / speed / std::max(1u, std::thread::hardware_concurrency())),
-             std::max(1u, std::thread::hardware_concurrency()));
+  fmt::print(
+      "  measured throughput of this build ({}D, overdamped Euler near jamming at each N); one "
+      "force evaluation of the integrator costs {:.2g} of its steps\n",
+      c.run.dim, speed.evaluation_cost);
+  fmt::print("  estimated cost: {:.3g} core-hours; {} on {} cores of this machine\n",
+             seconds / 3600.0, duration(seconds / cores), cores);
   fmt::print("  longest run: {} ({:.3g} core-hours)\n", plan.front().name,
-             plan.front().estimated_particle_steps / speed / 3600.0);
+             speed.core_seconds(plan.front().n, plan.front().estimated_particle_steps) / 3600.0);
   if (!c.chain_phi_init.empty()) {
     Campaign unchained = c;
     unchained.chain_phi_init.clear();
-    double unchained_total = 0.0;
-    for (const auto& run : plan_runs(unchained)) unchained_total += run.estimated_particle_steps;
+    double unchained_seconds = 0.0;
+    for (const auto& run : plan_runs(unchained))
+      unchained_seconds += speed.core_seconds(run.n, run.estimated_particle_steps);
     fmt::print(
         "  chained starts (chain_phi_init) save {:.0f}%: {:.3g} core-hours instead of {:.3g} "
         "with every rate compressed from phi_init\n",
-        100.0 * (1.0 - total / unchained_total), core_hours, unchained_total / speed / 3600.0);
+        100.0 * (1.0 - seconds / unchained_seconds), seconds / 3600.0, unchained_seconds / 3600.0);
   }
   print_measured_against_plan(plan, speed);
   // What the phi_init check found for this campaign's directory, if it ran there.

@@ -6,6 +6,7 @@
 #include "campaign/campaign_dir.hpp"
 #include "campaign/campaign_file.hpp"
 #include "campaign/ranks.hpp"
+#include "campaign/throughput.hpp"
 
 namespace jam {
 
@@ -32,7 +33,8 @@ int campaign_status_code(const std::map<RunStatus, std::size_t>& totals);
 /// any working directory), as a table or as JSON; returns campaign_status_code.
 int print_campaign_status(const std::string& directory, bool json = false);
 
-/// Prints the cost of a campaign before it runs, from the measured throughput of this build.
-int print_campaign_plan(const Campaign& campaign, double* measured_speed = nullptr);
+/// Prints the cost of a campaign before it runs, from the measured throughput of this build
+/// at each of its sizes (returned in `measured_speed`).
+int print_campaign_plan(const Campaign& campaign, Throughput* measured_speed = nullptr);
 
 }  // namespace jam

@@ -50,12 +50,11 @@ double jamming_search_particle_steps(const SimConfig& s, double phi_from) {
 /// searching its jamming point after if it asks for one).
 double estimated_particle_steps(const SimConfig& s, double phi_from) {
   const std::string integrator = s.resolved_integrator();
-  const double compression_time = std::log(s.phi_stop / phi_from) / (s.dim * s.compression_rate);
+  const double n = static_cast<double>(s.n);
   const double relax_time = s.relax ? kRelaxTimeEstimate : 0.0;
-  return static_cast<double>(s.n) *
-             (force_evaluations_per_time(integrator, s.dt, s.compression_rate,
-                                         s.resolved_tolerance()) *
-                  compression_time +
+  return n * (compression_force_evaluations(
+                  integrator, s.dim, s.dt, s.compression_rate, s.resolved_tolerance(),
+                  s.resolved_error_norm() == "rms", n, phi_from, s.phi_stop) +
               relaxation_evaluations_per_time(integrator, s.dt) * relax_time) +
          jamming_search_particle_steps(s, phi_from);
 }

@@ -11,6 +11,7 @@
 
 #include "campaign/campaign_file.hpp"
 #include "campaign/run_plan.hpp"
+#include "campaign/throughput.hpp"
 
 using namespace jam;
 
@@ -202,6 +203,44 @@ BOOST_AUTO_TEST_CASE(plan_costs_the_jamming_point_search) {
     BOOST_TEST(extra[r.name] == minimizations * 2.5e4 * std::sqrt(n / 1024) * n,
                boost::test_tools::tolerance(1e-12));
   }
+}
+
+// The root-mean-square error norm is charged as the largest component's at ten times its
+// tolerance, kRmsEvaluationGain fewer (measured: integrator_cost.hpp, test_integrator_cost);
+// so "auto", a tenth with rms, plans cheaper than auto with max, not the 1.8x dearer the
+// tolerance alone would say.
+BOOST_AUTO_TEST_CASE(plan_charges_the_rms_norm_as_measured) {
+  const auto with_max = plan_runs(parse_campaign(kGood + "integrator = \"chebyshev\"\n", "c.toml"));
+  const auto with_rms = plan_runs(
+      parse_campaign(kGood + "integrator = \"chebyshev\"\nerror_norm = \"rms\"\n", "c.toml"));
+  BOOST_TEST_REQUIRE(with_rms.size() == with_max.size());
+  double a = 0, b = 0;
+  for (const auto& r : with_max) a += r.estimated_particle_steps;
+  for (const auto& r : with_rms) b += r.estimated_particle_steps;
+  BOOST_TEST(b < a);
+}
+
+// The throughput a plan divides by is probed at each size of the campaign, and an adaptive
+// integrator's force evaluation costs kChebyshevEvaluationCost probe steps (throughput.hpp).
+BOOST_AUTO_TEST_CASE(throughput_is_probed_per_size_and_priced_per_integrator) {
+  jam::SimConfig run;
+  run.integrator = "chebyshev";
+  const jam::Throughput t = jam::measure_throughput(run, {64, 256});
+  BOOST_TEST(t.per_size.size() == 2u);
+  for (const auto& [n, speed] : t.per_size) BOOST_TEST(speed > 0.0);
+  BOOST_TEST(t.evaluation_cost == jam::kChebyshevEvaluationCost);
+  BOOST_TEST(t.core_seconds(64, 1e6) == 1e6 * jam::kChebyshevEvaluationCost / t.at(64),
+             boost::test_tools::tolerance(1e-12));
+  run.integrator = "heun";
+  BOOST_TEST(jam::measure_throughput(run, {64}).evaluation_cost == 1.0);
+  // A size not probed takes the nearest probed one in log N.
+  jam::Throughput fixed;
+  fixed.per_size = {{1024, 1.0}, {16384, 2.0}};
+  BOOST_TEST(fixed.at(2048) == 1.0);  // 2x from 1024, 8x from 16384
+  BOOST_TEST(fixed.at(8192) == 2.0);  // 8x from 1024, 2x from 16384
+  BOOST_TEST(fixed.at(100) == 1.0);
+  BOOST_TEST(fixed.at(1 << 20) == 2.0);
+  BOOST_CHECK_THROW(jam::Throughput{}.at(64), std::logic_error);
 }
 
 // Values that used to become failed runs, or to pass through silently, are refused up front

@@ -73,31 +73,6 @@ inline int force_evaluations_per_step(std::string_view name) {
   return i ? i->force_evaluations : 1;
 }
 
-/// Force evaluations per unit time t0 of a compression at `rate`: dt-stepped integrators
-/// take force_evaluations / dt; the adaptive Chebyshev integrator's cost at `tolerance` is a
-/// model of its measured cost in Heun-equivalent evaluations (docs/performance.md, the
-/// Chebyshev integrator): Heun at dt 0.1 (20 per t0) over the measured speed-ups, 1.26x, 2.9x,
-/// 6.4x at rates 1e-4, 1e-5, 1e-6 (tolerance 1e-4), and about 1.8x fewer evaluations per decade
-/// of tolerance (1e-6 ... 1e-2 at rates 1e-5 and 1e-6): 3.1 (rate / 1e-6)^0.35 (tolerance /
-/// 1e-4)^-0.25 per t0. It overestimates the fast rates (1e-3, tolerance 1e-2: 11 per t0, 6.3
-/// measured).
-inline double force_evaluations_per_time(std::string_view name, double dt, double rate,
-                                         double tolerance) {
-  const IntegratorInfo* i = find_integrator(name);
-  if (i && i->force_evaluations == 0)
-    return 3.1 * std::pow(rate / 1e-6, 0.35) * std::pow(tolerance / 1e-4, -0.25);
-  return (i ? i->force_evaluations : 1) / dt;
-}
-
-/// Force evaluations per unit time t0 of a relaxation at zero rate: force_evaluations / dt,
-/// or for the adaptive integrator 20 (Heun's at dt 0.1; its steps grow as the forces fade, so
-/// this is an upper bound).
-inline double relaxation_evaluations_per_time(std::string_view name, double dt) {
-  const IntegratorInfo* i = find_integrator(name);
-  if (i && i->force_evaluations == 0) return 20.0;
-  return (i ? i->force_evaluations : 1) / dt;
-}
-
 /// "a", "a or b", "a, b or c": words joined as the one-line errors list allowed values.
 template <class Words>
 std::string or_list(const Words& words) {

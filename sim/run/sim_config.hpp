@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/dynamics/integrator_list.hpp"
+#include "sim/dynamics/integrator_cost.hpp"
 
 namespace jam {
 
@@ -25,12 +25,8 @@ struct ConfigError : std::runtime_error {
 /// 1e-6 (1e-4); 1e-2 at 1e-6 left 5.6e-3. Landing capped the fast rates' steps at the output
 /// spacing; free of the grid, 1e-2 left 0.1% (one start) to 0.4% (four, against LAMMPS) in 3D
 /// at rate 1e-3 where the pressure is still small (phi 0.61), 3e-3 0.06%.
-/// With the root-mean-square norm (error_norm "rms") a tenth of it: measured at a tenth, as
-/// accurate as the largest component (2D N = 4096 ensembles at 1e-5 and 1e-6; N = 32768 chained
-/// starts at 1e-7 and 1e-8, pressure within 5e-5 of a max-norm 1e-6 reference after the start's
-/// first output point, 3e-4 at it) with 1.6x fewer force evaluations; at the same value 0.03%
-/// biased (docs/performance.md, "The error norm").
-inline constexpr double kRmsToleranceRatio = 0.1;
+/// With the root-mean-square norm (error_norm "rms") a tenth of it (kRmsToleranceRatio,
+/// integrator_list.hpp).
 inline double auto_tolerance(double rate, bool dense_output = true, bool rms = false) {
   return std::clamp(100.0 * rate, 1e-4, dense_output ? 3e-3 : 1e-2) *
          (rms ? kRmsToleranceRatio : 1.0);
