@@ -1,6 +1,6 @@
 #pragma once
 // What a compression costs each integrator, in force evaluations: the model behind `jam
-// campaign plan` and the per-run limits (sim/run/run_limits.hpp). Measured, not derived:
+// campaign plan` and the per-run limits (estimate_run, sim/run/run_limits.cpp). Measured, not derived:
 // docs/performance.md, "The planner's estimate against measured campaigns".
 #include <algorithm>
 #include <cmath>
