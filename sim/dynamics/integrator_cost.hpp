@@ -1,7 +1,7 @@
 #pragma once
 // What a compression costs each integrator, in force evaluations: the model behind `jam
-// campaign plan` and the per-run limits (estimate_run, sim/run/run_limits.cpp). Measured, not derived:
-// docs/performance.md, "The planner's estimate against measured campaigns".
+// campaign plan` and the per-run limits (estimate_run, sim/run/run_limits.cpp). Measured, not
+// derived: docs/performance.md, "The planner's estimate against measured campaigns".
 #include <algorithm>
 #include <cmath>
 #include <string_view>
