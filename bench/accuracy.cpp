@@ -280,10 +280,10 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       const double t_end =
           std::log(accuracy_packings(m.dim)[2] / o.start_packing(m.dim)) / (m.dim * m.rate);
       const std::string costed = m.engine == "jam-process" ? "chebyshev" : m.integrator;
-      cost.push_back(
-          t_end *
-          force_evaluations_per_time(costed, m.dim, m.dt, m.rate, m.tolerance, false, 4096.0) *
-          (m.engine == "lammps" ? 3 : 1) * (m.dim == 3 ? 2 : 1));
+      cost.push_back(t_end *
+                     force_evaluations_per_time(costed, m.dim, m.dt, m.rate, m.tolerance, false,
+                                                static_cast<double>(o.n)) *
+                     (m.engine == "lammps" ? 3 : 1) * (m.dim == 3 ? 2 : 1));
       tasks.push_back([&, mi, s] {
         Method& m = res.methods[mi];
         const auto phi = accuracy_packings(m.dim);

@@ -21,8 +21,10 @@ RunEstimate estimate_run(const SimConfig& c, std::int64_t n) {
   RunEstimate e;
   const double phi_init = c.read_lammps_data.empty() ? c.phi_init : 0.0;
   // Packing grows as exp(D rate t): the compression lasts ln(phi_stop/phi_init)/(D rate).
-  // An adaptive integrator's "steps" are counted as force evaluations (its cost model); it
-  // lands on every output time, so no step can jump one.
+  // An adaptive integrator's "steps" are counted as force evaluations at its cost model's
+  // near-jamming rate throughout (an upper bound: the plan integrates the packing's factor,
+  // integrator_cost.hpp); its steps carry no packing increment to check against the output
+  // spacing (dense output, or landing on each point).
   const std::string integrator = c.resolved_integrator();
   const bool adaptive = is_adaptive_integrator(integrator);
   const double per_time =

@@ -26,7 +26,7 @@ struct ConfigError : std::runtime_error {
 /// spacing; free of the grid, 1e-2 left 0.1% (one start) to 0.4% (four, against LAMMPS) in 3D
 /// at rate 1e-3 where the pressure is still small (phi 0.61), 3e-3 0.06%.
 /// With the root-mean-square norm (error_norm "rms") a tenth of it (kRmsToleranceRatio,
-/// integrator_list.hpp).
+/// integrator_cost.hpp).
 inline double auto_tolerance(double rate, bool dense_output = true, bool rms = false) {
   return std::clamp(100.0 * rate, 1e-4, dense_output ? 3e-3 : 1e-2) *
          (rms ? kRmsToleranceRatio : 1.0);
