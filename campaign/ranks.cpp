@@ -1,18 +1,22 @@
 #include "campaign/ranks.hpp"
 
+#include <dlfcn.h>
+
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <string>
 
-#ifdef JAM_HAVE_MPI
-#include <mpi.h>
-#endif
+#include "campaign/mpi_module.hpp"
+#include "sim/io/install_paths.hpp"
 
 namespace jam {
 namespace {
-#ifdef JAM_HAVE_MPI
-bool mpi_active = false;
+// The loaded module's table (mpi_module.hpp), while MPI runs; null otherwise.
+const MpiModule* mpi = nullptr;
 bool mpi_multiple = false;
 
+#ifdef JAM_MPI_MODULE_BUILD_PATH
 bool launched_by_mpi() {
   for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
     if (std::getenv(v)) return true;
@@ -33,10 +37,40 @@ long launched_processes() {
   }
   return 1;
 }
+
+#ifdef JAM_MPI_MODULE_BUILD_PATH
+/// jam-mpi.so: installed beside jam (<prefix>/lib/jam/), else where this build made it.
+std::filesystem::path mpi_module_path() {
+  const std::filesystem::path installed =
+      executable_directory().parent_path() / "lib" / "jam" / "jam-mpi.so";
+  std::error_code ec;
+  if (std::filesystem::exists(installed, ec)) return installed;
+  return JAM_MPI_MODULE_BUILD_PATH;
+}
+
+/// Loads the module, or exits with status 2 and one line saying why. RTLD_GLOBAL: OpenMPI's
+/// own components, which it loads later, look up libmpi's symbols in the global scope.
+const MpiModule* load_mpi_module() {
+  const std::string path = mpi_module_path().string();
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL);
+  const auto* table =
+      handle ? static_cast<const MpiModule*>(dlsym(handle, kMpiModuleSymbol)) : nullptr;
+  if (!table || table->abi != kMpiModuleAbi) {
+    const char* why =
+        handle ? (table ? "built by another version of jam" : "not jam's module") : dlerror();
+    std::fprintf(stderr,
+                 "jam: error: started by an MPI launcher, but its MPI module %s cannot be "
+                 "used: %s\n",
+                 path.c_str(), why);
+    std::exit(2);
+  }
+  return table;
+}
+#endif
 }  // namespace
 
 bool built_with_mpi() {
-#ifdef JAM_HAVE_MPI
+#ifdef JAM_MPI_MODULE_BUILD_PATH
   return true;
 #else
   return false;
@@ -54,110 +88,67 @@ Ranks start_ranks([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
                  launched_processes());
     std::exit(2);
   }
-#ifdef JAM_HAVE_MPI
+#ifdef JAM_MPI_MODULE_BUILD_PATH
   if (launched_by_mpi()) {
     // Worker threads ask rank 0 for runs themselves (run_queue.hpp): ask for full thread
     // support, and fall back to a split made in advance when the library does not give it.
-    int provided = 0;
-    MPI_Init_thread(argc, argv, MPI_THREAD_MULTIPLE, &provided);
-    mpi_multiple = provided >= MPI_THREAD_MULTIPLE;
-    MPI_Comm_rank(MPI_COMM_WORLD, &r.rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &r.size);
-    mpi_active = true;
+    const MpiModule* module = load_mpi_module();
+    int multiple = 0;
+    module->start(argc, argv, &r.rank, &r.size, &multiple);
+    mpi_multiple = multiple != 0;
+    mpi = module;
   }
 #endif
   return r;
 }
 
 void stop_ranks() {
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) MPI_Finalize();
-  mpi_active = false;
-#endif
+  if (mpi) mpi->stop();
+  mpi = nullptr;
 }
 
-void abort_ranks([[maybe_unused]] int code) {
-#ifdef JAM_HAVE_MPI
-  int size = 1;
-  if (mpi_active) MPI_Comm_size(MPI_COMM_WORLD, &size);
-  if (size > 1) MPI_Abort(MPI_COMM_WORLD, code);
-#endif
+void abort_ranks(int code) {
+  if (mpi) mpi->abort(code);
 }
 
 std::vector<std::int64_t> broadcast_from_root(std::vector<std::int64_t> values) {
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) {
+  if (mpi) {
     long long count = static_cast<long long>(values.size());
-    MPI_Bcast(&count, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+    mpi->broadcast_count(&count);
     values.resize(static_cast<std::size_t>(count));
-    MPI_Bcast(values.data(), static_cast<int>(count), MPI_INT64_T, 0, MPI_COMM_WORLD);
+    mpi->broadcast_values(values.data(), static_cast<int>(count));
   }
-#endif
   return values;
 }
 
 int max_over_ranks(int value) {
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) {
-    int result = value;
-    MPI_Allreduce(&value, &result, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    return result;
-  }
-#endif
-  return value;
+  return mpi ? mpi->max_over_ranks(value) : value;
 }
 
 int sum_over_ranks(int value) {
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) {
-    int result = value;
-    MPI_Allreduce(&value, &result, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    return result;
-  }
-#endif
-  return value;
+  return mpi ? mpi->sum_over_ranks(value) : value;
 }
 
 bool threads_may_use_mpi() {
-#ifdef JAM_HAVE_MPI
-  return mpi_active && mpi_multiple;
-#else
-  return false;
-#endif
+  return mpi && mpi_multiple;
 }
 
-void send_value([[maybe_unused]] std::int64_t value, [[maybe_unused]] int destination,
-                [[maybe_unused]] int tag) {
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) MPI_Send(&value, 1, MPI_INT64_T, destination, tag, MPI_COMM_WORLD);
-#endif
+void send_value(std::int64_t value, int destination, int tag) {
+  if (mpi) mpi->send(value, destination, tag);
 }
 
-std::int64_t receive_value([[maybe_unused]] int source, [[maybe_unused]] int tag) {
-  std::int64_t value = -1;
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) MPI_Recv(&value, 1, MPI_INT64_T, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-#endif
-  return value;
+std::int64_t receive_value(int source, int tag) {
+  return mpi ? mpi->receive(source, tag) : -1;
 }
 
 Message receive_any() {
   Message m;
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) {
-    MPI_Status status;
-    MPI_Recv(&m.value, 1, MPI_INT64_T, MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
-    m.source = status.MPI_SOURCE;
-    m.tag = status.MPI_TAG;
-  }
-#endif
+  if (mpi) mpi->receive_any(&m.value, &m.source, &m.tag);
   return m;
 }
 
 void barrier() {
-#ifdef JAM_HAVE_MPI
-  if (mpi_active) MPI_Barrier(MPI_COMM_WORLD);
-#endif
+  if (mpi) mpi->barrier();
 }
 
 }  // namespace jam

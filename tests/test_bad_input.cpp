@@ -8,10 +8,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 
 #include "process.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/lammps_data.hpp"
 #include "sim/run/sim_config.hpp"
 
 namespace fs = std::filesystem;
@@ -107,6 +109,45 @@ BOOST_AUTO_TEST_CASE(unwritable_output) {
   BOOST_TEST(o.status != 0);
   BOOST_TEST(o.stderr_text.find("--out /nonexistent-dir/run.h5") != std::string::npos,
              o.stderr_text);
+}
+
+// The number forms LAMMPS and other writers use (a sign, an exponent in either case, tabs,
+// CRLF line ends, comments) read as the same bits as the plain form; what is not one number
+// is refused with its line and field.
+BOOST_AUTO_TEST_CASE(data_files_read_every_number_form_the_same) {
+  const auto read = [](const std::string& text) {
+    std::istringstream in(text);
+    return jam::read_lammps_data<2>(in, "forms.data");
+  };
+  const std::string plain =
+      "t\n\n2 atoms\n2 atom types\n\n0 10 xlo xhi\n0 10 ylo yhi\n-0.5 0.5 zlo zhi\n\n"
+      "Atoms # atomic\n\n1 1 1.5 2.25 0\n2 2 7.125 0.001 0\n";
+  const std::string forms =
+      "t\r\n\r\n 2\tatoms\r\n2 atom types # two\r\n\r\n+0 1E1 xlo xhi\r\n0.0 10.000 ylo "
+      "yhi\r\n-5e-1 +0.5e+0 zlo zhi\r\n\r\nAtoms\r\n\r\n\t1 1 +1.5 225e-2 -0 0 0 0\r\n"
+      "2 2.0 7.125E0 1e-3 0.0 # last\r\n";
+  const auto a = read(plain), b = read(forms);
+  BOOST_TEST(a.box_length == 10.0);
+  BOOST_TEST(b.box_length == a.box_length);
+  BOOST_TEST_REQUIRE(b.particles.size() == 2u);
+  for (int d = 0; d < 2; ++d)
+    for (std::size_t i = 0; i < 2; ++i) {
+      BOOST_TEST(b.particles.s[d][i] == a.particles.s[d][i]);
+      BOOST_TEST(b.particles.type[i] == a.particles.type[i]);
+    }
+  BOOST_TEST(a.particles.s[0][0] == 1.5 / 10.0);
+  BOOST_TEST(a.particles.s[1][1] == 0.001 / 10.0);
+  for (const char* bad : {"0x1p0", "1.5.2", "+-1", "++1", "1,5", "1e", "--1"}) {
+    std::string text = plain;
+    text.replace(text.find("7.125"), 5, bad);
+    try {
+      read(text);
+      BOOST_ERROR("accepted x = " << bad);
+    } catch (const std::runtime_error& e) {
+      BOOST_TEST(std::string(e.what()).find("forms.data:13: x: '" + std::string(bad) + "'") == 0u,
+                 e.what());
+    }
+  }
 }
 
 BOOST_AUTO_TEST_CASE(unreadable_or_bad_data_files) {
@@ -230,4 +271,39 @@ BOOST_AUTO_TEST_CASE(jam_without_mpi_refuses_to_run_as_one_of_several_processes)
       BOOST_TEST(!fs::exists(kDir / "mpi.h5"));
     }
   }
+}
+
+// A jam built with MPI loads its MPI module (campaign/mpi_module.hpp) only under a launcher,
+// from <prefix>/lib/jam/ when installed. A module there that is not jam's stops the process
+// with one line naming the file, before anything is written; outside a launcher the module is
+// never looked at.
+BOOST_AUTO_TEST_CASE(an_unusable_mpi_module_is_refused_in_one_line) {
+  fs::create_directories(kDir);
+  const auto version = jam::test::run_logged(kDir / "version.txt", {JAM_EXECUTABLE, "--version"});
+  BOOST_REQUIRE(version.status == 0);
+  if (version.output.find("MPI: yes") == std::string::npos) {
+    BOOST_TEST_MESSAGE("this jam is built without MPI: skipped");
+    return;
+  }
+  const fs::path prefix = kDir / "installed";
+  fs::create_directories(prefix / "bin");
+  fs::create_directories(prefix / "lib" / "jam");
+  const fs::path jam = prefix / "bin" / "jam";
+  fs::copy_file(JAM_EXECUTABLE, jam, fs::copy_options::overwrite_existing);
+  const fs::path module = prefix / "lib" / "jam" / "jam-mpi.so";
+  std::ofstream(module) << "not a shared library\n";
+  const fs::path out = kDir / "module.h5";
+  const std::vector<std::string> sim = {jam.string(), "sim",  "--quiet", "--n",       "64",
+                                        "--phi-stop", "0.61", "--out",   out.string()};
+  std::vector<std::string> launched = {"env", "OMPI_COMM_WORLD_SIZE=2"};
+  launched.insert(launched.end(), sim.begin(), sim.end());
+  const auto o = jam::test::run_logged(kDir / "module.txt", launched);
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(o.output.find("MPI module " + module.string()) != std::string::npos, o.output);
+  BOOST_TEST(std::count(o.output.begin(), o.output.end(), '\n') == 1, o.output);
+  BOOST_TEST(!fs::exists(out));
+  // Without a launcher the same jam runs.
+  const auto plain = jam::test::run_logged(kDir / "plain.txt", sim);
+  BOOST_TEST(plain.status == 0, plain.output);
+  BOOST_TEST(fs::exists(out));
 }

@@ -1,7 +1,7 @@
 // The overdamped position updates (Euler's step, Heun's two stages): the AVX2 forms (and the
 // dispatched ones) give the one-particle forms' bits, including particles that cross the periodic
 // boundary in either direction, land exactly on 1, or are NaN, at every tail length; and the
-// one-particle form wraps into [0, 1).
+// one-particle form wraps into [0, 1). The same for the Chebyshev step's continuous extension.
 #define BOOST_TEST_MODULE position_update
 #include <boost/test/unit_test.hpp>
 #include <cmath>
@@ -113,6 +113,42 @@ BOOST_AUTO_TEST_CASE(heun_stages_give_the_scalar_bits) {
         correct(t.data(), t0.data(), tslope.data(), second.f.data(), base.type.data(), c1, half_dt,
                 first, n);
         BOOST_TEST(same_bits(t, corrected), "correct n " << n << " first " << first);
+      }
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(hermite_extension_gives_the_scalar_bits) {
+  // The continuous extension at a few theta, its ends included: slopes and displacements from
+  // the cases above (boundary crossings, a NaN), the same bits in every form.
+  for (std::size_t n : {0, 1, 3, 4, 5, 7, 8, 64, 1001}) {
+    const Case base = make_case(n, 37 + n), ends = make_case(n, 41 + n);
+    std::vector<double> delta(n);
+    for (std::size_t i = 0; i < n; ++i) delta[i] = 0.3 * base.f[i] + 0.7 * ends.f[i];
+    for (double theta : {0.0, 0.25, 0.6180339887, 1.0}) {
+      const double h = 0.9;
+      const HermiteWeights w{h, theta * h, theta * theta, theta * theta * theta};
+      for (std::size_t first : {std::size_t{0}, std::size_t{1}, n / 2}) {
+        if (first > n) continue;
+        std::vector<double> reference(n, -7.0), dispatched(n, -7.0);
+        hermite_coordinate_scalar(reference.data(), base.s.data(), base.f.data(), ends.f.data(),
+                                  delta.data(), w, first, n);
+        hermite_coordinate(dispatched.data(), base.s.data(), base.f.data(), ends.f.data(),
+                           delta.data(), w, first, n);
+        BOOST_TEST(same_bits(dispatched, reference), "n " << n << " theta " << theta);
+#if defined(JAM_AVX2_FORMS)
+        if (cpu_has_avx2()) {
+          std::vector<double> avx2(n, -7.0);
+          hermite_coordinate_avx2(avx2.data(), base.s.data(), base.f.data(), ends.f.data(),
+                                  delta.data(), w, first, n);
+          BOOST_TEST(same_bits(avx2, reference), "n " << n << " theta " << theta);
+        }
+#endif
+        for (std::size_t i = first; i < n; ++i) {
+          if (std::isnan(reference[i])) continue;
+          BOOST_TEST((reference[i] >= 0.0 && reference[i] < 1.0), i << ": " << reference[i]);
+        }
+        if (theta == 0.0 && first == 0 && n > 0) BOOST_TEST(reference[0] == base.s[0]);  // y(0) = 0
       }
     }
   }

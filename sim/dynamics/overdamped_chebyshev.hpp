@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "sim/dynamics/chebyshev_coefficients.hpp"
+#include "sim/dynamics/position_update.hpp"
 #include "sim/dynamics/stability.hpp"
 #include "sim/dynamics/stepper_state.hpp"
 #include "sim/dynamics/stiffest_mode_estimate.hpp"
@@ -153,18 +154,15 @@ class OverdampedChebyshev {
   /// [t_n, t_n + h_n]: out[d][i] <- the wrapped scaled position of particle i at t.
   void interpolate(double t, std::array<std::vector<double>, D>& out) const {
     const double h = last_h_, theta = (t - last_t_) / h;
-    const double a = theta * h, b = theta * theta, c = theta * theta * theta;
+    const HermiteWeights w{h, theta * h, theta * theta, theta * theta * theta};
     // f1_ holds F_n and f0_ holds F_{n+1} after the accepted step's swap; delta1_ = Delta.
     for (int d = 0; d < D; ++d) {
       out[d].resize(s0_[d].size());
-      for (std::size_t i = 0; i < s0_[d].size(); ++i) {
-        const double fn = f1_[d][i], fn1 = f0_[d][i], delta = delta1_[d][i];
-        const double y =
-            a * fn + b * (3.0 * delta - h * (2.0 * fn + fn1)) + c * (-2.0 * delta + h * (fn + fn1));
-        out[d][i] = wrap_unit(s0_[d][i] + y);
-      }
+      hermite_coordinate(out[d].data(), s0_[d].data(), f1_[d].data(), f0_[d].data(),
+                         delta1_[d].data(), w, 0, s0_[d].size());
     }
   }
+
   /// The start and size of the last accepted step (the range of interpolate()).
   double last_step_start() const { return last_t_; }
   double last_step_size() const { return last_h_; }

@@ -2,7 +2,9 @@
 // The overdamped position updates of one scaled coordinate over particles [first, last):
 //  - advance_coordinate: s_i <- wrap(s_i + c[type_i] f_i), forward Euler's step after the
 //    forces (c = dt mobility / L by species);
-//  - heun_predict / heun_correct: Heun's two stages (overdamped_heun.hpp).
+//  - heun_predict / heun_correct: Heun's two stages (overdamped_heun.hpp);
+//  - hermite_coordinate: out_i <- wrap(s0_i + y_i(theta)), the cubic Hermite continuous
+//    extension of the Chebyshev integrator's step (overdamped_chebyshev.hpp, dense output).
 // The compiler does not vectorize the plain loops (the per-species factor and the wrap's rare
 // branch), so where the processor has AVX2 four particles share each instruction; the
 // operations per particle are the same IEEE ones in the same order (no FMA), and a group of
@@ -43,6 +45,24 @@ inline void heun_correct_scalar(double* s, const double* s0, const double* slope
                                 double half_dt, std::size_t first, std::size_t last) {
   for (std::size_t i = first; i < last; ++i)
     s[i] = wrap_unit(s0[i] + half_dt * (slope[i] + c[type[i]] * f[i]));
+}
+
+/// The step's continuous extension at theta = (t - t_n) / h: y = a F_n + b (3 Delta - h (2 F_n +
+/// F_{n+1})) + c (-2 Delta + h (F_n + F_{n+1})) with a = theta h, b = theta^2, c = theta^3, from
+/// the slopes at both ends (fn, fn1) and the step's displacement (delta).
+struct HermiteWeights {
+  double h, a, b, c;
+};
+
+inline void hermite_coordinate_scalar(double* out, const double* s0, const double* fn,
+                                      const double* fn1, const double* delta,
+                                      const HermiteWeights& w, std::size_t first,
+                                      std::size_t last) {
+  for (std::size_t i = first; i < last; ++i) {
+    const double y = w.a * fn[i] + w.b * (3.0 * delta[i] - w.h * (2.0 * fn[i] + fn1[i])) +
+                     w.c * (-2.0 * delta[i] + w.h * (fn[i] + fn1[i]));
+    out[i] = wrap_unit(s0[i] + y);
+  }
 }
 
 #if defined(JAM_AVX2_FORMS)
@@ -112,6 +132,28 @@ __attribute__((target("avx2"))) inline void heun_correct_avx2(
   }
   heun_correct_scalar(s, s0, slope, f, type, c, half_dt, i, last);
 }
+
+__attribute__((target("avx2"))) inline void hermite_coordinate_avx2(
+    double* out, const double* s0, const double* fn, const double* fn1, const double* delta,
+    const HermiteWeights& w, std::size_t first, std::size_t last) {
+  const __m256d h = _mm256_set1_pd(w.h), a = _mm256_set1_pd(w.a), b = _mm256_set1_pd(w.b),
+                c = _mm256_set1_pd(w.c), two = _mm256_set1_pd(2.0), three = _mm256_set1_pd(3.0),
+                minus_two = _mm256_set1_pd(-2.0);
+  std::size_t i = first;
+  for (; i + 3 < last; i += 4) {
+    const __m256d f0 = _mm256_loadu_pd(fn + i), f1 = _mm256_loadu_pd(fn1 + i),
+                  d = _mm256_loadu_pd(delta + i);
+    const __m256d first_term = _mm256_mul_pd(a, f0);
+    const __m256d second_term = _mm256_mul_pd(
+        b, _mm256_sub_pd(_mm256_mul_pd(three, d),
+                         _mm256_mul_pd(h, _mm256_add_pd(_mm256_mul_pd(two, f0), f1))));
+    const __m256d third_term = _mm256_mul_pd(
+        c, _mm256_add_pd(_mm256_mul_pd(minus_two, d), _mm256_mul_pd(h, _mm256_add_pd(f0, f1))));
+    const __m256d y = _mm256_add_pd(_mm256_add_pd(first_term, second_term), third_term);
+    store_wrapped(out + i, _mm256_add_pd(_mm256_loadu_pd(s0 + i), y));
+  }
+  hermite_coordinate_scalar(out, s0, fn, fn1, delta, w, i, last);
+}
 #endif
 
 /// The fastest form this processor runs (both give the same bits).
@@ -149,6 +191,18 @@ inline void heun_correct(double* s, const double* s0, const double* slope, const
   }
 #endif
   heun_correct_scalar(s, s0, slope, f, type, c, half_dt, first, last);
+}
+
+inline void hermite_coordinate(double* out, const double* s0, const double* fn, const double* fn1,
+                               const double* delta, const HermiteWeights& w, std::size_t first,
+                               std::size_t last) {
+#if defined(JAM_AVX2_FORMS)
+  if (cpu_has_avx2()) {
+    hermite_coordinate_avx2(out, s0, fn, fn1, delta, w, first, last);
+    return;
+  }
+#endif
+  hermite_coordinate_scalar(out, s0, fn, fn1, delta, w, first, last);
 }
 
 }  // namespace jam

@@ -3,11 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 #include <unordered_set>
 #include <vector>
@@ -79,21 +80,23 @@ struct Reader {
     throw std::runtime_error(fmt::format("{}:{}: {}", path, line_no, what));
   }
 
-  double number(const std::string& token, const std::string& field) const {
-    std::size_t used = 0;
+  /// A finite number, the whole token (std::from_chars: correctly rounded, as strtod, without
+  /// the locale; a leading '+' is accepted, as strtod does).
+  double number(std::string_view token, std::string_view field) const {
+    std::string_view digits = token;
+    if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
     double v = 0.0;
-    try {
-      v = std::stod(token, &used);
-    } catch (const std::exception&) {
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    if (error == std::errc::invalid_argument) {
       fail(fmt::format("{}: '{}' is not a number", field, token));
     }
-    if (used != token.size() || !std::isfinite(v)) {
+    if (error != std::errc{} || end != digits.data() + digits.size() || !std::isfinite(v)) {
       fail(fmt::format("{}: '{}' is not a finite number", field, token));
     }
     return v;
   }
 
-  long long integer(const std::string& token, const std::string& field) const {
+  long long integer(std::string_view token, std::string_view field) const {
     const double v = number(token, field);
     if (v != std::floor(v) || std::abs(v) > 9e15) {
       fail(fmt::format("{}: '{}' is not an integer", field, token));
@@ -102,11 +105,19 @@ struct Reader {
   }
 };
 
-std::vector<std::string> tokens(const std::string& line) {
-  std::string text = line.substr(0, line.find('#'));
-  std::istringstream in(text);
-  std::vector<std::string> t;
-  for (std::string w; in >> w;) t.push_back(w);
+/// The line's whitespace-separated words before any '#' (views into `line`), into `t`.
+const std::vector<std::string_view>& tokens(std::string_view line,
+                                            std::vector<std::string_view>& t) {
+  line = line.substr(0, line.find('#'));
+  // isspace in the C locale
+  const auto space = [](char c) { return c == ' ' || (c >= '\t' && c <= '\r'); };
+  t.clear();
+  for (std::size_t i = 0; i < line.size();) {
+    while (i < line.size() && space(line[i])) ++i;
+    const std::size_t begin = i;
+    while (i < line.size() && !space(line[i])) ++i;
+    if (i > begin) t.push_back(line.substr(begin, i - begin));
+  }
   return t;
 }
 
@@ -132,9 +143,10 @@ LammpsData<D> read_lammps_data(std::istream& in, const std::string& path) {
   std::array<bool, 3> have_bounds{};
   LammpsData<D> data;
   bool have_atoms = false;
+  std::vector<std::string_view> words, scratch;  // a line's words, kept between lines
   while (std::getline(in, line)) {
     ++r.line_no;
-    const auto t = tokens(line);
+    const auto& t = tokens(line, words);
     if (t.empty()) continue;
     if (t.size() == 2 && t[1] == "atoms") {
       natoms = r.integer(t[0], "atoms");
@@ -158,7 +170,7 @@ LammpsData<D> read_lammps_data(std::istream& in, const std::string& path) {
       ++r.line_no;
       while (std::getline(in, line)) {
         ++r.line_no;
-        if (tokens(line).empty()) break;
+        if (tokens(line, scratch).empty()) break;
       }
     } else if (t[0] == "Atoms") {
       if (t.size() > 1 && t[1] != "atomic") {
@@ -185,13 +197,13 @@ LammpsData<D> read_lammps_data(std::istream& in, const std::string& path) {
       std::unordered_set<long long> seen;
       std::getline(in, line);  // blank line after the header
       ++r.line_no;
-      if (!tokens(line).empty()) r.fail("expected a blank line after 'Atoms'");
+      if (!tokens(line, scratch).empty()) r.fail("expected a blank line after 'Atoms'");
       for (long long k = 0; k < natoms; ++k) {
         if (!std::getline(in, line)) {
           r.fail(fmt::format("file ends after {} of {} atoms", k, natoms));
         }
         ++r.line_no;
-        const auto a = tokens(line);
+        const auto& a = tokens(line, scratch);
         if (a.size() != 5 && a.size() != 8) {
           r.fail(fmt::format("atom line has {} fields, expected 'id type x y z [ix iy iz]'",
                              a.size()));
@@ -207,7 +219,7 @@ LammpsData<D> read_lammps_data(std::istream& in, const std::string& path) {
         data.particles.id[i] = static_cast<std::uint32_t>(id);
         data.particles.type[i] = static_cast<std::uint8_t>(type - 1);
         for (int d = 0; d < 3; ++d) {
-          const double x = r.number(a[2 + d], std::string(1, "xyz"[d]));
+          const double x = r.number(a[2 + d], std::string_view("xyz").substr(d, 1));
           if (d < D) {
             const double scaled = (x - lo[d]) / length;
             if (!std::isfinite(scaled) || std::abs(scaled) > 1e6) {
