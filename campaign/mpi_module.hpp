@@ -2,8 +2,8 @@
 // The MPI calls of a campaign (ranks.cpp), in a module of their own (jam-mpi.so) that jam
 // loads only when an MPI launcher started it. Linking MPI into jam itself costs every process
 // the loading of OpenMPI's runtime (libmpi, open-pal, open-rte, hwloc, libevent, udev: about
-// 3 ms of a 40 ms single run, docs/performance.md "Start-up"), although one run, a report or a
-// test never uses it.
+// 2 ms of CPU, a twentieth of a 2D N = 4096 run at rate 1e-3; docs/performance.md, "Start-up"),
+// although a single run, a report or a test never uses it.
 //
 // A table of plain functions with a C name, looked up once (dlsym); `abi` changes whenever the
 // table does, so that a module from another build is refused instead of called wrongly.
