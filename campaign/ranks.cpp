@@ -16,15 +16,6 @@ namespace {
 const MpiModule* mpi = nullptr;
 bool mpi_multiple = false;
 
-#ifdef JAM_MPI_MODULE_BUILD_PATH
-bool launched_by_mpi() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
-    if (std::getenv(v)) return true;
-  }
-  return false;
-}
-#endif
-
 /// The number of processes an MPI launcher started, as its environment says (1 when it says
 /// nothing): OpenMPI's mpirun, PMI and PMIx launchers (MPICH's, srun --mpi=pmi2 or pmix).
 long launched_processes() {
@@ -39,6 +30,13 @@ long launched_processes() {
 }
 
 #ifdef JAM_MPI_MODULE_BUILD_PATH
+bool launched_by_mpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
+    if (std::getenv(v)) return true;
+  }
+  return false;
+}
+
 /// jam-mpi.so: installed beside jam (<prefix>/lib/jam/), else where this build made it.
 std::filesystem::path mpi_module_path() {
   const std::filesystem::path installed =

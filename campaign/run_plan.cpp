@@ -52,9 +52,9 @@ double estimated_particle_steps(const SimConfig& s, double phi_from) {
   const std::string integrator = s.resolved_integrator();
   const double n = static_cast<double>(s.n);
   const double relax_time = s.relax ? kRelaxTimeEstimate : 0.0;
-  return n * (compression_force_evaluations(
-                  integrator, s.dim, s.dt, s.compression_rate, s.resolved_tolerance(),
-                  s.resolved_error_norm() == "rms", n, phi_from, s.phi_stop) +
+  return n * (compression_force_evaluations(integrator, s.dim, s.dt, s.compression_rate,
+                                            s.resolved_tolerance(), s.rms_error_norm(), n, phi_from,
+                                            s.phi_stop) +
               relaxation_evaluations_per_time(integrator, s.dt) * relax_time) +
          jamming_search_particle_steps(s, phi_from);
 }

@@ -52,6 +52,14 @@ void write_file(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary) << text;
 }
 
+// Whether `jam --version` prints `text` (how this jam was built).
+bool jam_says(const std::string& text) {
+  fs::create_directories(kDir);
+  const auto version = jam::test::run_logged(kDir / "version.txt", {JAM_EXECUTABLE, "--version"});
+  BOOST_REQUIRE(version.status == 0);
+  return version.output.find(text) != std::string::npos;
+}
+
 std::string replace_first(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   BOOST_TEST_REQUIRE(at != std::string::npos);
@@ -253,10 +261,7 @@ BOOST_AUTO_TEST_CASE(absurd_costs) {
 // the whole campaign in each of them. It refuses in one line instead. Only a build without MPI
 // can show this (the sanitizer build, scripts/sanitize.sh); a build with MPI skips it.
 BOOST_AUTO_TEST_CASE(jam_without_mpi_refuses_to_run_as_one_of_several_processes) {
-  fs::create_directories(kDir);
-  const auto version = jam::test::run_logged(kDir / "version.txt", {JAM_EXECUTABLE, "--version"});
-  BOOST_REQUIRE(version.status == 0);
-  if (version.output.find("MPI: no") == std::string::npos) {
+  if (!jam_says("MPI: no")) {
     BOOST_TEST_MESSAGE("this jam is built with MPI: skipped");
     return;
   }
@@ -278,10 +283,7 @@ BOOST_AUTO_TEST_CASE(jam_without_mpi_refuses_to_run_as_one_of_several_processes)
 // with one line naming the file, before anything is written; outside a launcher the module is
 // never looked at.
 BOOST_AUTO_TEST_CASE(an_unusable_mpi_module_is_refused_in_one_line) {
-  fs::create_directories(kDir);
-  const auto version = jam::test::run_logged(kDir / "version.txt", {JAM_EXECUTABLE, "--version"});
-  BOOST_REQUIRE(version.status == 0);
-  if (version.output.find("MPI: yes") == std::string::npos) {
+  if (!jam_says("MPI: yes")) {
     BOOST_TEST_MESSAGE("this jam is built without MPI: skipped");
     return;
   }

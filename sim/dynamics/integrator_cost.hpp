@@ -63,10 +63,9 @@ inline double chebyshev_packing_factor(int dim, double phi, double rate) {
 /// Chebyshev integrator chebyshev_evaluations_per_time.
 inline double force_evaluations_per_time(std::string_view name, int dim, double dt, double rate,
                                          double tolerance, bool rms, double n) {
-  const IntegratorInfo* i = find_integrator(name);
-  if (i && i->force_evaluations == 0)
+  if (is_adaptive_integrator(name))
     return chebyshev_evaluations_per_time(dim, rate, tolerance, rms, n);
-  return (i ? i->force_evaluations : 1) / dt;
+  return force_evaluations_per_step(name) / dt;
 }
 
 /// Force evaluations of a compression from phi_from to phi_to: force_evaluations_per_time
@@ -91,9 +90,8 @@ inline double compression_force_evaluations(std::string_view name, int dim, doub
 /// or for the adaptive integrator 20 (Heun's at dt 0.1; its steps grow as the forces fade, so
 /// this is an upper bound).
 inline double relaxation_evaluations_per_time(std::string_view name, double dt) {
-  const IntegratorInfo* i = find_integrator(name);
-  if (i && i->force_evaluations == 0) return 20.0;
-  return (i ? i->force_evaluations : 1) / dt;
+  if (is_adaptive_integrator(name)) return 20.0;
+  return force_evaluations_per_step(name) / dt;
 }
 
 }  // namespace jam

@@ -75,7 +75,7 @@ class CompressionRun {
       stepper_.set_tolerance(in_transient_ ? c_.resolved_transient_tolerance()
                                            : c_.resolved_tolerance());
       stepper_.set_stiffest_mode_estimate(c_.resolved_stiffest_mode() == "estimate");
-      stepper_.set_error_norm_rms(c_.resolved_error_norm() == "rms");
+      stepper_.set_error_norm_rms(c_.rms_error_norm());
     }
     if (!compress()) return interrupted();
     return finish();

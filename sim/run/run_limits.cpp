@@ -28,9 +28,9 @@ RunEstimate estimate_run(const SimConfig& c, std::int64_t n) {
   const std::string integrator = c.resolved_integrator();
   const bool adaptive = is_adaptive_integrator(integrator);
   const double per_time =
-      adaptive ? force_evaluations_per_time(
-                     integrator, c.dim, c.dt, c.compression_rate, c.resolved_tolerance(),
-                     c.resolved_error_norm() == "rms", static_cast<double>(n))
+      adaptive ? force_evaluations_per_time(integrator, c.dim, c.dt, c.compression_rate,
+                                            c.resolved_tolerance(), c.rms_error_norm(),
+                                            static_cast<double>(n))
                : 1.0 / c.dt;
   if (phi_init > 0) {
     e.compression_steps = std::log(c.phi_stop / phi_init) / (c.dim * c.compression_rate) * per_time;

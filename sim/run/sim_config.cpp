@@ -82,7 +82,7 @@ double SimConfig::resolved_relax_energy() const {
 double SimConfig::resolved_tolerance() const {
   if (const auto v = explicit_tolerance(tolerance)) return *v;
   return is_adaptive_integrator(resolved_integrator())
-             ? auto_tolerance(compression_rate, dense_output, resolved_error_norm() == "rms")
+             ? auto_tolerance(compression_rate, dense_output, rms_error_norm())
              : kRelaxationTolerance;
 }
 

@@ -139,6 +139,8 @@ struct SimConfig {
   std::string resolved_stiffest_mode() const;
   /// "rms" or "max" for adaptive integrators; "max" (unused) for the others.
   std::string resolved_error_norm() const;
+  /// Whether the resolved error norm is the root mean square ("rms").
+  bool rms_error_norm() const { return resolved_error_norm() == "rms"; }
 
   /// The integrator after applying the dynamics-dependent default.
   std::string resolved_integrator() const {
