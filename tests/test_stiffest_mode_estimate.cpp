@@ -2,11 +2,14 @@
 // exact on one contact (closed form, both contact laws), at or below and close to lambda_max of
 // packings, against a dense eigensolver of the matrix assembled here by brute force over all
 // pairs (not the neighbor list); and the Chebyshev integrator driven by it against the
-// Gershgorin bound and a converged Heun reference from the same state.
+// Gershgorin bound and a converged Heun reference from the same state; the packed form of
+// the product's per-contact terms against the scalar one, bit for bit.
 #define BOOST_TEST_MODULE stiffest_mode_estimate
 #include <Eigen/Eigenvalues>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <cstring>
+#include <random>
 
 #include "helpers.hpp"
 #include "sim/dynamics/overdamped_chebyshev.hpp"
@@ -176,4 +179,47 @@ BOOST_AUTO_TEST_CASE(integrator_with_the_estimate) {
     if (estimate) BOOST_TEST(cheb.stats().estimates > 0u);
   }
   BOOST_TEST(stages[0] < 0.9 * stages[1]);
+}
+
+// The per-contact terms of A x (sim/dynamics/mode_product_terms.hpp): the AVX2 form gives the
+// scalar form's bits on every block, in 2D and 3D, with a last block that is not a multiple of
+// four, on terms of both signs and widely different sizes (the forms must not reassociate).
+template <int D>
+void check_mode_term_forms(std::uint32_t contacts, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const std::uint32_t n = 97;
+  std::vector<std::uint32_t> ci(contacts), cj(contacts);
+  std::vector<double> ai(contacts), aj(contacts);
+  std::array<std::vector<double>, D> g, x;
+  for (int d = 0; d < D; ++d) g[d].resize(contacts), x[d].resize(n);
+  for (std::uint32_t c = 0; c < contacts; ++c) {
+    ci[c] = static_cast<std::uint32_t>(rng() % n);
+    cj[c] = static_cast<std::uint32_t>(rng() % n);
+    ai[c] = 1.0 + u(rng), aj[c] = 0.5 + u(rng);
+    for (int d = 0; d < D; ++d) g[d][c] = u(rng) * std::pow(10.0, 4.0 * u(rng));
+  }
+  for (int d = 0; d < D; ++d)
+    for (double& e : x[d]) e = u(rng);
+  ModeProductInput<D> in{.ci = ci.data(), .cj = cj.data(), .ai = ai.data(), .aj = aj.data(),
+                         .g = {}, .x = {}};
+  for (int d = 0; d < D; ++d) in.g[d] = g[d].data(), in.x[d] = x[d].data();
+  BOOST_TEST_REQUIRE(contacts % kModeBlockContacts % 4 != 0u);
+  for (std::uint32_t c0 = 0; c0 < contacts; c0 += kModeBlockContacts) {
+    const std::uint32_t c1 = std::min(contacts, c0 + kModeBlockContacts);
+    ModeTermsBlock<D> scalar{}, dispatched{};
+    mode_terms_scalar(in, c0, c1, scalar);
+    mode_terms(in, c0, c1, dispatched);
+    BOOST_TEST(std::memcmp(&scalar, &dispatched, sizeof scalar) == 0);
+    // Something was computed: the terms of the block's first contact, by hand.
+    double p = 0.0;
+    for (int d = 0; d < D; ++d) p += g[d][c0] * (ai[c0] * x[d][ci[c0]] - aj[c0] * x[d][cj[c0]]);
+    BOOST_TEST(scalar.to_i[0][0] == ai[c0] * p * g[0][c0]);
+    BOOST_TEST(scalar.to_j[D - 1][0] == aj[c0] * p * g[D - 1][c0]);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(mode_product_term_forms_give_the_same_bits) {
+  check_mode_term_forms<2>(3 * kModeBlockContacts + 7, 11);
+  check_mode_term_forms<3>(2 * kModeBlockContacts + 5, 12);
 }

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sim/dynamics/mode_product_terms.hpp"
 #include "sim/dynamics/stability.hpp"
 #include "sim/dynamics/system.hpp"
 
@@ -104,26 +105,33 @@ class StiffestModeEstimate {
   }
 
   /// y = A x = sum over contacts of g g^T (a_i x_i - a_j x_j), added to i with a_i and
-  /// taken from j with a_j. The contacts come in rows (all of particle i's with j > i in a
-  /// run): y_i is summed in registers along its run, the same additions in the same order as
-  /// one contact at a time, without a store and reload between them.
+  /// taken from j with a_j. Each block's per-contact terms first (mode_product_terms.hpp,
+  /// packed), then the sums: the contacts come in rows (all of particle i's with j > i in a
+  /// run), y_i is summed in registers along its run. The same additions in the same order as
+  /// one contact at a time, so the same bits.
   void apply(const std::array<std::vector<double>, D>& x, std::array<std::vector<double>, D>& y) {
     for (int d = 0; d < D; ++d) std::fill(y[d].begin(), y[d].end(), 0.0);
-    const std::size_t m = ci_.size();
-    for (std::size_t c = 0; c < m;) {
-      const std::uint32_t i = ci_[c];
-      std::array<double, D> yi;
-      for (int d = 0; d < D; ++d) yi[d] = y[d][i];
-      for (; c < m && ci_[c] == i; ++c) {  // j != i within the run: y_i is not touched there
-        const std::uint32_t j = cj_[c];
-        double p = 0.0;
-        for (int d = 0; d < D; ++d) p += g_[d][c] * (ai_[c] * x[d][i] - aj_[c] * x[d][j]);
-        for (int d = 0; d < D; ++d) {
-          yi[d] += ai_[c] * p * g_[d][c];
-          y[d][j] -= aj_[c] * p * g_[d][c];
+    const auto m = static_cast<std::uint32_t>(ci_.size());
+    ModeProductInput<D> in{.ci = ci_.data(), .cj = cj_.data(), .ai = ai_.data(),
+                           .aj = aj_.data(), .g = {}, .x = {}};
+    for (int d = 0; d < D; ++d) in.g[d] = g_[d].data(), in.x[d] = x[d].data();
+    ModeTermsBlock<D> terms;
+    for (std::uint32_t c0 = 0; c0 < m; c0 += kModeBlockContacts) {
+      const std::uint32_t c1 = std::min(m, c0 + kModeBlockContacts);
+      mode_terms(in, c0, c1, terms);
+      for (std::uint32_t c = c0; c < c1;) {
+        const std::uint32_t i = ci_[c];
+        std::array<double, D> yi;
+        for (int d = 0; d < D; ++d) yi[d] = y[d][i];
+        for (; c < c1 && ci_[c] == i; ++c) {  // j != i within the run: y_i is not touched there
+          const std::uint32_t j = cj_[c];
+          for (int d = 0; d < D; ++d) {
+            yi[d] += terms.to_i[d][c - c0];
+            y[d][j] -= terms.to_j[d][c - c0];
+          }
         }
+        for (int d = 0; d < D; ++d) y[d][i] = yi[d];
       }
-      for (int d = 0; d < D; ++d) y[d][i] = yi[d];
     }
   }
 

@@ -12,6 +12,7 @@
 //   __m128d force_over_r(__m128d r2, std::array<int, 2> pair);  // the same operations, packed
 //   __m256d force_over_r(__m256d r2, std::array<int, 4> pair);  // (AVX2; same bits)
 //   double energy(double r2, int pair);        // U(r), 0 out of contact
+//   __m256d energy(__m256d r2, std::array<int, 4> pair);  // the same operations, packed (AVX2)
 //   bool in_contact(double r2, int pair);      // the one contact test: force_over_r > 0
 //   double radial_stiffness(double r2, int pair);  // U''(r) >= 0 (stability bound)
 //   static double energy_at(double r, double d);   // U and f = -dU/dr as functions of r and

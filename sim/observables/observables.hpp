@@ -37,8 +37,6 @@ template <int D, class Contact>
 Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) {
   const double box_length = sys.box.length(t);
   sys.update_neighbors(box_length);
-  const Contact& contact = sys.contact;
-  const auto& p = sys.particles;
   const std::size_t n = sys.size();
   const PairLoopInput<D, Contact> in = sys.pair_loop_input(box_length);
   const std::uint32_t pairs = sys.neighbors.offsets()[n];
@@ -58,13 +56,12 @@ Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) 
     for (std::uint32_t k = k0; k < k1; ++k) {
       const double c = block.force_over_r[k - k0];
       if (!(c > 0.0)) continue;  // in contact exactly where the force loop gives a force
-      const std::uint32_t i = in.row_of_pair[k], j = in.neighbors[k];
       ++contacts;
-      energy += contact.energy(block.r2[k - k0], p.type[i] + p.type[j]);
+      energy += block.energy[k - k0];
       for (int a = 0; a < D; ++a)
         for (int b = 0; b < D; ++b)
           obs.stress[a][b] += c * block.dr[a][k - k0] * block.dr[b][k - k0];
-      if (remove_rattlers) contact_pairs.emplace_back(i, j);
+      if (remove_rattlers) contact_pairs.emplace_back(in.row_of_pair[k], in.neighbors[k]);
     }
   }
   const double volume = std::pow(box_length, D);

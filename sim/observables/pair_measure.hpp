@@ -1,11 +1,12 @@
 #pragma once
 // The first pass of measure() (observables.hpp) over a block of listed pairs: each pair's
-// separation r_i - r_j, r^2 and f/r, with the force loop's operations (pair_forces.hpp), so
-// that the contacts, energy and stress summed from them afterwards, pair by pair in the list's
-// order, keep the bits of the one-pair-at-a-time form. Forms:
+// separation r_i - r_j, r^2, f/r (with the force loop's operations, pair_forces.hpp) and
+// energy U(r), so that the contacts, energy and stress summed from them afterwards, pair by
+// pair in the list's order, keep the bits of the one-pair-at-a-time form. Forms:
 //  - measure_pairs_scalar: one pair at a time (the reference);
-//  - measure_pairs_avx2: four pairs per instruction (the sqrt and division of f/r, which the
-//    scalar measure computed twice per contact, run side by side).
+//  - measure_pairs_avx2: four pairs per instruction (the square roots and the division of
+//    f/r and U, which the scalar measure computed one contact at a time between the
+//    branches of its contact test, run side by side).
 // measure_pairs picks the widest form the processor has at run time.
 #include <algorithm>
 #include <array>
@@ -23,7 +24,7 @@ inline constexpr std::uint32_t kMeasureBlockPairs = 256;
 template <int D>
 struct MeasureBlock {
   alignas(32) std::array<std::array<double, kMeasureBlockPairs>, D> dr;
-  alignas(32) std::array<double, kMeasureBlockPairs> r2, force_over_r;
+  alignas(32) std::array<double, kMeasureBlockPairs> r2, force_over_r, energy;
 };
 
 /// Pairs [first, k1) of the block starting at k0 (k1 - k0 <= kMeasureBlockPairs) one at a
@@ -41,6 +42,7 @@ void measure_pairs_scalar(const PairLoopInput<D, Contact>& in, std::uint32_t k0,
     }
     b.r2[k - k0] = r2;
     b.force_over_r[k - k0] = in.contact.force_over_r(r2, in.type[i] + in.type[j]);
+    b.energy[k - k0] = in.contact.energy(r2, in.type[i] + in.type[j]);
   }
 }
 
@@ -65,10 +67,11 @@ __attribute__((target("avx2"))) void measure_pairs_avx2(const PairLoopInput<D, C
       r2 = _mm256_add_pd(r2, _mm256_mul_pd(v, v));
     }
     _mm256_store_pd(&b.r2[k - k0], r2);
-    const __m256d c = in.contact.force_over_r(
-        r2, std::array<int, 4>{in.type[i[0]] + in.type[j[0]], in.type[i[1]] + in.type[j[1]],
-                               in.type[i[2]] + in.type[j[2]], in.type[i[3]] + in.type[j[3]]});
+    const std::array<int, 4> pair{in.type[i[0]] + in.type[j[0]], in.type[i[1]] + in.type[j[1]],
+                                  in.type[i[2]] + in.type[j[2]], in.type[i[3]] + in.type[j[3]]};
+    const __m256d c = in.contact.force_over_r(r2, pair);
     _mm256_store_pd(&b.force_over_r[k - k0], c);
+    _mm256_store_pd(&b.energy[k - k0], in.contact.energy(r2, pair));
   }
   measure_pairs_scalar(in, k0, k1, b, k);  // up to three last pairs
 }
