@@ -201,8 +201,8 @@ void check_mode_term_forms(std::uint32_t contacts, std::uint64_t seed) {
   }
   for (int d = 0; d < D; ++d)
     for (double& e : x[d]) e = u(rng);
-  ModeProductInput<D> in{.ci = ci.data(), .cj = cj.data(), .ai = ai.data(), .aj = aj.data(),
-                         .g = {}, .x = {}};
+  ModeProductInput<D> in{
+      .ci = ci.data(), .cj = cj.data(), .ai = ai.data(), .aj = aj.data(), .g = {}, .x = {}};
   for (int d = 0; d < D; ++d) in.g[d] = g[d].data(), in.x[d] = x[d].data();
   BOOST_TEST_REQUIRE(contacts % kModeBlockContacts % 4 != 0u);
   for (std::uint32_t c0 = 0; c0 < contacts; c0 += kModeBlockContacts) {

@@ -112,8 +112,8 @@ class StiffestModeEstimate {
   void apply(const std::array<std::vector<double>, D>& x, std::array<std::vector<double>, D>& y) {
     for (int d = 0; d < D; ++d) std::fill(y[d].begin(), y[d].end(), 0.0);
     const auto m = static_cast<std::uint32_t>(ci_.size());
-    ModeProductInput<D> in{.ci = ci_.data(), .cj = cj_.data(), .ai = ai_.data(),
-                           .aj = aj_.data(), .g = {}, .x = {}};
+    ModeProductInput<D> in{
+        .ci = ci_.data(), .cj = cj_.data(), .ai = ai_.data(), .aj = aj_.data(), .g = {}, .x = {}};
     for (int d = 0; d < D; ++d) in.g[d] = g_[d].data(), in.x[d] = x[d].data();
     ModeTermsBlock<D> terms;
     for (std::uint32_t c0 = 0; c0 < m; c0 += kModeBlockContacts) {
