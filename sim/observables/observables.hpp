@@ -1,6 +1,7 @@
 #pragma once
 // Observables of one configuration, computed only at output points:
-//   stress tensor  sigma = L^{-D} sum_{i<j} f_ij^el (x) (r_i - r_j)   (paper, "Model")
+//   stress tensor  sigma = L^{-D} sum_{i<j} f_ij^el (x) (r_i - r_j)   (paper, "Model"; its
+//                  diagonal only unless asked for: runs write the tensor only with --stress)
 //   pressure       p = tr(sigma) / D
 //   contacts per particle Z = 2 N_contacts / N, over all particles (rattlers not removed)
 //   elastic energy per particle
@@ -32,9 +33,46 @@ struct Observables {
   double rattler_fraction = 0.0;                   // only when requested
 };
 
-/// Measures the configuration at time t. The neighbor list is brought up to date first.
+/// Running sums over the contacts measured so far.
+template <int D>
+struct ContactSums {
+  std::array<std::array<double, D>, D> stress{};
+  double energy = 0.0;
+  std::size_t contacts = 0;
+};
+
+/// Adds one block's contacts to the sums, pair by pair in the list's order: the stress's
+/// diagonal only (all the pressure needs; the off-diagonal entries stay 0) unless FullStress.
+/// The sums are a local copy, so that they stay in registers across the block.
+template <bool FullStress, int D>
+ContactSums<D> sum_contacts(ContactSums<D> sums, const MeasureBlock<D>& block, std::uint32_t k0,
+                            std::uint32_t k1, const std::uint32_t* row_of_pair,
+                            const std::uint32_t* neighbors,
+                            std::vector<std::pair<std::uint32_t, std::uint32_t>>* contact_pairs) {
+  for (std::uint32_t k = k0; k < k1; ++k) {
+    const double c = block.force_over_r[k - k0];
+    if (!(c > 0.0)) continue;  // in contact exactly where the force loop gives a force
+    ++sums.contacts;
+    sums.energy += block.energy[k - k0];
+    for (int a = 0; a < D; ++a) {
+      if constexpr (FullStress) {
+        for (int b = 0; b < D; ++b)
+          sums.stress[a][b] += c * block.dr[a][k - k0] * block.dr[b][k - k0];
+      } else {
+        sums.stress[a][a] += c * block.dr[a][k - k0] * block.dr[a][k - k0];
+      }
+    }
+    if (contact_pairs) contact_pairs->emplace_back(row_of_pair[k], neighbors[k]);
+  }
+  return sums;
+}
+
+/// Measures the configuration at time t. The neighbor list is brought up to date first. The
+/// stress tensor's off-diagonal entries only with full_stress (the pressure and the diagonal
+/// have the same bits either way).
 template <int D, class Contact>
-Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) {
+Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers,
+                       bool full_stress = true) {
   const double box_length = sys.box.length(t);
   sys.update_neighbors(box_length);
   const std::size_t n = sys.size();
@@ -44,26 +82,21 @@ Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) 
   Observables<D> obs;
   obs.time = t;
   obs.packing_fraction = sys.box.packing_fraction(t);
-  double energy = 0.0;
-  std::size_t contacts = 0;
+  ContactSums<D> sums;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> contact_pairs;
+  auto* pairs_out = remove_rattlers ? &contact_pairs : nullptr;
   // Pair by pair in the list's order (rows i ascending, j ascending within a row), the
-  // separations and f/r from the blocked first pass (pair_measure.hpp: the same bits).
+  // separations, f/r and energies from the blocked first pass (pair_measure.hpp: the same
+  // bits).
   MeasureBlock<D> block;
   for (std::uint32_t k0 = 0; k0 < pairs; k0 += kMeasureBlockPairs) {
     const std::uint32_t k1 = std::min(pairs, k0 + kMeasureBlockPairs);
     measure_pairs(in, k0, k1, block);
-    for (std::uint32_t k = k0; k < k1; ++k) {
-      const double c = block.force_over_r[k - k0];
-      if (!(c > 0.0)) continue;  // in contact exactly where the force loop gives a force
-      ++contacts;
-      energy += block.energy[k - k0];
-      for (int a = 0; a < D; ++a)
-        for (int b = 0; b < D; ++b)
-          obs.stress[a][b] += c * block.dr[a][k - k0] * block.dr[b][k - k0];
-      if (remove_rattlers) contact_pairs.emplace_back(in.row_of_pair[k], in.neighbors[k]);
-    }
+    sums = full_stress
+               ? sum_contacts<true>(sums, block, k0, k1, in.row_of_pair, in.neighbors, pairs_out)
+               : sum_contacts<false>(sums, block, k0, k1, in.row_of_pair, in.neighbors, pairs_out);
   }
+  obs.stress = sums.stress;
   const double volume = std::pow(box_length, D);
   double trace = 0.0;
   for (int a = 0; a < D; ++a) {
@@ -71,8 +104,8 @@ Observables<D> measure(System<D, Contact>& sys, double t, bool remove_rattlers) 
     trace += obs.stress[a][a];
   }
   obs.pressure = trace / D;
-  obs.contacts_per_particle = 2.0 * static_cast<double>(contacts) / static_cast<double>(n);
-  obs.energy_per_particle = energy / static_cast<double>(n);
+  obs.contacts_per_particle = 2.0 * static_cast<double>(sums.contacts) / static_cast<double>(n);
+  obs.energy_per_particle = sums.energy / static_cast<double>(n);
   if (remove_rattlers) {
     const RattlerAnalysis r = find_rattlers(n, contact_pairs, D + 1);
     obs.contacts_per_particle_no_rattlers = r.contacts_per_particle;

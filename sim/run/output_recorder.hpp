@@ -20,6 +20,7 @@ class OutputRecorder {
       : keep_configurations_(c.jamming_point),
         keep_from_(c.jamming_search_from),
         rattlers_(c.rattlers),
+        stress_(c.stress),
         dt_(c.dt) {}
 
   /// Measures the system at time t into st.points. Configurations are kept for the jamming
@@ -35,7 +36,7 @@ class OutputRecorder {
       }
       st.saved.push_back(std::move(saved));
     }
-    st.points.push_back(measure(sys, t, rattlers_));
+    st.points.push_back(measure(sys, t, rattlers_, stress_));
     if (!std::isfinite(st.points.back().pressure)) {
       throw std::runtime_error(fmt::format(
           "the dynamics became unstable (non-finite pressure at phi {:.5f}) with --dt {:g}; "
@@ -48,6 +49,7 @@ class OutputRecorder {
   bool keep_configurations_;
   double keep_from_;
   bool rattlers_;
+  bool stress_;  // the whole tensor is written (--stress): else its diagonal suffices
   double dt_;
 };
 
