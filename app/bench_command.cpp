@@ -67,6 +67,8 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
   c->add_flag("!--no-lammps", o.lammps, "Without LAMMPS");
   c->add_flag("!--no-unrelaxed", o.unrelaxed,
               "Whole processes from the relaxed starts only (not also from unrelaxed ones)");
+  c->add_option("--process-repeats", o.process_repeats,
+                "Runs of each whole process (jam sim, lmp), timed by their median");
   c->add_option("--jobs", o.jobs, "Runs at once (timings are cleanest with 1)");
   c->add_option("--out-dir", o.out_dir, "Where the report files go");
   c->add_option("--reference-dir", o.reference_dir, "LAMMPS inputs");

@@ -50,6 +50,9 @@ struct AccuracyOptions {
   // The headline: jam as a user runs it (whole processes of `jam sim` at the campaigns' output
   // grid, phi_step 0.0005) from the relaxed starts and, when set, from unrelaxed ones.
   bool unrelaxed = true;
+  // Each whole process (jam's and LAMMPS's) is run this many times and timed by the median:
+  // a 40 ms process on a shared machine moves by 10-20% between single runs.
+  int process_repeats = 3;
   double phi_start_2d = 0.80, phi_start_3d = 0.60;  // packing of the starts
   double relax_time = 500.0;  // relaxation of the starts stops here (or at 1e-10 per particle)
   double start_packing(int dim) const { return dim == 2 ? phi_start_2d : phi_start_3d; }

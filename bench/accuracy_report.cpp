@@ -103,8 +103,9 @@ void write_accuracy_report(const AccuracyOptions& o, const AccuracyResult& r) {
       "p/p_ref - 1| at phi_J - 0.01, phi_J, phi_J + 0.015 (phi_J the paper's), +- the standard "
       "error; 'max' is the largest of the three. Wall: median over seeds; of the whole process in "
       "the first table, of the compression alone in the others (jam: the stepping loop; LAMMPS: "
-      "its Loop time).\n\n",
-      o.command, machine_description(), utc_now(), o.n, o.seeds, o.jobs);
+      "its Loop time). Each whole process (jam sim, lmp) ran {} times, its times the medians "
+      "of those runs.\n\n",
+      o.command, machine_description(), utc_now(), o.n, o.seeds, o.jobs, o.process_repeats);
 
   md += process_table(r);
   md += "## Time to 1% and 0.1% error (the stepping loop alone)\n\n" +

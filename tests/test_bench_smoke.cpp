@@ -165,5 +165,7 @@ BOOST_AUTO_TEST_CASE(bad_options_are_rejected_in_one_line) {
   BOOST_TEST(!fs::exists(kDir / "bad" / "throughput.csv"));
   BOOST_TEST(run_jam("bench accuracy --seeds 0 --out-dir " + (kDir / "bad").string()) != 0);
   BOOST_TEST(run_jam("bench accuracy --dims 4 --out-dir " + (kDir / "bad").string()) != 0);
+  BOOST_TEST(run_jam("bench accuracy --process-repeats 0 --out-dir " + (kDir / "bad").string()) !=
+             0);
   BOOST_TEST(!fs::exists(kDir / "bad" / "accuracy.csv"));
 }
