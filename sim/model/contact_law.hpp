@@ -59,4 +59,17 @@ concept ContactLaw = requires(const L law, double x, int pair) {
   { L::kLammpsTableStyle } -> std::convertible_to<const char*>;
 };
 
+#if defined(JAM_AVX2_FORMS)
+/// The overlap delta = max(1 - r/d_ij, 0) of four pairs, from r^2 and the table of 1/d_ij by
+/// pair index: the laws' scalar energy(), std::max(0.0, 1.0 - std::sqrt(r2) * inv_d[pair]),
+/// with the same operations (so the same bits).
+__attribute__((target("avx2"))) inline __m256d packed_overlap(__m256d r2,
+                                                              const std::array<double, 3>& inv_d,
+                                                              std::array<int, 4> pair) {
+  const __m256d id = _mm256_set_pd(inv_d[pair[3]], inv_d[pair[2]], inv_d[pair[1]], inv_d[pair[0]]);
+  return _mm256_max_pd(_mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(_mm256_sqrt_pd(r2), id)),
+                       _mm256_setzero_pd());
+}
+#endif
+
 }  // namespace jam

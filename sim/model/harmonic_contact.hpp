@@ -58,11 +58,7 @@ struct HarmonicContact {
 #if defined(JAM_AVX2_FORMS)
   /// U(r) of four pairs (AVX2, no FMA), the scalar form's bits.
   __attribute__((target("avx2"))) __m256d energy(__m256d r2, std::array<int, 4> pair) const {
-    const __m256d id =
-        _mm256_set_pd(inv_d[pair[3]], inv_d[pair[2]], inv_d[pair[1]], inv_d[pair[0]]);
-    const __m256d overlap =
-        _mm256_max_pd(_mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(_mm256_sqrt_pd(r2), id)),
-                      _mm256_setzero_pd());
+    const __m256d overlap = packed_overlap(r2, inv_d, pair);
     return _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0.5), overlap), overlap);
   }
 #endif
