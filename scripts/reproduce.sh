@@ -54,11 +54,15 @@ verdicts() {
   fi
 }
 
-core_seconds() {  # core_seconds DIR: the sum of the runs' wall times in DIR's manifest
+# core_seconds DIR: the sum of the runs' CPU seconds in DIR's manifest (a run's wall seconds
+# where its record has none): wall time also counts a machine's other load and any stretch in
+# which the campaign was stopped.
+core_seconds() {
   /usr/bin/python3 -c '
 import sys, tomllib
 runs = tomllib.load(open(sys.argv[1], "rb")).get("runs", {})
-print(sum(float(r.get("wall_seconds", 0)) for r in runs.values()))' "$1/manifest.toml"
+print(sum(float(r.get("cpu_seconds") or r.get("wall_seconds", 0)) for r in runs.values()))' \
+    "$1/manifest.toml"
 }
 declare -A cores
 
@@ -145,7 +149,7 @@ cat >"$tmp/provenance.json" <<EOF
   "machine": "$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB",
   "os": "$(. /etc/os-release && echo "$PRETTY_NAME")",
   "wall_seconds": {${walls%, }},
-  "wall_seconds_note": "wall times of this invocation's stages; runs an earlier invocation (or a separate jam campaign run) already did take none here and count only in the *_core_seconds (the sum of the runs' own wall times)",
+  "wall_seconds_note": "wall times of this invocation's stages; runs an earlier invocation (or a separate jam campaign run) already did take none here and count only in the *_core_seconds (the sum of the runs' own CPU seconds, their wall seconds where a record has none)",
   "campaign_run_core_seconds": ${cores[campaign]},
   ${core_fields}"total_core_seconds": $total_cores,
   "regression": {"campaign": "reference/campaigns/$name-regression.toml", "tolerance": 0.0,
