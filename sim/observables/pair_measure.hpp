@@ -1,7 +1,7 @@
 #pragma once
 // The first pass of measure() (observables.hpp) over a block of listed pairs: each pair's
-// separation r_i - r_j, r^2, f/r (with the force loop's operations, pair_forces.hpp) and
-// energy U(r), so that the contacts, energy and stress summed from them afterwards, pair by
+// separation r_i - r_j, f/r (with the force loop's operations, pair_forces.hpp) and energy
+// U(r) from r^2, so that the contacts, energy and stress summed from them afterwards, pair by
 // pair in the list's order, keep the bits of the one-pair-at-a-time form. Forms:
 //  - measure_pairs_scalar: one pair at a time (the reference);
 //  - measure_pairs_avx2: four pairs per instruction (the square roots and the division of
@@ -24,7 +24,7 @@ inline constexpr std::uint32_t kMeasureBlockPairs = 256;
 template <int D>
 struct MeasureBlock {
   alignas(32) std::array<std::array<double, kMeasureBlockPairs>, D> dr;
-  alignas(32) std::array<double, kMeasureBlockPairs> r2, force_over_r, energy;
+  alignas(32) std::array<double, kMeasureBlockPairs> force_over_r, energy;
 };
 
 /// Pairs [first, k1) of the block starting at k0 (k1 - k0 <= kMeasureBlockPairs) one at a
@@ -40,9 +40,9 @@ void measure_pairs_scalar(const PairLoopInput<D, Contact>& in, std::uint32_t k0,
       b.dr[d][k - k0] = dr;
       r2 += dr * dr;
     }
-    b.r2[k - k0] = r2;
-    b.force_over_r[k - k0] = in.contact.force_over_r(r2, in.type[i] + in.type[j]);
-    b.energy[k - k0] = in.contact.energy(r2, in.type[i] + in.type[j]);
+    const int pair = in.type[i] + in.type[j];
+    b.force_over_r[k - k0] = in.contact.force_over_r(r2, pair);
+    b.energy[k - k0] = in.contact.energy(r2, pair);
   }
 }
 
@@ -66,7 +66,6 @@ __attribute__((target("avx2"))) void measure_pairs_avx2(const PairLoopInput<D, C
       _mm256_store_pd(&b.dr[d][k - k0], v);
       r2 = _mm256_add_pd(r2, _mm256_mul_pd(v, v));
     }
-    _mm256_store_pd(&b.r2[k - k0], r2);
     const std::array<int, 4> pair{in.type[i[0]] + in.type[j[0]], in.type[i[1]] + in.type[j[1]],
                                   in.type[i[2]] + in.type[j[2]], in.type[i[3]] + in.type[j[3]]};
     const __m256d c = in.contact.force_over_r(r2, pair);
