@@ -120,17 +120,17 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       }
     }
     RunTasks t = plan_tasks(plan, pending, options.retry_failed);
-    flat_tasks = flatten(t.tasks);
+    flat_tasks = flatten(t);
     task_notes = std::move(t.notes);
   }
   // Every rank learns the same tasks (a chained run with the run it continues from).
-  const std::vector<std::vector<std::size_t>> tasks =
-      unflatten(broadcast_from_root(std::move(flat_tasks)));
-  std::size_t to_run = 0;
+  const RunTasks planned = unflatten(broadcast_from_root(std::move(flat_tasks)), plan.size());
+  const std::vector<std::vector<std::size_t>>& tasks = planned.tasks;
+  std::size_t to_run = 0, starts_only = 0;
   std::vector<double> task_costs;
   for (const auto& t : tasks) {
-    to_run += t.size();
-    task_costs.push_back(task_cost(plan, t));
+    for (const auto k : t) (planned.start_only[k] ? starts_only : to_run) += 1;
+    task_costs.push_back(task_cost(plan, planned, t));
   }
 
   const std::atomic<bool>& stop_requested = install_stop_handlers();
@@ -142,6 +142,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     for (const auto& note : task_notes) fmt::print("campaign {}: {}\n", c.name, note);
     fmt::print("campaign {}: {} runs, {} done, {} to run", c.name, plan.size(), already_done,
                to_run);
+    if (starts_only > 0) fmt::print(", {} done runs again to their lost starts", starts_only);
     if (ranks.size > 1) fmt::print(" on {} ranks", ranks.size);
     if (options.shards > 1) fmt::print(" in share {} of {}", options.shard, options.shards);
     fmt::print(" ({} threads per process)\n", jobs);
@@ -162,12 +163,13 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   std::atomic<std::uint64_t> particle_steps{0};
   std::mutex print_mutex;
   enum class Outcome { kDone, kFailed, kInterrupted, kCannotWrite };
-  auto run_one = [&](const PlannedRun& run) {
+  auto run_one = [&](const PlannedRun& run, bool start_only) {
     ++taken;
     RunControl control;
     control.checkpoint_interval_seconds = run.config.checkpoint_interval;
     control.stop = &stop_requested;
     control.particle_steps = &particle_steps;
+    control.start_only = start_only;
     RunRecord record;
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = thread_cpu_seconds();
@@ -176,6 +178,17 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       if (s.interrupted) {
         ++interrupted;
         return Outcome::kInterrupted;
+      }
+      if (s.start_only) {
+        // Not a run: its record (and cost) stays the one of the run that wrote its file.
+        progress.finished(run.start_particle_steps,
+                          static_cast<double>(s.steps) * static_cast<double>(run.n));
+        std::lock_guard lock(print_mutex);
+        fmt::print("{}campaign {}: {} left its start at {:.6g} again ({:.0f} CPU seconds)\n",
+                   tty ? "\n" : "", c.name, run.name, s.final_packing_fraction,
+                   thread_cpu_seconds() - cpu_start);
+        std::fflush(stdout);
+        return Outcome::kDone;
       }
       record.status = "done";
       record.steps = static_cast<std::int64_t>(s.steps);
@@ -234,7 +247,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       // A chained run starts only after the run it continues from is done.
       for (std::size_t m = 0; m < task.size(); ++m) {
         if (m > 0 && (stop_requested.load() || cannot_write.load())) break;
-        const Outcome outcome = run_one(plan[task[m]]);
+        const Outcome outcome = run_one(plan[task[m]], planned.start_only[task[m]]);
         if (outcome == Outcome::kCannotWrite) {
           queue.quit(id);
           return;

@@ -13,10 +13,11 @@
 namespace jam {
 namespace {
 
-/// Marks the parents that needed chained runs cannot do without; holds back the children of
-/// failed parents.
+/// Marks the parents that needed chained runs cannot do without (start-only when a parent is
+/// done); holds back the children of failed parents.
 void add_parents(const std::vector<PlannedRun>& plan, const std::map<std::string, std::size_t>& at,
-                 bool retry_failed, std::vector<bool>& needed, std::vector<std::string>& notes) {
+                 bool retry_failed, std::vector<bool>& needed, std::vector<bool>& start_only,
+                 std::vector<std::string>& notes) {
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t k = 0; k < plan.size(); ++k) {
@@ -27,7 +28,17 @@ void add_parents(const std::vector<PlannedRun>& plan, const std::map<std::string
       const std::string problem = chain_start_problem(c.read_start, c.start_identity);
       if (problem.empty()) continue;
       changed = true;
-      if (run_status(plan[p]) == RunStatus::kFailed && !retry_failed) {
+      const RunStatus status = run_status(plan[p]);
+      if (status == RunStatus::kDone) {
+        needed[p] = true;
+        start_only[p] = true;
+        notes.push_back(
+            fmt::format("{} runs again to {:g} only, for the start of {} ({}); its "
+                        "run file is kept",
+                        plan[p].name, plan[p].config.write_start_at, plan[k].name, problem));
+        continue;
+      }
+      if (status == RunStatus::kFailed && !retry_failed) {
         needed[k] = false;
         notes.push_back(fmt::format("{} waits for {}, which failed (--retry-failed redoes it)",
                                     plan[k].name, plan[p].name));
@@ -51,7 +62,8 @@ RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::
   std::vector<bool> needed(plan.size(), false);
   for (const auto k : pending) needed[static_cast<std::size_t>(k)] = true;
   RunTasks out;
-  add_parents(plan, at, retry_failed, needed, out.notes);
+  out.start_only.assign(plan.size(), false);
+  add_parents(plan, at, retry_failed, needed, out.start_only, out.notes);
 
   // A needed run belongs to the task of its oldest needed ancestor; depth orders the task.
   std::map<std::size_t, std::vector<std::pair<int, std::size_t>>> by_root;
@@ -72,38 +84,50 @@ RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::
     out.tasks.push_back(std::move(task));
   }
   // Longest first, by the same estimate the queue balances with.
-  std::stable_sort(out.tasks.begin(), out.tasks.end(), [&plan](const auto& a, const auto& b) {
-    return task_cost(plan, a) > task_cost(plan, b);
+  std::stable_sort(out.tasks.begin(), out.tasks.end(), [&](const auto& a, const auto& b) {
+    return task_cost(plan, out, a) > task_cost(plan, out, b);
   });
   return out;
 }
 
-double task_cost(const std::vector<PlannedRun>& plan, const std::vector<std::size_t>& task) {
+double task_cost(const std::vector<PlannedRun>& plan, const RunTasks& tasks,
+                 const std::vector<std::size_t>& task) {
   double cost = 0.0;
-  for (const auto k : task) cost += plan[k].estimated_particle_steps;
+  for (const auto k : task) {
+    cost += tasks.start_only[k] ? plan[k].start_particle_steps : plan[k].estimated_particle_steps;
+  }
   return cost;
 }
 
-std::vector<std::int64_t> flatten(const std::vector<std::vector<std::size_t>>& tasks) {
+std::vector<std::int64_t> flatten(const RunTasks& tasks) {
   std::vector<std::int64_t> flat;
-  for (const auto& t : tasks) {
-    for (const auto k : t) flat.push_back(static_cast<std::int64_t>(k));
+  for (const auto& t : tasks.tasks) {
+    for (const auto k : t) {
+      const auto index = static_cast<std::int64_t>(k);
+      flat.push_back(tasks.start_only[k] ? -(index + 2) : index);
+    }
     flat.push_back(-1);
   }
   return flat;
 }
 
-std::vector<std::vector<std::size_t>> unflatten(const std::vector<std::int64_t>& flat) {
-  std::vector<std::vector<std::size_t>> tasks(1);
+RunTasks unflatten(const std::vector<std::int64_t>& flat, std::size_t runs) {
+  RunTasks out;
+  out.start_only.assign(runs, false);
+  out.tasks.emplace_back();
   for (const auto k : flat) {
-    if (k < 0) {
-      tasks.emplace_back();
+    if (k == -1) {
+      out.tasks.emplace_back();
+    } else if (k < -1) {
+      const auto index = static_cast<std::size_t>(-k - 2);
+      out.start_only[index] = true;
+      out.tasks.back().push_back(index);
     } else {
-      tasks.back().push_back(static_cast<std::size_t>(k));
+      out.tasks.back().push_back(static_cast<std::size_t>(k));
     }
   }
-  tasks.pop_back();
-  return tasks;
+  out.tasks.pop_back();
+  return out;
 }
 
 }  // namespace jam

@@ -15,20 +15,28 @@ namespace jam {
 struct RunTasks {
   std::vector<std::vector<std::size_t>> tasks;  // plan indices, parents first; longest first
   std::vector<std::string> notes;               // what was added or held back, and why
+  // Per plan index: a done run that runs again only to the start its child lost, up to the
+  // start's packing (RunControl::start_only), its run file kept.
+  std::vector<bool> start_only;
 };
 
 /// Groups `pending` (plan indices) into tasks. A pending chained run whose start is missing or
-/// unsound needs its parent again: the parent joins the task (redone from its start, its
-/// checkpoint removed, since it passed the start's packing already), unless its last attempt
-/// failed and failed runs are not retried; then the child is held back.
+/// unsound needs its parent again. A parent that is done runs again only as far as the start
+/// (the same trajectory, so the same start, for a fraction of its cost; its run file stays);
+/// its own start, when lost as well, is rewritten so in turn. A parent not done joins the task
+/// (redone from its start, its checkpoint removed, since it may have passed the start's packing
+/// already), unless its last attempt failed and failed runs are not retried; then the child is
+/// held back.
 RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::int64_t>& pending,
                     bool retry_failed);
 
-/// The estimated particle-steps of a task (its runs' together).
-double task_cost(const std::vector<PlannedRun>& plan, const std::vector<std::size_t>& task);
+/// The estimated particle-steps of a task (its runs' together, a start-only run's to its start).
+double task_cost(const std::vector<PlannedRun>& plan, const RunTasks& tasks,
+                 const std::vector<std::size_t>& task);
 
-/// Tasks as one array for MPI broadcast (-1 ends each task), and back.
-std::vector<std::int64_t> flatten(const std::vector<std::vector<std::size_t>>& tasks);
-std::vector<std::vector<std::size_t>> unflatten(const std::vector<std::int64_t>& flat);
+/// Tasks as one array for MPI broadcast (-1 ends each task; a start-only run k is -(k + 2)),
+/// and back (`runs`: the plan's size).
+std::vector<std::int64_t> flatten(const RunTasks& tasks);
+RunTasks unflatten(const std::vector<std::int64_t>& flat, std::size_t runs);
 
 }  // namespace jam

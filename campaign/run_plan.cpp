@@ -77,6 +77,12 @@ void link_chains(const Campaign& c, std::vector<PlannedRun>& runs) {
       if (phi_start == 0.0) continue;
       PlannedRun& child = runs[at.at({n, phi, c.log10_rates[order[i]], sample})];
       PlannedRun& parent = runs[at.at({n, phi, c.log10_rates[order[i - 1]], sample})];
+      SimConfig to_start = parent.config;
+      to_start.phi_stop = phi_start;
+      to_start.jamming_point = false;
+      const double parent_from =
+          i > 1 && c.chain_phi_init[order[i - 1]] > 0.0 ? c.chain_phi_init[order[i - 1]] : phi;
+      parent.start_particle_steps = estimated_particle_steps(to_start, parent_from);
       const std::string path =
           (std::filesystem::path(chain_dir) / (child.name + ".start.h5")).string();
       parent.config.write_start = path;

@@ -25,6 +25,9 @@ struct PlannedRun {
   double estimated_particle_steps = 0.0;
   // Chained starts: the run this one continues from ("" for none); it runs first.
   std::string parent;
+  // A parent's estimated particle-steps up to the start it leaves (config.write_start_at), for
+  // rewriting a lost start without redoing the run (run_chains.hpp).
+  double start_particle_steps = 0.0;
 };
 
 /// splitmix64 of the tuple, a documented, platform-independent mixing.

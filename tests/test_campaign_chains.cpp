@@ -1,7 +1,9 @@
 // Chained starts (campaign key chain_phi_init): each slower rate continues from the next faster
 // run of its sample. The chain gives the numbers of the same two steps done by hand with
 // `jam sim --write-start / --read-start`; a chained run waits for its parent; a missing or
-// damaged start makes its parent run again first, with identical results; a parent that failed
+// damaged start makes its parent run again first (a done parent only to the start: its run file
+// stays), with identical results; lost starts of a whole chain (a run directory restored from
+// its run files alone) are left again by each ancestor in turn; a parent that failed
 // holds its children back; bad chain_phi_init values are refused naming the key; the plan
 // states the saving.
 #define BOOST_TEST_MODULE campaign_chains
@@ -13,6 +15,7 @@
 #include "campaign/campaign_file.hpp"
 #include "campaign/run_plan.hpp"
 #include "process.hpp"
+#include "sim/io/checkpoint.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/process.hpp"
 
@@ -137,8 +140,8 @@ BOOST_AUTO_TEST_CASE(a_damaged_start_reruns_its_parent_first) {
   BOOST_TEST_REQUIRE(run_jam("campaign run --quiet --jobs 2 " + file.string()).status == 0);
   const fs::path dir = kDir / "d";
   const auto first = run_files(dir);
-  // The slowest run of sample 0 and its start are gone, the start damaged (one flipped
-  // byte): the 1e-4 run it continues from, done, must run again before it.
+  // The slowest run of sample 0 is gone, its start damaged (one flipped byte): the 1e-4 run it
+  // continues from, done, must run again before it, to the start's packing only.
   const std::string child = "n256_phi0.7000_r-4.50_s000";
   const fs::path start = dir / "chain" / (child + ".start.h5");
   fs::remove(dir / "runs" / (child + ".h5"));
@@ -147,13 +150,51 @@ BOOST_AUTO_TEST_CASE(a_damaged_start_reruns_its_parent_first) {
     s.seekp(static_cast<std::streamoff>(fs::file_size(start) / 2));
     s.put('\x5a');
   }
+  const fs::path parent = dir / "runs" / "n256_phi0.7000_r-4.00_s000.h5";
+  const auto parent_written = fs::last_write_time(parent);
   const fs::path log = kDir / "rerun.txt";
   const Outcome o = jam::test::run_jam_logged(log, "campaign run --jobs 2 " + file.string());
   BOOST_TEST_REQUIRE(o.status == 0, o.output);
-  BOOST_TEST(slurp(log).find("n256_phi0.7000_r-4.00_s000 is redone") != std::string::npos,
-             slurp(log));
-  BOOST_TEST(slurp(log).find("2 to run") != std::string::npos, slurp(log));
-  BOOST_TEST((run_files(dir) == first));  // the parent again bit for bit, and the child
+  BOOST_TEST(
+      slurp(log).find("n256_phi0.7000_r-4.00_s000 runs again to 0.82 only") != std::string::npos,
+      slurp(log));
+  BOOST_TEST(slurp(log).find("1 to run, 1 done runs again") != std::string::npos, slurp(log));
+  BOOST_TEST((fs::last_write_time(parent) == parent_written));  // its run file untouched
+  BOOST_TEST(!fs::exists(jam::checkpoint_path(parent.string())));
+  BOOST_TEST((run_files(dir) == first));  // the child bit for bit from the start left again
+}
+
+BOOST_AUTO_TEST_CASE(a_chain_whose_starts_are_lost_leaves_them_again) {
+  // A run directory restored from its run files and records alone (chain/ and starts/ lost with
+  // a machine): the slowest rate of both samples is redone from the same starts, left again by
+  // each faster rate in turn, each running only to its child's start.
+  const fs::path file = write_campaign("l", kChain);
+  BOOST_TEST_REQUIRE(run_jam("campaign run --quiet --jobs 2 " + file.string()).status == 0);
+  const fs::path dir = kDir / "l";
+  const auto first = run_files(dir);
+  std::map<std::string, std::string> records;
+  for (const auto& e : fs::directory_iterator(dir / "runs")) {
+    if (e.path().extension() == ".record") records[e.path().string()] = slurp(e.path());
+  }
+  fs::remove_all(dir / "chain");
+  fs::remove_all(dir / "starts");
+  for (const char* s : {"000", "001"}) {
+    const std::string slowest = std::string("n256_phi0.7000_r-4.50_s") + s;
+    fs::remove(dir / "runs" / (slowest + ".h5"));
+    fs::remove(dir / "runs" / (slowest + ".record"));
+    records.erase((dir / "runs" / (slowest + ".record")).string());
+  }
+  const fs::path log = kDir / "lost.txt";
+  const Outcome o = jam::test::run_jam_logged(log, "campaign run --jobs 2 " + file.string());
+  BOOST_TEST_REQUIRE(o.status == 0, o.output);
+  const std::string text = slurp(log);
+  BOOST_TEST(text.find("2 to run, 4 done runs again") != std::string::npos, text);
+  BOOST_TEST(text.find("n256_phi0.7000_r-3.00_s001 runs again to 0.8 only") != std::string::npos,
+             text);
+  BOOST_TEST(text.find("n256_phi0.7000_r-4.00_s001 left its start at 0.82") != std::string::npos,
+             text);
+  BOOST_TEST((run_files(dir) == first));
+  for (const auto& [path, body] : records) BOOST_TEST(slurp(path) == body, path);
 }
 
 BOOST_AUTO_TEST_CASE(a_failed_parent_holds_its_children_back) {

@@ -78,6 +78,7 @@ class CompressionRun {
       stepper_.set_error_norm_rms(c_.rms_error_norm());
     }
     if (!compress()) return interrupted();
+    if (control_.start_only) return start_written();
     return finish();
   }
 
@@ -86,6 +87,11 @@ class CompressionRun {
   bool resume() {
     auto saved = checkpointer_.read(sys_.size());
     if (!saved) return false;
+    // Past the start's packing a checkpoint can no longer give the start: begin afresh.
+    if (control_.start_only && !saved->state.points.empty() &&
+        saved->state.points.back().packing_fraction >= start_target()) {
+      return false;
+    }
     sys_.particles = std::move(saved->particles);
     sys_.neighbors.invalidate();
     stepper_.load_state(saved->stepper);
@@ -198,6 +204,7 @@ class CompressionRun {
         recorder_.record(sys_, st_, t_after);
         leave_chain_start(t_after);
       }
+      if (control_.start_only && start_written_) break;
       if constexpr (kAdaptive) leave_transient_when_over();
     }
     count_steps(static_cast<std::size_t>(st_.steps % 256));
@@ -236,14 +243,33 @@ class CompressionRun {
   /// At the first output point at or after --write-start-at (never again on resuming past it):
   /// the configuration a slower run of the sample continues from (chain_start.hpp).
   void leave_chain_start(double t) {
-    if (c_.write_start.empty() || st_.points.size() < 2) return;
-    const double target = c_.write_start_at * (1.0 - 1e-12);
+    if (c_.write_start.empty() || st_.points.size() < 2 || start_written_) return;
+    const double target = start_target();
     const double before = st_.points[st_.points.size() - 2].packing_fraction;
     const double now = st_.points.back().packing_fraction;
     if (!(before < target && now >= target)) return;
     ChainStart<D> start{sys_.particles, sys_.box.length(t), now,
                         chain_start_identity(fingerprint(c_), c_.write_start_at)};
     write_chain_start(c_.write_start, start);
+    start_written_ = true;
+  }
+
+  /// The packing at or after which the first output point leaves the chained start.
+  double start_target() const { return c_.write_start_at * (1.0 - 1e-12); }
+
+  /// The end of a run asked for its chained start only (RunControl::start_only): no run file.
+  RunSummary start_written() {
+    if (!start_written_) {
+      throw ConfigError(fmt::format("write-start-at {:g}: the run passed no output point there",
+                                    c_.write_start_at));
+    }
+    checkpointer_.remove();
+    summary_.start_only = true;
+    summary_.steps = static_cast<std::size_t>(st_.steps);
+    summary_.output_points = st_.points.size();
+    summary_.final_packing_fraction = st_.points.back().packing_fraction;
+    summary_.wall_seconds = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+    return summary_;
   }
 
   /// One step of the compression from t towards the next output time; returns the time
@@ -379,6 +405,7 @@ class CompressionRun {
   std::size_t steps_here_ = 0;  // relaxation and compression steps done by this invocation
   double t_stop_ = 0.0;
   bool in_transient_ = false;                   // at the transient tolerance (adaptive)
+  bool start_written_ = false;                  // the chained start left by this invocation
   std::size_t transient_checked_ = 0;           // points seen by leave_transient_when_over
   std::array<std::vector<double>, D> between_;  // positions inside a step (dense output)
 };

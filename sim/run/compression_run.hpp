@@ -31,6 +31,7 @@ struct RunSummary {
   double particle_steps_per_second = 0.0;  // relaxation + compression steps of this invocation
   bool resumed = false;                    // continued from a checkpoint
   bool interrupted = false;                // stopped on request; a checkpoint holds the state
+  bool start_only = false;  // stopped once its chained start was written (RunControl::start_only)
 };
 
 /// How a run is driven from outside: checkpoints, stop requests, progress accounting.
@@ -41,6 +42,11 @@ struct RunControl {
   const std::atomic<bool>* stop = nullptr;
   /// Incremented by the particle-steps done, for a campaign's progress display.
   std::atomic<std::uint64_t>* particle_steps = nullptr;
+  /// Only the chained start (write_start): the run stops once it has written it, writes no run
+  /// file and leaves an existing one as it is; its checkpoint is removed. For a campaign whose
+  /// run is done but whose start for the next slower rate was lost: the same trajectory up to
+  /// the start's packing, so the same start, bit for bit, for a fraction of the run's cost.
+  bool start_only = false;
 };
 
 /// Runs the compression described by the config and writes config.out. A checkpoint of the
