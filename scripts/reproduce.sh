@@ -139,6 +139,12 @@ for k in "${!cores[@]}"; do
 done
 walls=""
 for k in "${!wall[@]}"; do walls+="\"$k\": ${wall[$k]}, "; done
+regression=""
+if [ -f "reference/campaigns/$name-regression.toml" ]; then
+  regression=',
+  "regression": {"campaign": "reference/campaigns/'"$name"'-regression.toml", "tolerance": 0.0,
+                 "test": "tests/test_reduced_regression.cpp"}'
+fi
 cat >"$tmp/provenance.json" <<EOF
 {
   "name": "$name",
@@ -151,12 +157,23 @@ cat >"$tmp/provenance.json" <<EOF
   "wall_seconds": {${walls%, }},
   "wall_seconds_note": "wall times of this invocation's stages; runs an earlier invocation (or a separate jam campaign run) already did take none here and count only in the *_core_seconds (the sum of the runs' own CPU seconds, their wall seconds where a record has none)",
   "campaign_run_core_seconds": ${cores[campaign]},
-  ${core_fields}"total_core_seconds": $total_cores,
-  "regression": {"campaign": "reference/campaigns/$name-regression.toml", "tolerance": 0.0,
-                 "test": "tests/test_reduced_regression.cpp"}
+  ${core_fields}"total_core_seconds": $total_cores${regression}
 }
 EOF
 /usr/bin/python3 -m json.tool "$tmp/provenance.json" >/dev/null
+# What the stored result holds beside the files this script writes (results of other commands
+# such as until-decided/, a campaign's committed partial products) is carried over, never
+# deleted; a file of its own that this invocation did not write again is not (it would be stale).
+if [ -d "$out" ]; then
+  for entry in "$out"/* "$out"/.[!.]*; do
+    [ -e "$entry" ] || continue
+    case $(basename "$entry") in
+      stats.h5 | checks.json | fit-*.json | phi-init-checks.json | chain-checks.json | \
+        campaign.toml | provenance.json) ;;
+      *) cp -a "$entry" "$tmp/" ;;
+    esac
+  done
+fi
 rm -rf "$out.old"
 [ -d "$out" ] && mv "$out" "$out.old"
 mv "$tmp" "$out"
