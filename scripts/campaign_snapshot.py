@@ -1,0 +1,165 @@
+#!/usr/bin/env python3
+"""A campaign directory's products, kept where a lost machine cannot take them, and put back.
+
+    scripts/campaign_snapshot.py save RUN_DIR DEST [--jam build/jam]
+    scripts/campaign_snapshot.py restore DEST RUN_DIR
+
+save copies into DEST (a directory that can be committed or copied off the machine):
+  runs/          every done run file with its record (files already in DEST are kept);
+  partial/       the checkpoints of the partial runs and the chained starts of the runs not
+                 done yet, replaced as a whole (a newer checkpoint supersedes the one before);
+  status.json    `jam campaign status RUN_DIR --json`;
+  campaign.toml  the campaign file as RUN_DIR holds it.
+restore copies them back into RUN_DIR (runs/, runs/<name>.h5.checkpoint, chain/) and never
+overwrites a file there; it refuses while a campaign runs in RUN_DIR (its lock, .lock).
+`jam campaign run` then continues: done runs are not redone, partial ones resume from their
+checkpoints, and a start that was not kept is left again by its parent, which runs only as far
+as the start (docs/campaigns.md, chained starts). Every file jam writes carries its checksum
+and identity, so a restored file is only ever taken by the run it belongs to.
+
+Files are written under a temporary name and renamed when complete; the campaign may keep
+running while save copies (jam replaces its files by renaming, so a copy is of one whole file).
+"""
+import argparse
+import fcntl
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+
+def fail(message):
+    print(f"campaign_snapshot: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def copy_atomic(source, target):
+    """Copies source to target through a temporary file in target's directory."""
+    os.makedirs(os.path.dirname(target), exist_ok=True)
+    fd, temporary = tempfile.mkstemp(prefix=".snapshot-", dir=os.path.dirname(target))
+    try:
+        with os.fdopen(fd, "wb") as out, open(source, "rb") as inp:
+            shutil.copyfileobj(inp, out)
+        shutil.copystat(source, temporary)
+        os.replace(temporary, target)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
+
+
+def campaign_status(jam, run_dir):
+    result = subprocess.run([jam, "campaign", "status", run_dir, "--json"], capture_output=True,
+                            text=True, check=False)
+    if result.returncode == 2 or not result.stdout.strip():
+        fail(f"RUN_DIR {run_dir}: not a campaign directory ({result.stderr.strip()})")
+    return result.stdout, json.loads(result.stdout)
+
+
+def save(run_dir, dest, jam):
+    text, status = campaign_status(jam, run_dir)
+    runs = status["run"]
+    copied = kept = 0
+    for name, run in sorted(runs.items()):
+        if run["status"] != "done":
+            continue
+        for suffix in (".h5", ".record"):
+            source = os.path.join(run_dir, "runs", name + suffix)
+            target = os.path.join(dest, "runs", name + suffix)
+            if not os.path.exists(source):
+                continue
+            if os.path.exists(target):
+                kept += 1
+            else:
+                copy_atomic(source, target)
+                copied += 1
+    # The partial products: a new set in a temporary directory, then swapped in whole.
+    staging = tempfile.mkdtemp(prefix=".partial-", dir=dest)
+    partial = []
+    for name, run in sorted(runs.items()):
+        if run["status"] == "done":
+            continue
+        for source in (os.path.join(run_dir, "runs", name + ".h5.checkpoint"),
+                       os.path.join(run_dir, "chain", name + ".start.h5")):
+            if os.path.isfile(source):
+                copy_atomic(source, os.path.join(staging, os.path.basename(source)))
+                partial.append(os.path.basename(source))
+    old = os.path.join(dest, "partial")
+    retired = old + ".old"
+    shutil.rmtree(retired, ignore_errors=True)
+    if os.path.isdir(old):
+        os.rename(old, retired)
+    os.rename(staging, old)
+    shutil.rmtree(retired, ignore_errors=True)
+    with tempfile.NamedTemporaryFile("w", dir=dest, prefix=".status-", delete=False) as f:
+        f.write(text)
+    os.replace(f.name, os.path.join(dest, "status.json"))
+    copy_atomic(os.path.join(run_dir, "campaign.toml"), os.path.join(dest, "campaign.toml"))
+    done = sum(1 for r in runs.values() if r["status"] == "done")
+    print(f"campaign_snapshot: {dest}: {done}/{len(runs)} runs done ({copied} files copied, "
+          f"{kept} kept), {len(partial)} partial products")
+
+
+def restore(dest, run_dir):
+    if not os.path.isdir(os.path.join(dest, "runs")):
+        fail(f"DEST {dest}: holds no runs/ (not a snapshot)")
+    os.makedirs(run_dir, exist_ok=True)
+    with open(os.path.join(run_dir, ".lock"), "a") as lock:
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            fail(f"RUN_DIR {run_dir}: a campaign is running there (its .lock is held)")
+        copied = skipped = 0
+
+        def put(source, target):
+            nonlocal copied, skipped
+            if os.path.exists(target):
+                skipped += 1
+            else:
+                copy_atomic(source, target)
+                copied += 1
+
+        toml = os.path.join(dest, "campaign.toml")
+        if os.path.isfile(toml):
+            put(toml, os.path.join(run_dir, "campaign.toml"))
+        for entry in sorted(os.listdir(os.path.join(dest, "runs"))):
+            put(os.path.join(dest, "runs", entry), os.path.join(run_dir, "runs", entry))
+        partial = os.path.join(dest, "partial")
+        for entry in sorted(os.listdir(partial)) if os.path.isdir(partial) else []:
+            source = os.path.join(partial, entry)
+            if entry.endswith(".h5.checkpoint"):
+                # A checkpoint only where its run is not done.
+                if os.path.exists(os.path.join(run_dir, "runs", entry[:-len(".checkpoint")])):
+                    continue
+                put(source, os.path.join(run_dir, "runs", entry))
+            elif entry.endswith(".start.h5"):
+                put(source, os.path.join(run_dir, "chain", entry))
+    print(f"campaign_snapshot: {run_dir}: {copied} files restored, {skipped} already there "
+          f"(kept)")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    s = sub.add_parser("save", help="copy a campaign directory's products into DEST")
+    s.add_argument("run_dir")
+    s.add_argument("dest")
+    s.add_argument("--jam", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                 "..", "build", "jam"))
+    r = sub.add_parser("restore", help="put a snapshot back into a campaign directory")
+    r.add_argument("dest")
+    r.add_argument("run_dir")
+    a = parser.parse_args()
+    if a.command == "save":
+        if not os.path.isdir(a.run_dir):
+            fail(f"RUN_DIR {a.run_dir}: no such directory")
+        os.makedirs(a.dest, exist_ok=True)
+        save(a.run_dir, a.dest, a.jam)
+    else:
+        restore(a.dest, a.run_dir)
+
+
+if __name__ == "__main__":
+    main()

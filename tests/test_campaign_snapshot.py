@@ -1,0 +1,170 @@
+#!/usr/bin/python3
+"""scripts/campaign_snapshot.py: a campaign stopped mid-run (SIGTERM: a checkpoint) is saved,
+its directory lost, restored from the snapshot and finished; its run files are then those of
+the same campaign run without a stop, value for value. Also: save keeps what DEST holds and
+replaces its partial products whole; restore overwrites nothing, refuses while the campaign's
+lock is held, and refuses a DEST that is not a snapshot.
+
+Usage (ctest runs it): test_campaign_snapshot.py --jam build/jam --source .
+"""
+
+import argparse
+import fcntl
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import h5py
+import numpy as np
+
+ARGS = None
+
+# Two rates of one sample, the slower chained from the faster at 0.80: 1e-4 takes a fraction of
+# a second, 1e-6 a few seconds, long enough to be stopped in the middle.
+CAMPAIGN = """name = "snap"
+dim = 2
+sizes = [1024]
+phi_init = [0.70]
+log10_rates = [-4.0, -6.0]
+chain_phi_init = [0, 0.80]
+samples = 1
+phi_stop = 0.86
+phi_step = 0.002
+relax_energy = "1e-14"
+seed = 3
+output = "{output}"
+"""
+def slurp(path):
+    with open(path) as f:
+        return f.read()
+
+
+SLOW = "n1024_phi0.7000_r-6.00_s000"
+FAST = "n1024_phi0.7000_r-4.00_s000"
+
+
+class Snapshot(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="jam-snapshot-")
+        self.script = os.path.join(ARGS.source, "scripts", "campaign_snapshot.py")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def campaign(self, name):
+        path = os.path.join(self.dir, name + ".toml")
+        with open(path, "w") as f:
+            f.write(CAMPAIGN.format(output=os.path.join(self.dir, name)))
+        return path
+
+    def jam(self, *args):
+        return subprocess.run([ARGS.jam, *args], capture_output=True, text=True)
+
+    def snapshot(self, *args):
+        return subprocess.run([sys.executable, self.script, *args], capture_output=True,
+                              text=True)
+
+    def values(self, run_dir):
+        out = {}
+        for name in (FAST, SLOW):
+            with h5py.File(os.path.join(run_dir, "runs", name + ".h5"), "r") as f:
+                out[name] = {k: np.array(f[k]) for k in ("packing_fraction", "pressure",
+                                                          "contacts_per_particle")}
+        return out
+
+    def stopped_campaign(self, toml, run_dir):
+        """Runs the campaign and stops it with SIGTERM while its slow run is under way."""
+        process = subprocess.Popen([ARGS.jam, "campaign", "run", "--quiet", "--jobs", "1", toml],
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        fast = os.path.join(run_dir, "runs", FAST + ".h5")
+        deadline = time.monotonic() + 120
+        while not os.path.exists(fast) and process.poll() is None:
+            self.assertLess(time.monotonic(), deadline, "the fast run never finished")
+            time.sleep(0.02)
+        time.sleep(0.5)
+        process.send_signal(signal.SIGTERM)
+        _, err = process.communicate(timeout=120)
+        checkpoint = os.path.join(run_dir, "runs", SLOW + ".h5.checkpoint")
+        self.assertTrue(os.path.exists(checkpoint),
+                        f"no checkpoint of the slow run (exit {process.returncode}): {err}")
+
+    def test_a_lost_directory_continues_from_its_snapshot(self):
+        reference = self.campaign("reference")
+        result = self.jam("campaign", "run", "--quiet", reference)
+        self.assertEqual(result.returncode, 0, result.stderr)
+
+        toml = self.campaign("work")
+        run_dir = os.path.join(self.dir, "work")
+        self.stopped_campaign(toml, run_dir)
+        dest = os.path.join(self.dir, "kept")
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("1/2 runs done", result.stdout)
+        self.assertEqual(sorted(os.listdir(os.path.join(dest, "runs"))),
+                         [FAST + ".h5", FAST + ".record"])
+        self.assertEqual(sorted(os.listdir(os.path.join(dest, "partial"))),
+                         [SLOW + ".h5.checkpoint", SLOW + ".start.h5"])
+        for name in ("status.json", "campaign.toml"):
+            self.assertTrue(os.path.isfile(os.path.join(dest, name)), name)
+
+        # Saved again: the run files are kept, the partial products replaced whole (a planted
+        # stale file in partial/ goes).
+        open(os.path.join(dest, "partial", "stale.start.h5"), "w").close()
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)
+        self.assertIn("0 files copied, 2 kept", result.stdout)
+        self.assertNotIn("stale.start.h5", os.listdir(os.path.join(dest, "partial")))
+
+        shutil.rmtree(run_dir)  # the machine is lost
+        result = self.snapshot("restore", dest, run_dir)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("5 files restored", result.stdout)
+        self.assertTrue(os.path.exists(os.path.join(run_dir, "runs", SLOW + ".h5.checkpoint")))
+        self.assertTrue(os.path.exists(os.path.join(run_dir, "chain", SLOW + ".start.h5")))
+        result = self.jam("campaign", "run", toml)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("1 done, 1 to run", result.stdout)  # the fast run is not redone
+        self.assertFalse(os.path.exists(os.path.join(run_dir, "runs", SLOW + ".h5.checkpoint")))
+
+        ours, theirs = self.values(run_dir), self.values(os.path.join(self.dir, "reference"))
+        for name in (FAST, SLOW):
+            for key in ours[name]:
+                np.testing.assert_array_equal(ours[name][key], theirs[name][key],
+                                              err_msg=f"{name} {key}")
+
+        # Restored again over the finished directory: nothing is overwritten.
+        record = os.path.join(run_dir, "runs", FAST + ".record")
+        before = slurp(record)
+        result = self.snapshot("restore", dest, run_dir)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("0 files restored", result.stdout)
+        self.assertEqual(slurp(record), before)
+
+    def test_restore_refuses_a_running_campaign_and_a_non_snapshot(self):
+        run_dir = os.path.join(self.dir, "busy")
+        os.makedirs(os.path.join(self.dir, "kept", "runs"))
+        os.makedirs(run_dir)
+        with open(os.path.join(run_dir, ".lock"), "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # as `jam campaign run` holds it
+            result = self.snapshot("restore", os.path.join(self.dir, "kept"), run_dir)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("a campaign is running there", result.stderr)
+        result = self.snapshot("restore", self.dir, run_dir)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("not a snapshot", result.stderr)
+        result = self.snapshot("save", os.path.join(self.dir, "none"), self.dir, "--jam",
+                               ARGS.jam)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("no such directory", result.stderr)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--jam", required=True)
+    parser.add_argument("--source", required=True)
+    ARGS, rest = parser.parse_known_args()
+    unittest.main(argv=[sys.argv[0], *rest])
