@@ -163,13 +163,47 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   std::atomic<std::uint64_t> particle_steps{0};
   std::mutex print_mutex;
   enum class Outcome { kDone, kFailed, kInterrupted, kCannotWrite };
-  auto run_one = [&](const PlannedRun& run, bool start_only) {
-    ++taken;
+  auto control_of = [&](const PlannedRun& run) {
     RunControl control;
     control.checkpoint_interval_seconds = run.config.checkpoint_interval;
     control.stop = &stop_requested;
     control.particle_steps = &particle_steps;
-    control.start_only = start_only;
+    return control;
+  };
+  // A done run again, only as far as the start its child lost (run_chains.hpp). Not a run: no
+  // record is written whatever happens, so the run's own (and its cost) stays.
+  auto start_again = [&](const PlannedRun& run) {
+    ++taken;
+    RunControl control = control_of(run);
+    control.start_only = true;
+    const double cpu_start = thread_cpu_seconds();
+    try {
+      const RunSummary s = run_compression(run.config, control);
+      if (s.interrupted) {
+        ++interrupted;
+        return Outcome::kInterrupted;
+      }
+      progress.finished(run.start_particle_steps,
+                        static_cast<double>(s.steps) * static_cast<double>(run.n));
+      std::lock_guard lock(print_mutex);
+      fmt::print("{}campaign {}: {} left its start at {:.6g} again ({:.0f} CPU seconds)\n",
+                 tty ? "\n" : "", c.name, run.name, s.final_packing_fraction,
+                 thread_cpu_seconds() - cpu_start);
+      std::fflush(stdout);
+      return Outcome::kDone;
+    } catch (const std::exception& e) {
+      const bool write = dynamic_cast<const WriteError*>(&e) != nullptr;
+      (write ? unwritten : failed) += 1;
+      if (write) cannot_write = true;
+      std::lock_guard lock(print_mutex);
+      fmt::print(stderr, "{}jam: {} could not leave its start again: {}\n", tty ? "\n" : "",
+                 run.name, e.what());
+      return write ? Outcome::kCannotWrite : Outcome::kFailed;
+    }
+  };
+  auto run_one = [&](const PlannedRun& run) {
+    ++taken;
+    const RunControl control = control_of(run);
     RunRecord record;
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = thread_cpu_seconds();
@@ -178,17 +212,6 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       if (s.interrupted) {
         ++interrupted;
         return Outcome::kInterrupted;
-      }
-      if (s.start_only) {
-        // Not a run: its record (and cost) stays the one of the run that wrote its file.
-        progress.finished(run.start_particle_steps,
-                          static_cast<double>(s.steps) * static_cast<double>(run.n));
-        std::lock_guard lock(print_mutex);
-        fmt::print("{}campaign {}: {} left its start at {:.6g} again ({:.0f} CPU seconds)\n",
-                   tty ? "\n" : "", c.name, run.name, s.final_packing_fraction,
-                   thread_cpu_seconds() - cpu_start);
-        std::fflush(stdout);
-        return Outcome::kDone;
       }
       record.status = "done";
       record.steps = static_cast<std::int64_t>(s.steps);
@@ -247,7 +270,8 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       // A chained run starts only after the run it continues from is done.
       for (std::size_t m = 0; m < task.size(); ++m) {
         if (m > 0 && (stop_requested.load() || cannot_write.load())) break;
-        const Outcome outcome = run_one(plan[task[m]], planned.start_only[task[m]]);
+        const Outcome outcome =
+            planned.start_only[task[m]] ? start_again(plan[task[m]]) : run_one(plan[task[m]]);
         if (outcome == Outcome::kCannotWrite) {
           queue.quit(id);
           return;

@@ -208,7 +208,7 @@ class CompressionRun {
       if constexpr (kAdaptive) leave_transient_when_over();
     }
     count_steps(static_cast<std::size_t>(st_.steps % 256));
-    if (!kAdaptive) {
+    if (!kAdaptive && !(control_.start_only && start_written_)) {
       stability_.check(sys_, sys_.box.length(t_stop_), sys_.box.packing_fraction(t_stop_),
                        "compression");
     }
