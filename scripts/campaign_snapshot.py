@@ -83,9 +83,11 @@ def save(run_dir, dest, jam):
             continue
         for source in (os.path.join(run_dir, "runs", name + ".h5.checkpoint"),
                        os.path.join(run_dir, "chain", name + ".start.h5")):
-            if os.path.isfile(source):
+            try:
                 copy_atomic(source, os.path.join(staging, os.path.basename(source)))
                 partial.append(os.path.basename(source))
+            except FileNotFoundError:
+                pass  # none, or gone since the status (the run finished: the next save has it)
     old = os.path.join(dest, "partial")
     retired = old + ".old"
     shutil.rmtree(retired, ignore_errors=True)
