@@ -170,24 +170,31 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     control.particle_steps = &particle_steps;
     return control;
   };
+  // One compression taken from the queue; nullopt when it stopped on request (its checkpoint
+  // kept). planned_steps: what the plan charged it, for the ETA.
+  auto compress = [&](const PlannedRun& run, const RunControl& control,
+                      double planned_steps) -> std::optional<RunSummary> {
+    ++taken;
+    const RunSummary s = run_compression(run.config, control);
+    if (s.interrupted) {
+      ++interrupted;
+      return std::nullopt;
+    }
+    progress.finished(planned_steps, static_cast<double>(s.steps) * static_cast<double>(run.n));
+    return s;
+  };
   // A done run again, only as far as the start its child lost (run_chains.hpp). Not a run: no
   // record is written whatever happens, so the run's own (and its cost) stays.
   auto start_again = [&](const PlannedRun& run) {
-    ++taken;
     RunControl control = control_of(run);
     control.start_only = true;
     const double cpu_start = thread_cpu_seconds();
     try {
-      const RunSummary s = run_compression(run.config, control);
-      if (s.interrupted) {
-        ++interrupted;
-        return Outcome::kInterrupted;
-      }
-      progress.finished(run.start_particle_steps,
-                        static_cast<double>(s.steps) * static_cast<double>(run.n));
+      const std::optional<RunSummary> s = compress(run, control, run.start_particle_steps);
+      if (!s) return Outcome::kInterrupted;
       std::lock_guard lock(print_mutex);
       fmt::print("{}campaign {}: {} left its start at {:.6g} again ({:.0f} CPU seconds)\n",
-                 tty ? "\n" : "", c.name, run.name, s.final_packing_fraction,
+                 tty ? "\n" : "", c.name, run.name, s->final_packing_fraction,
                  thread_cpu_seconds() - cpu_start);
       std::fflush(stdout);
       return Outcome::kDone;
@@ -202,21 +209,15 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     }
   };
   auto run_one = [&](const PlannedRun& run) {
-    ++taken;
-    const RunControl control = control_of(run);
     RunRecord record;
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = thread_cpu_seconds();
     try {
-      const RunSummary s = run_compression(run.config, control);
-      if (s.interrupted) {
-        ++interrupted;
-        return Outcome::kInterrupted;
-      }
+      const std::optional<RunSummary> s =
+          compress(run, control_of(run), run.estimated_particle_steps);
+      if (!s) return Outcome::kInterrupted;
       record.status = "done";
-      record.steps = static_cast<std::int64_t>(s.steps);
-      progress.finished(run.estimated_particle_steps,
-                        static_cast<double>(s.steps) * static_cast<double>(run.n));
+      record.steps = static_cast<std::int64_t>(s->steps);
     } catch (const WriteError& e) {
       // Not the run's fault: no record, so the run stays to be done (or resumed from its
       // checkpoint) by the next `campaign run`; but no further runs in this directory.

@@ -5,13 +5,15 @@
 #   scripts/reproduce.sh reduced-3d     # about 15 minutes
 #
 # 1. the phi_init check campaign (reference/campaigns/NAME-phi-init.toml), when there is one,
+#    and the jamming-point campaign (NAME-jamming.toml: stats and report), when there is one,
 # 2. the campaign (reference/campaigns/NAME.toml) in runs/NAME,
 # 3. stats, cubic ln f, three times: the paper's q held (fit-q-fixed.json), both exponents held
 #    (fit-held.json), and nothing held (stats.h5 and fit-free.json: the result),
 # 4. all checks; with reference/campaigns/NAME-chain-control.toml its campaign and the chain
 #    check (of NAME-chain-test.toml's chained samples when there is one); the reports (reports/NAME/: the free fit; reports/NAME-q-fixed/: q held),
 # 5. the stored result reference/results/NAME/: stats.h5, fit-*.json, checks.json,
-#    phi-init-checks.json or chain-checks.json, campaign.toml and provenance.json (code
+#    phi-init-checks.json or chain-checks.json, jamming-stats.h5 (the jamming-point
+#    campaign's stats), campaign.toml and provenance.json (code
 #    version, machine, date, wall time of every stage, core-seconds of every campaign),
 #    written to a temporary directory and renamed into place.
 #
@@ -76,6 +78,16 @@ if [ -f "reference/campaigns/$name-phi-init.toml" ]; then
     $jam check phi_init "runs/$name-phi-init"
 fi
 
+# A separate jamming-point campaign, for campaigns that look for none themselves (the search
+# would cost more than they do): its stats (every run's phi_Ji) and its report.
+if [ -f "reference/campaigns/$name-jamming.toml" ]; then
+  stage jamming_campaign $jam campaign run "reference/campaigns/$name-jamming.toml" $quiet
+  cores[jamming_campaign]=$(core_seconds "runs/$name-jamming")
+  stage jamming_stats $jam stats "runs/$name-jamming" --no-fit >/dev/null
+  verdicts "runs/$name-jamming/checks.json" $jam check all "runs/$name-jamming"
+  $jam report "runs/$name-jamming" --out "reports/$name-jamming" --quiet
+fi
+
 stage campaign $jam campaign run "$campaign" $quiet
 cores[campaign]=$(core_seconds "runs/$name")
 fits=$(mktemp -d)
@@ -130,6 +142,8 @@ rm -rf "$fits"
 [ -f "runs/$name-phi-init/checks-phi_init.json" ] &&
   cp "runs/$name-phi-init/checks-phi_init.json" "$tmp/phi-init-checks.json"
 [ -n "$chain_json" ] && cp "$chain_json" "$tmp/chain-checks.json"
+[ -f "reference/campaigns/$name-jamming.toml" ] &&
+  cp "runs/$name-jamming/stats.h5" "$tmp/jamming-stats.h5"
 cp "$campaign" "$tmp/campaign.toml"
 total_cores=0
 core_fields=""
@@ -169,7 +183,7 @@ if [ -d "$out" ]; then
     [ -e "$entry" ] || continue
     case $(basename "$entry") in
       stats.h5 | checks.json | fit-*.json | phi-init-checks.json | chain-checks.json | \
-        campaign.toml | provenance.json) ;;
+        jamming-stats.h5 | campaign.toml | provenance.json) ;;
       *) cp -a "$entry" "$tmp/" ;;
     esac
   done

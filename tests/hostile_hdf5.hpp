@@ -257,6 +257,7 @@ inline void write_template_checkpoint(const std::string& path, const std::string
     st.points.push_back(o);
   }
   for (int k = 0; k < 2; ++k) st.saved.push_back({0.7 + 0.01 * k, std::vector<double>(2 * n, 0.5)});
+  st.jamming_answers = {0, 1, 1};
   const StepperState stepper = {{"velocity_0", std::vector<double>(n, 0.0)},
                                 {"velocity_1", std::vector<double>(n, 0.0)},
                                 {"have_forces", {1.0}}};

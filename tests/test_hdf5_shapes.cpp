@@ -259,6 +259,23 @@ BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_short_per_particle_fields_is_refused
          "dataset 'type' has 3 values, expected 8");
 }
 
+BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_forged_jamming_answers_is_refused) {
+  // A stopped jamming-point search replays these decisions: each must be 0 or 1, and a search
+  // takes far fewer than 256.
+  const fs::path many = forged_checkpoint("answers-many.h5", [](Editor& e) {
+    e.set_dataset("jamming_answers", ValueClass::kInteger, {300});
+  });
+  expect(isolated([&] { return read_checkpoint(many); }),
+         "dataset 'jamming_answers' has 300 values, expected at most 256");
+  const fs::path two = forged_checkpoint("answers-two.h5", [](Editor& e) {
+    const std::int64_t values[2] = {0, 2};
+    e.set_dataset("jamming_answers", ValueClass::kInteger, {2},
+                  std::string(reinterpret_cast<const char*>(values), sizeof values));
+  });
+  expect(isolated([&] { return read_checkpoint(two); }),
+         "dataset 'jamming_answers' holds 2, not 0 or 1");
+}
+
 BOOST_AUTO_TEST_CASE(chained_start_with_array_identity_is_refused_not_read) {
   const fs::path file = kDir / "start.h5";
   jam::test::write_template_start(file.string(), kIdentity);
@@ -364,6 +381,7 @@ BOOST_AUTO_TEST_CASE(valid_files_still_read_and_verify) {
   BOOST_REQUIRE(c.has_value());
   BOOST_TEST(c->state.points.size() == 3u);
   BOOST_TEST(c->state.saved.size() == 2u);
+  BOOST_TEST((c->state.jamming_answers == jam::JammingAnswers{0, 1, 1}));
   BOOST_TEST(c->stepper.size() == 3u);
 }
 

@@ -1,6 +1,7 @@
 // FIRE minimization and the jamming point phi_Ji: FIRE removes every overlap below jamming
 // and balances the forces above it; a perfect square (cubic) lattice of equal spheres
-// compressed through contact jams exactly at phi = pi/4 (pi/6), which the run finds.
+// compressed through contact jams exactly at phi = pi/4 (pi/6), which the run finds. A search
+// stopped and resumed replays its decisions and gives the uninterrupted search's point.
 #define BOOST_TEST_MODULE jamming_point
 #include <boost/test/unit_test.hpp>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "sim/dynamics/fire_minimizer.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/observables/jamming_point.hpp"
 #include "sim/observables/observables.hpp"
 #include "sim/run/compression_run.hpp"
 
@@ -83,4 +85,39 @@ BOOST_AUTO_TEST_CASE(square_and_cubic_lattices_jam_at_contact) {
   // Resolution of the refinement is 1e-5; the pressure threshold moves the point by < 1e-7.
   BOOST_TEST(std::abs(lattice_jamming_point<2>(8, 1.06, 0.80, 0.75) - std::numbers::pi / 4) < 2e-5);
   BOOST_TEST(std::abs(lattice_jamming_point<3>(5, 1.05, 0.54, 0.50) - std::numbers::pi / 6) < 2e-5);
+}
+
+BOOST_AUTO_TEST_CASE(a_resumed_search_replays_its_decisions) {
+  // One random bidisperse configuration (N = 128) at packings 0.78 ... 0.90, scaled positions
+  // fixed: it jams somewhere between (random packings near 0.84).
+  System<2> sys = test::random_system<2>(128, 0.80, 7);
+  std::vector<double> s;
+  for (int d = 0; d < 2; ++d)
+    s.insert(s.end(), sys.particles.s[d].begin(), sys.particles.s[d].end());
+  std::vector<SavedConfiguration> saved;
+  for (int k = 0; k <= 12; ++k) saved.push_back({0.78 + 0.01 * k, s});
+
+  JammingAnswers answers;
+  const JammingPoint full = find_jamming_point(sys, saved, nullptr, &answers);
+  BOOST_TEST_REQUIRE(full.bracketed);
+  BOOST_TEST(full.replayed == 0);
+  BOOST_TEST(answers.size() == static_cast<std::size_t>(full.minimizations));
+  BOOST_TEST(full.minimizations > 8);  // 2 ends, ~4 bisections over 13, ~10 refinements
+
+  // Stopped after half its decisions: the resumed search minimizes only the rest, and lands on
+  // the same point bit for bit (the same minimizations from the same configurations).
+  JammingAnswers half(answers.begin(), answers.begin() + full.minimizations / 2);
+  const JammingPoint resumed = find_jamming_point(sys, saved, nullptr, &half);
+  BOOST_TEST(resumed.replayed == full.minimizations / 2);
+  BOOST_TEST(resumed.minimizations == full.minimizations);
+  BOOST_TEST(resumed.packing_fraction == full.packing_fraction);
+  BOOST_TEST((half == answers));
+
+  // The replayed decisions steer the search: one flipped (the first bisection's) leads it to
+  // another bracket, so a replay that ignored them would go unnoticed no more.
+  JammingAnswers flipped(answers.begin(), answers.begin() + 3);
+  flipped[2] = 1 - flipped[2];
+  const JammingPoint misled = find_jamming_point(sys, saved, nullptr, &flipped);
+  BOOST_TEST(misled.replayed == 3);
+  BOOST_TEST(std::abs(misled.packing_fraction - full.packing_fraction) > 1e-3);
 }

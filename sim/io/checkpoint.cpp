@@ -84,6 +84,7 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     }
     f.write_dataset("saved_packing_fraction", saved_phi);
     f.write_dataset("saved_s", saved_s);
+    f.write_dataset("jamming_answers", state.jamming_answers);
     for (const auto& [name, values] : stepper) f.write_dataset("stepper_" + name, values);
     f.write_attribute("stepper_fields", std::int64_t(stepper.size()));
     for (std::size_t k = 0; k < stepper.size(); ++k) {
@@ -185,6 +186,18 @@ void read_saved(const h5::File& f, RunState<D>& s, std::size_t n) {
   for (std::size_t k = 0; k < saved_phi.size(); ++k) {
     const auto first = saved_s.begin() + static_cast<long>(k * per);
     s.saved.push_back({saved_phi[k], std::vector<double>(first, first + static_cast<long>(per))});
+  }
+  // A stopped jamming-point search's decisions (0 or 1 each); checkpoints from before they
+  // were kept have none, and the search then starts over. A bisection over at most kMaxPoints
+  // configurations and its refinement to 1e-5 take far fewer than kMaxAnswers.
+  constexpr std::size_t kMaxAnswers = 256;
+  if (!f.has_dataset("jamming_answers")) return;
+  s.jamming_answers = f.read_dataset_u32("jamming_answers", h5::at_most(kMaxAnswers));
+  for (const std::uint32_t a : s.jamming_answers) {
+    if (a > 1) {
+      throw std::runtime_error(
+          fmt::format("{}: dataset 'jamming_answers' holds {}, not 0 or 1", f.path(), a));
+    }
   }
 }
 

@@ -13,6 +13,7 @@
 // Below jamming the minimized pressure is exactly 0 (no overlap left); above it p grows about
 // linearly with phi - phi_Ji (p ~ 1e-5 at 1e-4 above), so 1e-8 separates the two cleanly.
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -31,7 +32,8 @@ struct SavedConfiguration {
 
 struct JammingPoint {
   double packing_fraction = std::numeric_limits<double>::quiet_NaN();
-  int minimizations = 0;
+  int minimizations = 0;   // the search's decisions, replayed ones included
+  int replayed = 0;        // of those, taken from the answers of an earlier, stopped search
   bool bracketed = false;  // false: not jammed by the last saved point, or jammed at the first
   bool stopped = false;    // abandoned on request (`stop`): packing_fraction means nothing
 };
@@ -59,18 +61,32 @@ bool jammed_after_minimization(System<D, Contact>& sys, const std::vector<double
   return p > kJammedPressure;
 }
 
+/// The decisions of a search so far, in order (1: jammed after minimization, 0: not). The
+/// search is deterministic, so a search that stopped (its answers checkpointed with the run)
+/// resumes by replaying them and minimizes only from where it stopped: at N = 32768 a
+/// minimization near jamming takes minutes, a search about an hour.
+using JammingAnswers = std::vector<std::uint32_t>;
+
 /// Bisection over the saved configurations (in increasing packing), then refinement.
 /// sys is used as scratch: its particles are overwritten. Throws JammingSearchStopped when
-/// `stop` becomes true during a minimization.
+/// `stop` becomes true during a minimization. `answers` (optional): replayed where it reaches,
+/// each new decision appended.
 template <int D, class Contact>
 JammingPoint find_jamming_point_or_stop(System<D, Contact>& sys,
                                         const std::vector<SavedConfiguration>& saved,
-                                        const std::atomic<bool>* stop) {
+                                        const std::atomic<bool>* stop,
+                                        JammingAnswers* answers = nullptr) {
   JammingPoint r;
   if (saved.size() < 2) return r;
   auto jammed = [&](const std::vector<double>& s, double phi) {
-    ++r.minimizations;
-    return jammed_after_minimization(sys, s, phi, stop);
+    const auto k = static_cast<std::size_t>(r.minimizations++);
+    if (answers && k < answers->size()) {
+      ++r.replayed;
+      return (*answers)[k] != 0;
+    }
+    const bool j = jammed_after_minimization(sys, s, phi, stop);
+    if (answers) answers->push_back(j ? 1 : 0);
+    return j;
   };
   if (!jammed(saved.back().s, saved.back().packing_fraction)) return r;
   if (jammed(saved.front().s, saved.front().packing_fraction)) return r;
@@ -98,9 +114,10 @@ JammingPoint find_jamming_point_or_stop(System<D, Contact>& sys,
 template <int D, class Contact>
 JammingPoint find_jamming_point(System<D, Contact>& sys,
                                 const std::vector<SavedConfiguration>& saved,
-                                const std::atomic<bool>* stop = nullptr) {
+                                const std::atomic<bool>* stop = nullptr,
+                                JammingAnswers* answers = nullptr) {
   try {
-    return find_jamming_point_or_stop(sys, saved, stop);
+    return find_jamming_point_or_stop(sys, saved, stop, answers);
   } catch (const JammingSearchStopped&) {
     JammingPoint r;
     r.stopped = true;

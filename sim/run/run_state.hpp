@@ -27,6 +27,7 @@ struct RunState {
   double relax_time = 0.0;
   std::vector<Observables<D>> points;
   std::vector<SavedConfiguration> saved;  // for the jamming point, when asked for
+  JammingAnswers jamming_answers;          // of a search stopped on request (jamming_point.hpp)
 };
 
 }  // namespace jam
