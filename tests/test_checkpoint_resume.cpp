@@ -1,6 +1,7 @@
 // A run killed (SIGKILL) at random moments and restarted, again and again, ends with a run
 // file bitwise identical to an uninterrupted run, having resumed from checkpoints rather than
-// from the start; SIGINT stops a run cleanly with a checkpoint (exit 130).
+// from the start; SIGINT stops a run cleanly with a checkpoint (exit 130); a jamming-point
+// search stopped by SIGTERM resumes from its last decision.
 #define BOOST_TEST_MODULE checkpoint_resume
 #include <signal.h>
 
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "process.hpp"
+#include "sim/io/hdf5_file.hpp"
 
 namespace fs = std::filesystem;
 using jam::test::slurp;
@@ -134,5 +136,53 @@ BOOST_AUTO_TEST_CASE(sigint_stops_cleanly_and_resumes) {
   // The default integrator (Chebyshev), whose tolerance differs between the relaxation (1e-4)
   // and the compression (auto: 2e-3 at this rate).
   check_resume("--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 2e-5 --quiet", 2, SIGINT, 4);
+  fs::remove_all(kDir);
+}
+
+// SIGTERM during the jamming-point search (after the compression): the checkpoint holds the
+// search's decisions so far, and the resumed run replays them and writes the uninterrupted
+// run's file byte for byte. The search (about 15 FIRE minimizations, several seconds at
+// N = 1024) writes no checkpoints of its own, so a checkpoint unchanged for a second while the
+// run lives means the compression (a checkpoint every 20 ms) is over and the search under way.
+BOOST_AUTO_TEST_CASE(jamming_search_stopped_resumes_from_its_decisions) {
+  fs::create_directories(kDir);
+  const std::string args =
+      "sim --dim 2 --n 1024 --phi-init 0.8 --phi-stop 0.86 --rate 1e-3 --jamming-point "
+      "--threads 1 --quiet --out ";
+  const fs::path ref = kDir / "jp-ref.h5", resumed = kDir / "jp.h5";
+  const fs::path checkpoint = resumed.string() + ".checkpoint";
+  fs::remove(ref);
+  fs::remove(resumed);
+  fs::remove(checkpoint);
+  BOOST_TEST_REQUIRE(wait_for(spawn_jam(args + ref.string() + " --checkpoint-interval 0")) == 0);
+
+  const pid_t pid = spawn_jam(args + resumed.string() + " --checkpoint-interval 0.02");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  bool searching = false;
+  while (!searching && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::error_code ec;
+    const auto written = fs::last_write_time(checkpoint, ec);
+    searching = !ec && fs::file_time_type::clock::now() - written > std::chrono::seconds(1);
+  }
+  BOOST_TEST_REQUIRE(searching, "the run never reached its jamming-point search");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a few decisions
+  kill(pid, SIGTERM);
+  BOOST_TEST_REQUIRE(wait_for(pid) != 0, "the search ended before the signal; slow it down");
+  BOOST_TEST(!fs::exists(resumed));
+  std::size_t decisions = 0;
+  {
+    const jam::h5::File f = jam::h5::File::open_read(checkpoint.string());
+    decisions = f.read_dataset_u32("jamming_answers").size();
+  }
+  BOOST_TEST(decisions >= 1u);  // the minimizations done before the stop are kept
+  const int minimizations = static_cast<int>(
+      jam::h5::File::open_read(ref.string()).read_attribute_int("jamming_minimizations"));
+  BOOST_TEST(static_cast<int>(decisions) < minimizations);
+
+  BOOST_TEST_REQUIRE(wait_for(spawn_jam(args + resumed.string() + " --checkpoint-interval 0.02")) ==
+                     0);
+  BOOST_TEST(!fs::exists(checkpoint));
+  BOOST_TEST((slurp(ref) == slurp(resumed)), "resumed search differs from the uninterrupted one");
   fs::remove_all(kDir);
 }
