@@ -1,7 +1,7 @@
 // A run killed (SIGKILL) at random moments and restarted, again and again, ends with a run
 // file bitwise identical to an uninterrupted run, having resumed from checkpoints rather than
 // from the start; SIGINT stops a run cleanly with a checkpoint (exit 130); a jamming-point
-// search stopped by SIGTERM resumes from its last decision.
+// search killed or stopped resumes from its last checkpointed decision.
 #define BOOST_TEST_MODULE checkpoint_resume
 #include <signal.h>
 
@@ -139,12 +139,35 @@ BOOST_AUTO_TEST_CASE(sigint_stops_cleanly_and_resumes) {
   fs::remove_all(kDir);
 }
 
-// SIGTERM during the jamming-point search (after the compression): the checkpoint holds the
-// search's decisions so far, and the resumed run replays them and writes the uninterrupted
-// run's file byte for byte. The search (about 15 FIRE minimizations, several seconds at
-// N = 1024) writes no checkpoints of its own, so a checkpoint unchanged for a second while the
-// run lives means the compression (a checkpoint every 20 ms) is over and the search under way.
-BOOST_AUTO_TEST_CASE(jamming_search_stopped_resumes_from_its_decisions) {
+namespace {
+
+/// The decisions of a jamming-point search in `checkpoint` (0 while there is none). jam
+/// replaces a checkpoint by renaming, so a read is of one whole file.
+std::size_t decisions_in(const fs::path& checkpoint) {
+  try {
+    return jam::h5::File::open_read(checkpoint.string()).read_dataset_u32("jamming_answers").size();
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+/// Waits (at most two minutes) until `checkpoint` holds more than `than` decisions.
+bool wait_for_decisions(const fs::path& checkpoint, std::size_t than) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (decisions_in(checkpoint) > than) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+}  // namespace
+
+// The jamming-point search (about 15 FIRE minimizations after the compression, several
+// seconds at N = 1024) killed (SIGKILL) and stopped (SIGTERM): its decisions are in the
+// checkpoint (taken after each decision when due: every 20 ms here), each resumption replays
+// them and goes on, and the run file is the uninterrupted run's byte for byte.
+BOOST_AUTO_TEST_CASE(jamming_search_killed_and_stopped_resumes_from_its_decisions) {
   fs::create_directories(kDir);
   const std::string args =
       "sim --dim 2 --n 1024 --phi-init 0.8 --phi-stop 0.86 --rate 1e-3 --jamming-point "
@@ -155,33 +178,27 @@ BOOST_AUTO_TEST_CASE(jamming_search_stopped_resumes_from_its_decisions) {
   fs::remove(resumed);
   fs::remove(checkpoint);
   BOOST_TEST_REQUIRE(wait_for(spawn_jam(args + ref.string() + " --checkpoint-interval 0")) == 0);
+  const auto minimizations = static_cast<std::size_t>(
+      jam::h5::File::open_read(ref.string()).read_attribute_int("jamming_minimizations"));
+  const std::string interrupted = args + resumed.string() + " --checkpoint-interval 0.02";
 
-  const pid_t pid = spawn_jam(args + resumed.string() + " --checkpoint-interval 0.02");
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
-  bool searching = false;
-  while (!searching && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    std::error_code ec;
-    const auto written = fs::last_write_time(checkpoint, ec);
-    searching = !ec && fs::file_time_type::clock::now() - written > std::chrono::seconds(1);
-  }
-  BOOST_TEST_REQUIRE(searching, "the run never reached its jamming-point search");
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a few decisions
+  pid_t pid = spawn_jam(interrupted);
+  BOOST_TEST_REQUIRE(wait_for_decisions(checkpoint, 1), "no decisions were checkpointed");
+  kill(pid, SIGKILL);
+  BOOST_TEST_REQUIRE(wait_for(pid) == -SIGKILL);
+  const std::size_t killed_at = decisions_in(checkpoint);
+  BOOST_TEST(killed_at >= 2u);
+
+  pid = spawn_jam(interrupted);  // replays them and decides further
+  BOOST_TEST_REQUIRE(wait_for_decisions(checkpoint, killed_at), "the resumed search made none");
   kill(pid, SIGTERM);
   BOOST_TEST_REQUIRE(wait_for(pid) != 0, "the search ended before the signal; slow it down");
   BOOST_TEST(!fs::exists(resumed));
-  std::size_t decisions = 0;
-  {
-    const jam::h5::File f = jam::h5::File::open_read(checkpoint.string());
-    decisions = f.read_dataset_u32("jamming_answers").size();
-  }
-  BOOST_TEST(decisions >= 1u);  // the minimizations done before the stop are kept
-  const int minimizations = static_cast<int>(
-      jam::h5::File::open_read(ref.string()).read_attribute_int("jamming_minimizations"));
-  BOOST_TEST(static_cast<int>(decisions) < minimizations);
+  const std::size_t stopped_at = decisions_in(checkpoint);
+  BOOST_TEST(stopped_at > killed_at);
+  BOOST_TEST(stopped_at < minimizations);
 
-  BOOST_TEST_REQUIRE(wait_for(spawn_jam(args + resumed.string() + " --checkpoint-interval 0.02")) ==
-                     0);
+  BOOST_TEST_REQUIRE(wait_for(spawn_jam(interrupted)) == 0);
   BOOST_TEST(!fs::exists(checkpoint));
   BOOST_TEST((slurp(ref) == slurp(resumed)), "resumed search differs from the uninterrupted one");
   fs::remove_all(kDir);

@@ -67,15 +67,21 @@ bool jammed_after_minimization(System<D, Contact>& sys, const std::vector<double
 /// minimization near jamming takes minutes, a search about an hour.
 using JammingAnswers = std::vector<std::uint32_t>;
 
+/// Called after each decision the search makes (not after a replayed one).
+struct NoCallback {
+  void operator()() const {}
+};
+
 /// Bisection over the saved configurations (in increasing packing), then refinement.
 /// sys is used as scratch: its particles are overwritten. Throws JammingSearchStopped when
 /// `stop` becomes true during a minimization. `answers` (optional): replayed where it reaches,
-/// each new decision appended.
-template <int D, class Contact>
+/// each new decision appended, then `after_decision()` (a run takes a checkpoint when due).
+template <int D, class Contact, class AfterDecision = NoCallback>
 JammingPoint find_jamming_point_or_stop(System<D, Contact>& sys,
                                         const std::vector<SavedConfiguration>& saved,
                                         const std::atomic<bool>* stop,
-                                        JammingAnswers* answers = nullptr) {
+                                        JammingAnswers* answers = nullptr,
+                                        AfterDecision after_decision = {}) {
   JammingPoint r;
   if (saved.size() < 2) return r;
   auto jammed = [&](const std::vector<double>& s, double phi) {
@@ -86,6 +92,7 @@ JammingPoint find_jamming_point_or_stop(System<D, Contact>& sys,
     }
     const bool j = jammed_after_minimization(sys, s, phi, stop);
     if (answers) answers->push_back(j ? 1 : 0);
+    after_decision();
     return j;
   };
   if (!jammed(saved.back().s, saved.back().packing_fraction)) return r;
@@ -111,13 +118,14 @@ JammingPoint find_jamming_point_or_stop(System<D, Contact>& sys,
 }
 
 /// find_jamming_point_or_stop, with a stop reported in the result (stopped = true).
-template <int D, class Contact>
+template <int D, class Contact, class AfterDecision = NoCallback>
 JammingPoint find_jamming_point(System<D, Contact>& sys,
                                 const std::vector<SavedConfiguration>& saved,
                                 const std::atomic<bool>* stop = nullptr,
-                                JammingAnswers* answers = nullptr) {
+                                JammingAnswers* answers = nullptr,
+                                AfterDecision after_decision = {}) {
   try {
-    return find_jamming_point_or_stop(sys, saved, stop, answers);
+    return find_jamming_point_or_stop(sys, saved, stop, answers, after_decision);
   } catch (const JammingSearchStopped&) {
     JammingPoint r;
     r.stopped = true;

@@ -300,11 +300,17 @@ class CompressionRun {
   /// The jamming point (FIRE on a scratch copy), the run file, and the summary.
   RunSummary finish() {
     const double wall = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+    // The compression's count complete before the search, whose checkpoints hold it (the
+    // search minimizes a scratch copy and adds none).
+    tally_evaluations();
     if (c_.jamming_point) {
       System<D, Contact> scratch(sys_.particles, sys_.species, sys_.box, c_.skin);
       scratch.set_threads(c_.threads);
-      const JammingPoint j =
-          find_jamming_point(scratch, st_.saved, control_.stop, &st_.jamming_answers);
+      // A checkpoint when one is due after each decision, so that a run killed mid-search
+      // (SIGKILL, a lost machine) keeps the decisions made before its last checkpoint.
+      const JammingPoint j = find_jamming_point(
+          scratch, st_.saved, control_.stop, &st_.jamming_answers,
+          [&] { checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state()); });
       if (j.stopped) {
         // The compression is done and its state (saved configurations and the search's
         // decisions so far included) goes into the checkpoint; resuming replays the decisions
@@ -315,7 +321,6 @@ class CompressionRun {
       meta_.jamming_packing_fraction = j.packing_fraction;
       meta_.jamming_minimizations = j.minimizations;
     }
-    tally_evaluations();
     meta_.steps = st_.steps;
     meta_.force_evaluations = st_.force_evaluations;
     meta_.relax_steps = st_.relax_steps;
