@@ -94,7 +94,10 @@ int run_sim_command(const SimConfig& given) {
     return 130;
   }
   if (!c.quiet) {
-    if (s.resumed) fmt::print("jam sim: resumed from checkpoint\n");
+    if (s.resumed) {
+      fmt::print("jam sim: resumed from checkpoint (earlier attempts: {:.3g} CPU seconds)\n",
+                 s.earlier_cpu_seconds);
+    }
     fmt::print("jam sim: {}D, N = {}, rate {:g}, {} dt {:g}\n", c.dim, s.n, c.compression_rate,
                c.resolved_integrator(), c.dt);
     fmt::print("  phi {:.6f} -> {:.6f} in {} steps ({} relaxation steps{}), {} output points\n",

@@ -1,8 +1,8 @@
 #include "campaign/campaign_dir.hpp"
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
 #include <time.h>
+#include <toml++/toml.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -158,12 +158,9 @@ RunStatus run_status(const PlannedRun& run, std::string* detail) {
 void write_run_record(const PlannedRun& run, const RunRecord& r) {
   char host[256] = "";
   gethostname(host, sizeof host - 1);
-  toml::table t{{"status", r.status},
-                {"wall_seconds", r.wall_seconds},
-                {"cpu_seconds", r.cpu_seconds},
-                {"steps", r.steps},
-                {"version", std::string(kVersion)},
-                {"host", std::string(host)}};
+  toml::table t{
+      {"status", r.status}, {"wall_seconds", r.wall_seconds},   {"cpu_seconds", r.cpu_seconds},
+      {"steps", r.steps},   {"version", std::string(kVersion)}, {"host", std::string(host)}};
   if (!r.error.empty()) t.insert("error", r.error);
   std::ostringstream text;
   text << t << "\n";
@@ -181,12 +178,6 @@ std::optional<double> recorded_core_seconds(const PlannedRun& run) {
   } catch (const std::exception&) {
     return std::nullopt;
   }
-}
-
-double thread_cpu_seconds() {
-  timespec t{};
-  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) != 0) return 0.0;
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {

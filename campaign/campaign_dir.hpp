@@ -15,6 +15,7 @@
 
 #include "campaign/campaign_file.hpp"
 #include "campaign/run_plan.hpp"
+#include "sim/run/thread_cpu_clock.hpp"
 
 namespace jam {
 
@@ -43,6 +44,8 @@ struct RunRecord {
   double wall_seconds = 0.0;
   // CPU seconds of the thread that ran it (campaign runs are single-threaded): its cost in
   // core-seconds, which other work on a shared machine does not inflate as it does the wall.
+  // A run resumed from its checkpoint adds those of its earlier attempts (checkpointed since
+  // 2026-11-27; an older checkpoint's are not known, and the record then holds less).
   double cpu_seconds = 0.0;
   std::int64_t steps = 0;
   std::string error;
@@ -53,9 +56,6 @@ void write_run_record(const PlannedRun& run, const RunRecord& record);
 /// The core-seconds the run's last attempt recorded: its CPU seconds, or its wall seconds in
 /// records written before they carried CPU seconds (nullopt: no readable record).
 std::optional<double> recorded_core_seconds(const PlannedRun& run);
-
-/// CPU seconds of the calling thread so far.
-double thread_cpu_seconds();
 
 /// Rewrites <output>/manifest.toml from the run files and records.
 void write_manifest(const Campaign& campaign, const std::vector<PlannedRun>& plan);

@@ -212,12 +212,14 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     RunRecord record;
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = thread_cpu_seconds();
+    double earlier_cpu = 0.0;  // of the attempts before a checkpoint it resumed from
     try {
       const std::optional<RunSummary> s =
           compress(run, control_of(run), run.estimated_particle_steps);
       if (!s) return Outcome::kInterrupted;
       record.status = "done";
       record.steps = static_cast<std::int64_t>(s->steps);
+      earlier_cpu = s->earlier_cpu_seconds;
     } catch (const WriteError& e) {
       // Not the run's fault: no record, so the run stays to be done (or resumed from its
       // checkpoint) by the next `campaign run`; but no further runs in this directory.
@@ -238,7 +240,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     }
     record.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    record.cpu_seconds = thread_cpu_seconds() - cpu_start;
+    record.cpu_seconds = thread_cpu_seconds() - cpu_start + earlier_cpu;
     try {
       write_run_record(run, record);
     } catch (const std::exception& e) {

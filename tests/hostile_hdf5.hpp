@@ -70,6 +70,12 @@ class Editor {
     set_attribute(".", name, ValueClass::kInteger, {}, bytes);
   }
 
+  void set_double(const std::string& name, double value) {
+    std::string bytes(sizeof value, '\0');
+    std::memcpy(bytes.data(), &value, sizeof value);
+    set_attribute(".", name, ValueClass::kFloat, {}, bytes);
+  }
+
   /// Replaces dataset `name` by one of class `cls` and extent `dims`, written from `bytes`.
   void set_dataset(const std::string& name, ValueClass cls, const std::vector<hsize_t>& dims,
                    const std::string& bytes = "") {
@@ -258,6 +264,7 @@ inline void write_template_checkpoint(const std::string& path, const std::string
   }
   for (int k = 0; k < 2; ++k) st.saved.push_back({0.7 + 0.01 * k, std::vector<double>(2 * n, 0.5)});
   st.jamming_answers = {0, 1, 1};
+  st.cpu_seconds = 12.5;
   const StepperState stepper = {{"velocity_0", std::vector<double>(n, 0.0)},
                                 {"velocity_1", std::vector<double>(n, 0.0)},
                                 {"have_forces", {1.0}}};

@@ -3,7 +3,8 @@
 its directory lost, restored from the snapshot and finished; its run files are then those of
 the same campaign run without a stop, value for value. Also: save keeps what DEST holds and
 replaces its partial products whole; restore overwrites nothing, refuses while the campaign's
-lock is held, and refuses a DEST that is not a snapshot.
+lock is held, and refuses a DEST that is not a snapshot. A run resumed from its checkpoint
+records the CPU seconds of its attempts before the stop too.
 
 Usage (ctest runs it): test_campaign_snapshot.py --jam build/jam --source .
 """
@@ -17,6 +18,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 import unittest
 
 import h5py
@@ -39,6 +41,11 @@ relax_energy = "1e-14"
 seed = 3
 output = "{output}"
 """
+def record_cpu_seconds(run_dir, name):
+    with open(os.path.join(run_dir, "runs", name + ".record"), "rb") as f:
+        return float(tomllib.load(f)["cpu_seconds"])
+
+
 def slurp(path):
     with open(path) as f:
         return f.read()
@@ -77,8 +84,9 @@ class Snapshot(unittest.TestCase):
                                                           "contacts_per_particle")}
         return out
 
-    def stopped_campaign(self, toml, run_dir):
-        """Runs the campaign and stops it with SIGTERM while its slow run is under way."""
+    def stopped_campaign(self, toml, run_dir, delay=0.5):
+        """Runs the campaign and stops it with SIGTERM while its slow run is under way (delay
+        seconds after the fast run is done)."""
         process = subprocess.Popen([ARGS.jam, "campaign", "run", "--quiet", "--jobs", "1", toml],
                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         fast = os.path.join(run_dir, "runs", FAST + ".h5")
@@ -86,7 +94,7 @@ class Snapshot(unittest.TestCase):
         while not os.path.exists(fast) and process.poll() is None:
             self.assertLess(time.monotonic(), deadline, "the fast run never finished")
             time.sleep(0.02)
-        time.sleep(0.5)
+        time.sleep(delay)
         process.send_signal(signal.SIGTERM)
         _, err = process.communicate(timeout=120)
         checkpoint = os.path.join(run_dir, "runs", SLOW + ".h5.checkpoint")
@@ -143,6 +151,26 @@ class Snapshot(unittest.TestCase):
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertIn("0 files restored", result.stdout)
         self.assertEqual(slurp(record), before)
+
+    def test_a_resumed_run_records_the_cost_of_its_earlier_attempts(self):
+        reference = self.campaign("reference")
+        result = self.jam("campaign", "run", "--quiet", reference)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        total = record_cpu_seconds(os.path.join(self.dir, "reference"), SLOW)
+
+        toml = self.campaign("work")
+        run_dir = os.path.join(self.dir, "work")
+        self.stopped_campaign(toml, run_dir, delay=0.5 * total)
+        with h5py.File(os.path.join(run_dir, "runs", SLOW + ".h5.checkpoint"), "r") as f:
+            before = float(f.attrs["cpu_seconds"])
+        self.assertGreater(before, 0.1 * total)
+        result = self.jam("campaign", "run", "--quiet", toml)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        recorded = record_cpu_seconds(run_dir, SLOW)
+        # Both attempts: the second alone (about total - before, what a record held before the
+        # checkpoints kept the count) would fall short of this.
+        self.assertGreater(recorded, before + 0.25 * total, f"total {total}, before {before}")
+        self.assertLess(recorded, 2.0 * total)
 
     def test_restore_refuses_a_running_campaign_and_a_non_snapshot(self):
         run_dir = os.path.join(self.dir, "busy")

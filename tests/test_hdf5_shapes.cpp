@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -276,6 +277,18 @@ BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_forged_jamming_answers_is_refused) {
          "dataset 'jamming_answers' holds 2, not 0 or 1");
 }
 
+BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_negative_cpu_seconds_is_refused) {
+  // A resumed run adds them to its record's cost: a negative or NaN one would corrupt it.
+  const fs::path file =
+      forged_checkpoint("cpu.h5", [](Editor& e) { e.set_double("cpu_seconds", -3.0); });
+  expect(isolated([&] { return read_checkpoint(file); }),
+         "attribute 'cpu_seconds' = -3 is negative");
+  const fs::path nan =
+      forged_checkpoint("cpu-nan.h5", [](Editor& e) { e.set_double("cpu_seconds", std::nan("")); });
+  expect(isolated([&] { return read_checkpoint(nan); }),
+         "attribute 'cpu_seconds' = nan is not finite");
+}
+
 BOOST_AUTO_TEST_CASE(chained_start_with_array_identity_is_refused_not_read) {
   const fs::path file = kDir / "start.h5";
   jam::test::write_template_start(file.string(), kIdentity);
@@ -382,6 +395,7 @@ BOOST_AUTO_TEST_CASE(valid_files_still_read_and_verify) {
   BOOST_TEST(c->state.points.size() == 3u);
   BOOST_TEST(c->state.saved.size() == 2u);
   BOOST_TEST((c->state.jamming_answers == jam::JammingAnswers{0, 1, 1}));
+  BOOST_TEST(c->state.cpu_seconds == 12.5);
   BOOST_TEST(c->stepper.size() == 3u);
 }
 

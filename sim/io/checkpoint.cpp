@@ -65,6 +65,7 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     f.write_attribute("next_output", state.next_output);
     f.write_attribute("time", state.time);
     f.write_attribute("relax_time", state.relax_time);
+    f.write_attribute("cpu_seconds", state.cpu_seconds);
     write_particles(f, particles);
     std::vector<double> column(state.points.size());
     for (int k = 0; k < 7; ++k) {
@@ -158,6 +159,14 @@ void read_counters(const h5::File& f, RunState<D>& s) {
   // Times of adaptive steps (fixed-step runs compute theirs from the step count).
   if (f.has_attribute("time")) s.time = read_finite(f, "time");
   if (f.has_attribute("relax_time")) s.relax_time = read_finite(f, "relax_time");
+  // Checkpoints from before the count have none: the earlier attempts' cost is then unknown.
+  if (f.has_attribute("cpu_seconds")) {
+    s.cpu_seconds = read_finite(f, "cpu_seconds");
+    if (s.cpu_seconds < 0.0) {
+      throw std::runtime_error(
+          fmt::format("{}: attribute 'cpu_seconds' = {} is negative", f.path(), s.cpu_seconds));
+    }
+  }
 }
 
 /// The output points so far: every points_* column has one entry per point, the stress D x D.

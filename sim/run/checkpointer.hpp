@@ -13,6 +13,8 @@
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/compression_run.hpp"
+#include "sim/run/run_state.hpp"
+#include "sim/run/thread_cpu_clock.hpp"
 
 namespace jam {
 
@@ -58,19 +60,25 @@ class Checkpointer {
         fingerprint_(std::move(fingerprint)),
         control_(control),
         interval_(control.checkpoint_interval_seconds),
-        last_(Clock::now()) {}
+        last_(Clock::now()),
+        cpu_start_(thread_cpu_seconds()) {}
+
+  /// The run continues from a checkpoint whose attempts took `cpu_seconds` before this one.
+  void resumed_after(double cpu_seconds) { cpu_before_ = cpu_seconds; }
 
   /// The run's own checkpoint, if a trustworthy one exists.
   std::optional<Checkpoint<D>> read(std::size_t n) const {
     return read_checkpoint_or_warn<D>(path_, fingerprint_, n);
   }
 
-  /// Writes a checkpoint when one is due or a stop was requested. True when the run must stop.
-  bool checkpoint_if_due(const RunState<D>& st, const ParticleData<D>& particles,
+  /// Writes a checkpoint when one is due or a stop was requested (with the run's CPU seconds
+  /// so far in st.cpu_seconds). True when the run must stop.
+  bool checkpoint_if_due(RunState<D>& st, const ParticleData<D>& particles,
                          const StepperState& stepper) {
     const bool stop = control_.stop && control_.stop->load();
     const bool due = control_.checkpoint_interval_seconds > 0 && Clock::now() - last_ >= interval_;
     if (stop || due) {
+      st.cpu_seconds = cpu_before_ + (thread_cpu_seconds() - cpu_start_);
       write_checkpoint(path_, fingerprint_, st, particles, stepper);
       last_ = Clock::now();
     }
@@ -86,6 +94,8 @@ class Checkpointer {
   const RunControl& control_;
   std::chrono::duration<double> interval_;
   Clock::time_point last_;
+  double cpu_start_;         // this thread's CPU seconds when this attempt began
+  double cpu_before_ = 0.0;  // of the attempts before it (from the checkpoint resumed)
 };
 
 }  // namespace jam

@@ -100,6 +100,8 @@ class CompressionRun {
     sys_.neighbors.invalidate();
     stepper_.load_state(saved->stepper);
     st_ = std::move(saved->state);
+    checkpointer_.resumed_after(st_.cpu_seconds);
+    summary_.earlier_cpu_seconds = st_.cpu_seconds;
     // An adaptive stepper recomputes the first slope of its next step, which the uninterrupted
     // run carried over: not counted, so that a resumed run's file is the same.
     evaluations_redone_ = kAdaptive && st_.phase == RunState<D>::kCompressing ? 1 : 0;

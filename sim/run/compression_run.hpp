@@ -30,7 +30,8 @@ struct RunSummary {
   double wall_seconds = 0.0;
   double particle_steps_per_second = 0.0;  // relaxation + compression steps of this invocation
   bool resumed = false;                    // continued from a checkpoint
-  bool interrupted = false;                // stopped on request; a checkpoint holds the state
+  double earlier_cpu_seconds = 0.0;  // CPU seconds of the attempts before it (its checkpoint's)
+  bool interrupted = false;          // stopped on request; a checkpoint holds the state
   bool start_only = false;  // stopped once its chained start was written (RunControl::start_only)
 };
 

@@ -25,9 +25,12 @@ struct RunState {
   // fixed-step integrators use t = k dt from the step counts instead.
   double time = 0.0;
   double relax_time = 0.0;
+  // CPU seconds of the run's thread up to the checkpoint, over every attempt: a resumed run's
+  // cost includes those before it stopped (thread_cpu_clock.hpp).
+  double cpu_seconds = 0.0;
   std::vector<Observables<D>> points;
   std::vector<SavedConfiguration> saved;  // for the jamming point, when asked for
-  JammingAnswers jamming_answers;          // of a search stopped on request (jamming_point.hpp)
+  JammingAnswers jamming_answers;         // of a search stopped on request (jamming_point.hpp)
 };
 
 }  // namespace jam
