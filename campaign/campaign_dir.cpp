@@ -167,17 +167,29 @@ void write_run_record(const PlannedRun& run, const RunRecord& r) {
   write_text(record_path(run), text.str());
 }
 
-std::optional<double> recorded_core_seconds(const PlannedRun& run) {
-  const std::string record = record_path(run);
-  if (!fs::exists(record)) return std::nullopt;
-  check_input_file("run record", record);
+std::optional<RunRecord> read_run_record(const PlannedRun& run) {
+  const std::string path = record_path(run);
+  if (!fs::exists(path)) return std::nullopt;
+  check_input_file("run record", path);
   try {
-    const toml::table t = toml::parse_file(record);
-    if (auto c = t["cpu_seconds"].value<double>(); c && *c > 0) return c;
-    return t["wall_seconds"].value<double>();
+    const toml::table t = toml::parse_file(path);
+    RunRecord r;
+    r.status = t["status"].value_or(std::string());
+    r.wall_seconds = t["wall_seconds"].value_or(0.0);
+    r.cpu_seconds = t["cpu_seconds"].value_or(0.0);
+    r.steps = t["steps"].value_or(std::int64_t{0});
+    r.error = t["error"].value_or(std::string());
+    return r;
   } catch (const std::exception&) {
     return std::nullopt;
   }
+}
+
+std::optional<double> recorded_core_seconds(const PlannedRun& run) {
+  const std::optional<RunRecord> r = read_run_record(run);
+  if (!r) return std::nullopt;
+  if (r->cpu_seconds > 0) return r->cpu_seconds;
+  return r->wall_seconds;
 }
 
 void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {

@@ -53,6 +53,9 @@ struct RunRecord {
 
 void write_run_record(const PlannedRun& run, const RunRecord& record);
 
+/// The record of the run's last attempt (nullopt: none, or not readable).
+std::optional<RunRecord> read_run_record(const PlannedRun& run);
+
 /// The core-seconds the run's last attempt recorded: its CPU seconds, or its wall seconds in
 /// records written before they carried CPU seconds (nullopt: no readable record).
 std::optional<double> recorded_core_seconds(const PlannedRun& run);

@@ -7,7 +7,6 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -19,6 +18,7 @@
 #include "campaign/campaign_dir.hpp"
 #include "campaign/campaign_lock.hpp"
 #include "campaign/progress_estimate.hpp"
+#include "campaign/progress_text.hpp"
 #include "campaign/run_chains.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/run_queue.hpp"
@@ -31,21 +31,6 @@
 
 namespace jam {
 namespace {
-
-std::string duration(double seconds) {
-  if (seconds < 120) return fmt::format("{:.0f} s", seconds);
-  if (seconds < 7200) return fmt::format("{:.1f} min", seconds / 60);
-  if (seconds < 172800) return fmt::format("{:.1f} h", seconds / 3600);
-  return fmt::format("{:.1f} days", seconds / 86400);
-}
-
-/// Now, UTC, to the second: the stamp of a progress line in a log.
-std::string utc_time() {
-  const std::time_t t = std::time(nullptr);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return text;
-}
 
 /// Refuses the whole campaign before any work when one of its runs is beyond the limits.
 void validate_costs(const Campaign& c, const std::vector<PlannedRun>& plan, bool force) {
@@ -106,6 +91,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   std::vector<std::int64_t> pending, flat_tasks;
   std::vector<std::string> task_notes;
   std::size_t already_done = 0;
+  double earlier_estimated = 0.0, earlier_steps = 0.0;  // of the done runs, for the ETA
   if (ranks.rank == 0) {
     std::vector<std::size_t> scope(plan.size());
     for (std::size_t k = 0; k < plan.size(); ++k) scope[k] = k;
@@ -114,6 +100,10 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       const RunStatus s = run_status(plan[k]);
       if (s == RunStatus::kDone) {
         ++already_done;
+        if (const auto r = read_run_record(plan[k]); r && r->steps > 0) {
+          earlier_estimated += plan[k].estimated_particle_steps;
+          earlier_steps += static_cast<double>(r->steps) * static_cast<double>(plan[k].n);
+        }
       } else if (s != RunStatus::kFailed || options.retry_failed) {
         if (s == RunStatus::kCorrupt) set_aside(plan[k]);
         pending.push_back(static_cast<std::int64_t>(k));
@@ -154,6 +144,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
   const int workers = std::min<int>(jobs, static_cast<int>(tasks.size()));
   RunQueue queue(task_indices, task_costs, ranks, workers, &stop_requested);
   ProgressEstimate progress(queue.local_estimate());
+  progress.calibrate(earlier_estimated, earlier_steps);
   // unwritten: runs that could not write their output (a full disk): not failed, since nothing
   // records them so and `campaign status` shows them missing; the next run redoes them.
   std::atomic<std::size_t> finished{0}, failed{0}, interrupted{0}, unwritten{0};
@@ -308,9 +299,10 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     const double done_steps = static_cast<double>(particle_steps.load());
     const double speed = elapsed > 0 ? done_steps / elapsed : 0.0;
     const double eta = progress.seconds_left(done_steps, elapsed);
-    const std::string line = fmt::format(
-        "runs {}/{} done, {:.3g} core-hours, {:.3g} particle-steps/s, ETA {}",
-        already_done + finished.load(), plan.size(), core_seconds / 3600.0, speed, duration(eta));
+    const std::string line =
+        fmt::format("runs {}/{} done, {:.3g} core-hours, {:.3g} particle-steps/s, ETA {}",
+                    already_done + finished.load(), plan.size(), core_seconds / 3600.0, speed,
+                    duration_text(eta));
     std::lock_guard lock(print_mutex);
     if (tty) {
       fmt::print(stderr, "\r  {}      ", line);
@@ -340,7 +332,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     fmt::print(
         "campaign {}: {} runs finished by this process in {}, {} failed{}{}; manifest "
         "{}/manifest.toml\n",
-        c.name, finished.load(), duration(wall), failed.load(),
+        c.name, finished.load(), duration_text(wall), failed.load(),
         unwritten.load() > 0
             ? fmt::format(", {} could not write their output (run again to redo them)",
                           unwritten.load())
@@ -460,7 +452,7 @@ int print_campaign_plan(const Campaign& c, Throughput* measured_speed) {
       "force evaluation of the integrator costs {:.2g} of its steps\n",
       c.run.dim, speed.evaluation_cost);
   fmt::print("  estimated cost: {:.3g} core-hours; {} on {} cores of this machine\n",
-             seconds / 3600.0, duration(seconds / cores), cores);
+             seconds / 3600.0, duration_text(seconds / cores), cores);
   fmt::print("  longest run: {} ({:.3g} core-hours)\n", plan.front().name,
              speed.core_seconds(plan.front().n, plan.front().estimated_particle_steps) / 3600.0);
   if (!c.chain_phi_init.empty()) {

@@ -4,7 +4,10 @@
 // time; at slow rates near jamming a run takes several times fewer steps than it predicts,
 // so dividing the estimate by the measured speed put a 80-minute campaign at "3 days". The
 // ratio of real to estimated steps of the finished runs corrects the scale; the relative cost
-// of runs, which the estimate gets right, is kept.
+// of runs, which the estimate gets right, is kept. A campaign resumed in a new process
+// starts with the ratio of the runs its earlier processes finished (their records), so that
+// its first ETA is not the planner's raw scale (which put a resumed 14-hour campaign at
+// "18 days").
 
 #include <algorithm>
 #include <atomic>
@@ -23,22 +26,33 @@ class ProgressEstimate {
     real_done_.fetch_add(real, std::memory_order_relaxed);
   }
 
+  /// Runs finished by earlier processes (before this one starts its runs): their estimate
+  /// and the particle-steps their records hold. They calibrate the scale, and are not part
+  /// of `remaining`.
+  void calibrate(double estimated, double real) {
+    earlier_estimated_ += estimated;
+    earlier_real_ += real;
+  }
+
   /// Seconds left, given the particle-steps counted live by every run of this process so
   /// far and the seconds they took (0 when nothing has been measured yet).
   double seconds_left(double live_steps, double elapsed) const {
     if (live_steps <= 0 || elapsed <= 0) return 0.0;
     const double estimated = estimated_done_.load(std::memory_order_relaxed);
     const double real = real_done_.load(std::memory_order_relaxed);
-    // Before a run has finished, the planner's scale as it is.
-    const double ratio = estimated > 0 && real > 0 ? real / estimated : 1.0;
+    // Before any run has finished, in this process or an earlier one: the planner's scale.
+    const double all_estimated = estimated + earlier_estimated_;
+    const double all_real = real + earlier_real_;
+    const double ratio = all_estimated > 0 && all_real > 0 ? all_real / all_estimated : 1.0;
     // The runs under way have done live_steps - real of their share already.
-    const double left = ratio * std::max(0.0, remaining_ - estimated) -
-                        std::max(0.0, live_steps - real);
+    const double left =
+        ratio * std::max(0.0, remaining_ - estimated) - std::max(0.0, live_steps - real);
     return std::max(0.0, left) / (live_steps / elapsed);
   }
 
  private:
   double remaining_;
+  double earlier_estimated_ = 0.0, earlier_real_ = 0.0;  // set before the runs start
   std::atomic<double> estimated_done_{0.0};
   std::atomic<double> real_done_{0.0};
 };

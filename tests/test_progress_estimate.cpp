@@ -14,6 +14,7 @@
 
 #include "campaign/campaign_dir.hpp"
 #include "campaign/progress_estimate.hpp"
+#include "campaign/progress_text.hpp"
 
 namespace fs = std::filesystem;
 using jam::ProgressEstimate;
@@ -37,6 +38,29 @@ BOOST_AUTO_TEST_CASE(eta_counts_the_part_of_runs_under_way) {
   BOOST_TEST(std::abs(p.seconds_left(4.5e6, 4.5) - 5.5) < 1e-9);
   // Nothing measured yet: no ETA rather than a division by zero.
   BOOST_TEST(ProgressEstimate(1e7).seconds_left(0.0, 0.0) == 0.0);
+}
+
+// A resumed campaign: earlier processes finished runs whose records hold 4e6 particle-steps
+// against 4e7 planned. Before this process finishes any run, its ETA uses their ratio: 1e6
+// live steps in 1 s, 1e8 planned ahead, so 0.1 * 1e8 - 1e6 = 9e6 steps, 9 s; the planner's
+// scale alone would say 99 s.
+BOOST_AUTO_TEST_CASE(a_resumed_campaign_is_calibrated_by_its_earlier_runs) {
+  ProgressEstimate p(1e8);
+  p.calibrate(4e7, 4e6);
+  BOOST_TEST(std::abs(p.seconds_left(1e6, 1.0) - 9.0) < 1e-9);
+  BOOST_TEST(std::abs(ProgressEstimate(1e8).seconds_left(1e6, 1.0) - 99.0) < 1e-9);
+  // Runs finished in this process join the ratio: 1e7 planned took 3e6, so (4e6 + 3e6) /
+  // (4e7 + 1e7) = 0.14 of the 9e7 planned ahead, less the 1e6 of runs under way: 11.6 s at
+  // 1e6 per second (live steps 4e6 in 4 s).
+  p.finished(1e7, 3e6);
+  BOOST_TEST(std::abs(p.seconds_left(4e6, 4.0) - 11.6) < 1e-9);
+}
+
+BOOST_AUTO_TEST_CASE(durations_read_as_a_person_reads_them) {
+  BOOST_TEST(jam::duration_text(42.0) == "42 s");
+  BOOST_TEST(jam::duration_text(600.0) == "10.0 min");
+  BOOST_TEST(jam::duration_text(9 * 3600.0) == "9.0 h");
+  BOOST_TEST(jam::duration_text(3 * 86400.0) == "3.0 days");
 }
 
 namespace {
@@ -63,6 +87,13 @@ BOOST_AUTO_TEST_CASE(recorded_core_seconds_prefer_cpu_and_read_older_records) {
   BOOST_TEST(*jam::recorded_core_seconds(run_at(dir / "a.h5")) == 12.5);
   BOOST_TEST(*jam::recorded_core_seconds(run_at(dir / "b.h5")) == 30.0);
   BOOST_TEST(!jam::recorded_core_seconds(run_at(dir / "c.h5")).has_value());
+  // The whole record, for the ETA's calibration: its steps (0 where an old record has none).
+  write(dir / "d.record",
+        "status = 'done'\nwall_seconds = 3.0\ncpu_seconds = 2.5\nsteps = 36809\n");
+  const auto d = jam::read_run_record(run_at(dir / "d.h5"));
+  BOOST_TEST((d && d->status == "done" && d->steps == 36809 && d->cpu_seconds == 2.5));
+  BOOST_TEST(jam::read_run_record(run_at(dir / "b.h5"))->steps == 0);
+  BOOST_TEST(!jam::read_run_record(run_at(dir / "c.h5")).has_value());
   fs::remove_all(dir);
 }
 
