@@ -158,9 +158,13 @@ RunStatus run_status(const PlannedRun& run, std::string* detail) {
 void write_run_record(const PlannedRun& run, const RunRecord& r) {
   char host[256] = "";
   gethostname(host, sizeof host - 1);
-  toml::table t{
-      {"status", r.status}, {"wall_seconds", r.wall_seconds},   {"cpu_seconds", r.cpu_seconds},
-      {"steps", r.steps},   {"version", std::string(kVersion)}, {"host", std::string(host)}};
+  toml::table t{{"status", r.status},
+                {"wall_seconds", r.wall_seconds},
+                {"cpu_seconds", r.cpu_seconds},
+                {"steps", r.steps},
+                {"particle_steps", r.particle_steps},
+                {"version", std::string(kVersion)},
+                {"host", std::string(host)}};
   if (!r.error.empty()) t.insert("error", r.error);
   std::ostringstream text;
   text << t << "\n";
@@ -178,6 +182,7 @@ std::optional<RunRecord> read_run_record(const PlannedRun& run) {
     r.wall_seconds = t["wall_seconds"].value_or(0.0);
     r.cpu_seconds = t["cpu_seconds"].value_or(0.0);
     r.steps = t["steps"].value_or(std::int64_t{0});
+    r.particle_steps = t["particle_steps"].value_or(std::int64_t{0});
     r.error = t["error"].value_or(std::string());
     return r;
   } catch (const std::exception&) {

@@ -48,6 +48,10 @@ struct RunRecord {
   // 2026-11-27; an older checkpoint's are not known, and the record then holds less).
   double cpu_seconds = 0.0;
   std::int64_t steps = 0;
+  // Force evaluations x N (the jamming search's included), the planner's unit: a resumed
+  // campaign's ETA starts from their ratio to the plan. 0 in records written before
+  // 2026-11-27 and of runs resumed from a checkpoint (the earlier attempts' are not known).
+  std::int64_t particle_steps = 0;
   std::string error;
 };
 

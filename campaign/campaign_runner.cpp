@@ -100,9 +100,9 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       const RunStatus s = run_status(plan[k]);
       if (s == RunStatus::kDone) {
         ++already_done;
-        if (const auto r = read_run_record(plan[k]); r && r->steps > 0) {
+        if (const auto r = read_run_record(plan[k]); r && r->particle_steps > 0) {
           earlier_estimated += plan[k].estimated_particle_steps;
-          earlier_steps += static_cast<double>(r->steps) * static_cast<double>(plan[k].n);
+          earlier_steps += static_cast<double>(r->particle_steps);
         }
       } else if (s != RunStatus::kFailed || options.retry_failed) {
         if (s == RunStatus::kCorrupt) set_aside(plan[k]);
@@ -171,7 +171,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       ++interrupted;
       return std::nullopt;
     }
-    progress.finished(planned_steps, static_cast<double>(s.steps) * static_cast<double>(run.n));
+    progress.finished(planned_steps, static_cast<double>(s.counted_particle_steps), !s.resumed);
     return s;
   };
   // A done run again, only as far as the start its child lost (run_chains.hpp). Not a run: no
@@ -210,6 +210,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       if (!s) return Outcome::kInterrupted;
       record.status = "done";
       record.steps = static_cast<std::int64_t>(s->steps);
+      if (!s->resumed) record.particle_steps = static_cast<std::int64_t>(s->counted_particle_steps);
       earlier_cpu = s->earlier_cpu_seconds;
     } catch (const WriteError& e) {
       // Not the run's fault: no record, so the run stays to be done (or resumed from its

@@ -15,6 +15,7 @@
 #include "campaign/campaign_dir.hpp"
 #include "campaign/progress_estimate.hpp"
 #include "campaign/progress_text.hpp"
+#include "sim/run/compression_run.hpp"
 
 namespace fs = std::filesystem;
 using jam::ProgressEstimate;
@@ -56,6 +57,49 @@ BOOST_AUTO_TEST_CASE(a_resumed_campaign_is_calibrated_by_its_earlier_runs) {
   BOOST_TEST(std::abs(p.seconds_left(4e6, 4.0) - 11.6) < 1e-9);
 }
 
+// A run resumed from a checkpoint did only the rest of its estimate: it leaves the remaining
+// work, but its few steps against its whole estimate must not drag the ratio down.
+BOOST_AUTO_TEST_CASE(a_resumed_run_does_not_calibrate) {
+  ProgressEstimate p(10 * 1e7);
+  for (int k = 0; k < 4; ++k) p.finished(1e7, 1e6);
+  p.finished(1e7, 1e5, false);  // resumed near its end
+  // Ratio 0.1 still: five of ten runs left, 5e6 steps at 1e6 per second (live 4.1e6 in 4.1 s).
+  BOOST_TEST(std::abs(p.seconds_left(4.1e6, 4.1) - 5.0) < 1e-9);
+}
+
+// The progress counts force evaluations x N, the planner's unit (campaign/run_plan.cpp), each
+// one once: the relaxation's and the compression's (a run without a search counts exactly its
+// evaluations) and the jamming search's minimizations (on a scratch copy, so beyond them).
+BOOST_AUTO_TEST_CASE(runs_count_their_force_evaluations) {
+  const fs::path dir = fs::temp_directory_path() / ("jam-count-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  jam::SimConfig c;
+  c.n = 128;
+  c.phi_init = 0.80;
+  c.phi_stop = 0.86;
+  c.phi_step = 0.002;
+  c.compression_rate = 1e-3;
+  c.seed = 5;
+  c.quiet = true;
+  c.checkpoint_interval = 0;
+  c.out = (dir / "plain.h5").string();
+  std::atomic<std::uint64_t> live{0};
+  jam::RunControl control;
+  control.particle_steps = &live;
+  const jam::RunSummary plain = jam::run_compression(c, control);
+  BOOST_TEST(plain.force_evaluations > plain.steps);  // Chebyshev: several per step
+  BOOST_TEST(plain.counted_particle_steps == plain.force_evaluations * 128);
+  BOOST_TEST(live.load() == plain.counted_particle_steps);
+
+  c.jamming_point = true;
+  c.out = (dir / "search.h5").string();
+  live = 0;
+  const jam::RunSummary searched = jam::run_compression(c, control);
+  BOOST_TEST(searched.counted_particle_steps > searched.force_evaluations * 128 + 1000 * 128);
+  BOOST_TEST(live.load() == searched.counted_particle_steps);
+  fs::remove_all(dir);
+}
+
 BOOST_AUTO_TEST_CASE(durations_read_as_a_person_reads_them) {
   BOOST_TEST(jam::duration_text(42.0) == "42 s");
   BOOST_TEST(jam::duration_text(600.0) == "10.0 min");
@@ -87,12 +131,23 @@ BOOST_AUTO_TEST_CASE(recorded_core_seconds_prefer_cpu_and_read_older_records) {
   BOOST_TEST(*jam::recorded_core_seconds(run_at(dir / "a.h5")) == 12.5);
   BOOST_TEST(*jam::recorded_core_seconds(run_at(dir / "b.h5")) == 30.0);
   BOOST_TEST(!jam::recorded_core_seconds(run_at(dir / "c.h5")).has_value());
-  // The whole record, for the ETA's calibration: its steps (0 where an old record has none).
+  // The whole record, for the ETA's calibration: its particle-steps (0 where an old record
+  // has none).
   write(dir / "d.record",
-        "status = 'done'\nwall_seconds = 3.0\ncpu_seconds = 2.5\nsteps = 36809\n");
+        "status = 'done'\nwall_seconds = 3.0\ncpu_seconds = 2.5\nsteps = 36809\n"
+        "particle_steps = 9000000\n");
   const auto d = jam::read_run_record(run_at(dir / "d.h5"));
-  BOOST_TEST((d && d->status == "done" && d->steps == 36809 && d->cpu_seconds == 2.5));
-  BOOST_TEST(jam::read_run_record(run_at(dir / "b.h5"))->steps == 0);
+  BOOST_TEST((d && d->status == "done" && d->steps == 36809 && d->cpu_seconds == 2.5 &&
+              d->particle_steps == 9000000));
+  BOOST_TEST(jam::read_run_record(run_at(dir / "b.h5"))->particle_steps == 0);
+  // What write_run_record writes, read_run_record reads back.
+  jam::RunRecord e;
+  e.status = "done";
+  e.steps = 12;
+  e.particle_steps = 3456;
+  jam::write_run_record(run_at(dir / "e.h5"), e);
+  const auto back = jam::read_run_record(run_at(dir / "e.h5"));
+  BOOST_TEST((back && back->steps == 12 && back->particle_steps == 3456));
   BOOST_TEST(!jam::read_run_record(run_at(dir / "c.h5")).has_value());
   fs::remove_all(dir);
 }

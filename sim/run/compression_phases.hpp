@@ -144,7 +144,7 @@ class CompressionRun {
         stability_.check(sys_, sys_.box.length(t), sys_.box.packing_fraction(t), "relaxation");
       }
       if (k > 0 && (k & 255) == 0 && pause_due()) return false;
-      if (stop_now()) return pause_at_once(k & 255);
+      if (stop_now()) return pause_at_once();
       if constexpr (kAdaptive) {
         st_.relax_time += stepper_.step(sys_, t, std::numeric_limits<double>::infinity());
       } else {
@@ -191,7 +191,7 @@ class CompressionRun {
                          sys_.size());
         if (pause_due()) return false;
       }
-      if (stop_now()) return pause_at_once(static_cast<std::size_t>(step & 255));
+      if (stop_now()) return pause_at_once();
       // Dense output lands only on phi_stop, whose configuration ends the run.
       const double limit = dense ? t_stop_ : targets[st_.next_output];
       const double t_after = advance(t, limit);
@@ -213,7 +213,7 @@ class CompressionRun {
       if (control_.start_only && start_written_) break;
       if constexpr (kAdaptive) leave_transient_when_over();
     }
-    count_steps(static_cast<std::size_t>(st_.steps % 256));
+    count_work();
     if (!kAdaptive && !(control_.start_only && start_written_)) {
       stability_.check(sys_, sys_.box.length(t_stop_), sys_.box.packing_fraction(t_stop_),
                        "compression");
@@ -310,14 +310,19 @@ class CompressionRun {
       scratch.set_threads(c_.threads);
       // A checkpoint when one is due after each decision, so that a run killed mid-search
       // (SIGKILL, a lost machine) keeps the decisions made before its last checkpoint.
-      const JammingPoint j = find_jamming_point(
-          scratch, st_.saved, control_.stop, &st_.jamming_answers,
-          [&] { checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state()); });
+      // Its minimizations count in the progress after each decision.
+      std::uint64_t searched = scratch.force_evaluations();
+      const JammingPoint j =
+          find_jamming_point(scratch, st_.saved, control_.stop, &st_.jamming_answers, [&] {
+            add_work(scratch.force_evaluations() - searched);
+            searched = scratch.force_evaluations();
+            checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
+          });
       if (j.stopped) {
         // The compression is done and its state (saved configurations and the search's
         // decisions so far included) goes into the checkpoint; resuming replays the decisions
         // and minimizes only from the one that stopped.
-        pause_at_once(0);
+        pause_at_once();
         return interrupted();
       }
       meta_.jamming_packing_fraction = j.packing_fraction;
@@ -351,10 +356,11 @@ class CompressionRun {
     return summary_;
   }
 
-  /// Every 256 steps: counts them for the campaign's progress and takes a checkpoint when due.
+  /// Every 256 steps: counts the work for the campaign's progress and takes a checkpoint when
+  /// due.
   /// True when the run must stop (a checkpoint then holds its state).
   bool pause_due() {
-    count_steps(256);
+    count_work();
     tally_evaluations();
     return checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
   }
@@ -364,9 +370,9 @@ class CompressionRun {
   /// load per step.
   bool stop_now() const { return control_.stop && control_.stop->load(std::memory_order_relaxed); }
 
-  /// Stops now, with a checkpoint; `steps` since the last count. Always false (stopped).
-  bool pause_at_once(std::size_t steps) {
-    count_steps(steps);
+  /// Stops now, with a checkpoint. Always false (stopped).
+  bool pause_at_once() {
+    count_work();
     tally_evaluations();
     checkpointer_.checkpoint_if_due(st_, sys_.particles, stepper_.save_state());
     return false;
@@ -383,8 +389,20 @@ class CompressionRun {
     evaluations_redone_ = 0;
   }
 
-  void count_steps(std::size_t steps) {
-    if (control_.particle_steps) control_.particle_steps->fetch_add(steps * sys_.size());
+  /// The force evaluations since the last count (relaxation and compression) times N, into
+  /// the campaign's progress: the unit the planner estimates a run in (campaign/run_plan.cpp),
+  /// so that its ETA is right before the first run finishes. Steps were counted before, which
+  /// the Chebyshev integrator takes about 17 times fewer of than evaluations.
+  void count_work() {
+    const std::uint64_t now = sys_.force_evaluations();
+    add_work(now - counted_mark_);
+    counted_mark_ = now;
+  }
+
+  void add_work(std::uint64_t evaluations) {
+    const std::uint64_t particle_steps = evaluations * sys_.size();
+    summary_.counted_particle_steps += particle_steps;
+    if (control_.particle_steps) control_.particle_steps->fetch_add(particle_steps);
   }
 
   RunSummary interrupted() {
@@ -414,6 +432,7 @@ class CompressionRun {
   Clock::time_point wall_start_;
   std::size_t builds_before_;
   std::uint64_t evaluations_mark_ = 0;    // sys_.force_evaluations() at the last tally
+  std::uint64_t counted_mark_ = 0;        // ... at the last count_work()
   std::uint64_t evaluations_redone_ = 0;  // of those since, not the run's own (resume())
   std::size_t steps_here_ = 0;  // relaxation and compression steps done by this invocation
   double t_stop_ = 0.0;

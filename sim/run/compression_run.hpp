@@ -19,7 +19,10 @@ struct RunSummary {
   bool relax_converged = true;
   std::size_t neighbor_builds = 0;
   std::uint64_t force_evaluations = 0;  // by this invocation (relaxation, compression)
-  std::uint64_t rejected_steps = 0;     // adaptive integrators: steps tried again shorter
+  // Force evaluations x N of this invocation, the jamming search's included: what it added to
+  // RunControl::particle_steps (a campaign's progress).
+  std::uint64_t counted_particle_steps = 0;
+  std::uint64_t rejected_steps = 0;  // adaptive integrators: steps tried again shorter
   std::size_t output_points = 0;
   double initial_box_length = 0.0;
   double phi_init = 0.0;
@@ -41,7 +44,8 @@ struct RunControl {
   double checkpoint_interval_seconds = 300.0;
   /// When it becomes true the run writes a checkpoint and returns with interrupted = true.
   const std::atomic<bool>* stop = nullptr;
-  /// Incremented by the particle-steps done, for a campaign's progress display.
+  /// Incremented by the particle-steps done (force evaluations x N, the planner's unit), for a
+  /// campaign's progress display.
   std::atomic<std::uint64_t>* particle_steps = nullptr;
   /// Only the chained start (write_start): the run stops once it has written it, writes no run
   /// file and leaves an existing one as it is; its checkpoint is removed. For a campaign whose
