@@ -37,6 +37,20 @@ double number_of(const toml::table& t, const char* key, const std::string& where
   return *v;
 }
 
+/// The largest whole number a toml double holds exactly (2^53).
+constexpr std::int64_t kMaxWhole = std::int64_t{1} << 53;
+
+/// A whole number in [lo, hi] (n, sample, dim): anything else would be cast to an integer
+/// out of range or truncated without a word.
+std::int64_t whole_of(const toml::table& t, const char* key, const std::string& where,
+                      std::int64_t lo, std::int64_t hi) {
+  const double v = number_of(t, key, where);
+  if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi) && v == std::floor(v)))
+    throw std::runtime_error(
+        fmt::format("{}: {} = {} is not a whole number in [{}, {}]", where, key, v, lo, hi));
+  return static_cast<std::int64_t>(v);
+}
+
 void write_external(const std::string& directory, const ExternalCampaign& c) {
   toml::array runs, aside;
   for (const auto& r : c.runs)
@@ -132,7 +146,7 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
   ExternalCampaign c;
   c.name = text_of(t, "name", path);
   c.phi_step = number_of(t, "phi_step", path);
-  c.dim = static_cast<int>(number_of(t, "dim", path));
+  c.dim = static_cast<int>(whole_of(t, "dim", path, 2, 3));
   c.diameter_ratio = number_of(t, "diameter_ratio", path);
   c.contact = text_of(t, "contact", path);
   c.dynamics = text_of(t, "dynamics", path);
@@ -148,10 +162,10 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
       x.name = text_of(*r, "name", where);
       if (x.name.find('/') != std::string::npos || x.name.find("..") != std::string::npos)
         throw std::runtime_error(fmt::format("{}: name '{}' is not a run name", where, x.name));
-      x.n = static_cast<std::int64_t>(number_of(*r, "n", where));
+      x.n = whole_of(*r, "n", where, 1, kMaxWhole);
       x.phi_init = number_of(*r, "phi_init", where);
       x.log10_rate = number_of(*r, "log10_rate", where);
-      x.sample = static_cast<std::int64_t>(number_of(*r, "sample", where));
+      x.sample = whole_of(*r, "sample", where, 0, kMaxWhole);
       x.source = text_of(*r, "source", where);
       x.source_checksum = text_of(*r, "source_checksum", where);
       x.simulator = text_of(*r, "simulator", where);

@@ -4,6 +4,7 @@
 #define BOOST_TEST_MODULE external_campaign
 #include <boost/test/unit_test.hpp>
 #include <fmt/format.h>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -146,4 +147,29 @@ BOOST_AUTO_TEST_CASE(nothing_of_the_users_is_touched) {
   const auto o = jam::test::run_jam_stderr(file.parent_path() / "err", "campaign run " + file.string());
   BOOST_TEST(o.status == 2);
   BOOST_TEST(o.output.find("external campaign") != std::string::npos, o.output);
+}
+
+// An external.toml edited by hand: n, sample and dim are whole numbers in range, refused with
+// the key and the value otherwise (never cast out of an integer's range).
+BOOST_AUTO_TEST_CASE(counts_of_an_edited_external_file_are_whole_numbers) {
+  const fs::path src = scratch("edit_sources");
+  const fs::path dir = scratch("edit") / "c";
+  jam::import_runs(dir.string(), {write_run(src, -3.0, 0)}, {});
+  const std::string text = jam::test::slurp(dir / "external.toml");
+  BOOST_TEST_REQUIRE(jam::read_external_campaign(dir.string()).runs.size() == 1u);
+  for (const auto& [from, to, message] :
+       std::vector<std::array<std::string, 3>>{{"n = 64", "n = 1e30", "n = 1e+30 is not"},
+                                               {"sample = 0", "sample = 0.5", "sample = 0.5 is"},
+                                               {"dim = 2", "dim = 7", "dim = 7 is not"}}) {
+    BOOST_TEST_CONTEXT(to) {
+      std::string edited = text;
+      const auto at = edited.find(from);
+      BOOST_TEST_REQUIRE(at != std::string::npos);
+      std::ofstream(dir / "external.toml") << edited.replace(at, from.size(), to);
+      BOOST_CHECK_EXCEPTION(jam::read_external_campaign(dir.string()), std::runtime_error,
+                            [&](const std::runtime_error& e) {
+                              return std::string(e.what()).find(message) != std::string::npos;
+                            });
+    }
+  }
 }

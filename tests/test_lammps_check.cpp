@@ -15,6 +15,7 @@
 #include "process.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_import.hpp"
+#include "sim/io/lammps_log.hpp"
 
 using namespace jam::checks;
 namespace fs = std::filesystem;
@@ -150,5 +151,49 @@ BOOST_AUTO_TEST_CASE(import_turns_a_lammps_log_into_a_run_file) {
                                      "c_virial PotEng v_Z") != std::string::npos;
                         });
   BOOST_TEST(!fs::exists(out + "2"));
+  fs::remove_all(kDir);
+}
+
+// Counts a log states (atoms, steps) are whole numbers a double holds exactly: 1e58 atoms, a
+// fraction or a negative count is refused with the line and the value, never cast out of range
+// (the fuzz target found "1111...1024 atoms", 59 digits). 2^53 itself is still a count.
+BOOST_AUTO_TEST_CASE(counts_in_a_log_are_whole_numbers_in_range) {
+  const std::vector<std::string> columns = {"Step", "Volume"};
+  auto atoms = [&](const std::string& line) {
+    std::istringstream in("dimension 2\n" + line + "\nStep Volume\n0 1\n10 0.9\nLoop\n");
+    return jam::read_lammps_log(in, "t.log", columns).atoms;
+  };
+  BOOST_TEST(atoms("Created 1024 atoms").value_or(-1) == 1024);
+  BOOST_TEST(atoms("  9007199254740992 atoms").value_or(-1) == 9007199254740992);
+  for (const std::string line :
+       {"  11111111111111111111111111111111111111111111111111111111024 atoms",
+        "Created 2.5 atoms", "Created -3 atoms", "  9007199254740993.5 atoms"}) {
+    BOOST_TEST_CONTEXT(line) {
+      BOOST_CHECK_EXCEPTION(atoms(line), std::runtime_error, [](const std::runtime_error& e) {
+        return std::string(e.what()).rfind("t.log:2: ", 0) == 0 &&
+               std::string(e.what()).find("not a whole number in [0, 2^53]") != std::string::npos;
+      });
+    }
+  }
+  // Two lines of 2^53 atoms each: each a count, their sum not.
+  BOOST_CHECK_THROW(atoms("Created 9007199254740992 atoms\nCreated 9007199254740992 atoms"),
+                    std::runtime_error);
+
+  // A thermo row whose Step is not whole is refused by the import, naming the row.
+  fs::create_directories(kDir);
+  const fs::path stored = fs::path(JAM_SOURCE_DIR) / "reference" / "lammps" / "inertial-2d";
+  fs::copy_file(stored / "lammps.log", kDir / "step.log", fs::copy_options::overwrite_existing);
+  replace_in_file(kDir / "step.log", "      50 0.25 ", "      50.5 0.25 ");
+  jam::LammpsImport request;
+  request.log = (kDir / "step.log").string();
+  request.data = (stored / "start.data").string();
+  request.out = (kDir / "step.h5").string();
+  BOOST_CHECK_EXCEPTION(jam::import_lammps_run(request), std::runtime_error,
+                        [](const std::runtime_error& e) {
+                          return std::string(e.what()).find(
+                                     "thermo line 2: Step 50.5 is not a whole number") !=
+                                 std::string::npos;
+                        });
+  BOOST_TEST(!fs::exists(kDir / "step.h5"));
   fs::remove_all(kDir);
 }

@@ -19,9 +19,9 @@
 namespace jam {
 namespace {
 
-/// The thermo must describe one compression forward in time: increasing finite times and steps,
-/// non-negative energies and contact numbers. Anything else would make a run file that jam's
-/// own checks call corrupt.
+/// The thermo must describe one compression forward in time: increasing finite times and whole
+/// steps, non-negative energies and contact numbers. Anything else would make a run file that
+/// jam's own checks call corrupt.
 void check_thermo(const LammpsThermo& d, const std::string& path) {
   for (std::size_t k = 1; k < d.time.size(); ++k) {
     if (!(d.time[k] > d.time[k - 1]) || !(d.step[k] > d.step[k - 1])) {
@@ -32,6 +32,11 @@ void check_thermo(const LammpsThermo& d, const std::string& path) {
     }
   }
   for (std::size_t k = 0; k < d.time.size(); ++k) {
+    if (!(d.step[k] >= 0 && d.step[k] <= kMaxLammpsCount && d.step[k] == std::floor(d.step[k]))) {
+      throw std::runtime_error(
+          fmt::format("{}: thermo line {}: Step {} is not a whole number in [0, 2^53]", path, k + 1,
+                      d.step[k]));
+    }
     if (d.energy[k] < 0 || d.contacts[k] < 0) {
       throw std::runtime_error(fmt::format("{}: thermo line {}: PotEng {} or v_Z {} is negative",
                                            path, k + 1, d.energy[k], d.contacts[k]));

@@ -18,6 +18,14 @@ bool literal(const std::string& word) {
   return !word.empty() && word[0] != '$' && word[0] != 'v' && word.find("${") == std::string::npos;
 }
 
+/// Atoms created or read add up; their sum stays a count too.
+void add_atoms(std::int64_t atoms, const std::string& where, LammpsLog& log) {
+  const std::int64_t total = log.atoms.value_or(0) + atoms;  // both <= 2^53: no overflow
+  if (static_cast<double>(total) > kMaxLammpsCount)
+    throw std::runtime_error(fmt::format("{}: {} atoms in all (at most 2^53)", where, total));
+  log.atoms = total;
+}
+
 /// The settings a log states literally (a value given through a variable is echoed with it
 /// substituted when LAMMPS runs with `-echo log`, and not otherwise).
 void read_setting(const std::vector<std::string>& w, const std::string& where, LammpsLog& log) {
@@ -41,11 +49,10 @@ void read_setting(const std::vector<std::string>& w, const std::string& where, L
       log.rate = rate;
     }
   } else if (w.size() == 3 && w[0] == "Created" && w[2] == "atoms") {
-    log.atoms = log.atoms.value_or(0) +
-                static_cast<std::int64_t>(lammps_number(w[1], where, "created atoms"));
-  } else if (w.size() == 2 && w[1] == "atoms" && std::isdigit(static_cast<unsigned char>(w[0][0]))) {
-    log.atoms = log.atoms.value_or(0) +
-                static_cast<std::int64_t>(lammps_number(w[0], where, "atoms read"));
+    add_atoms(lammps_count(w[1], where, "created atoms"), where, log);
+  } else if (w.size() == 2 && w[1] == "atoms" &&
+             std::isdigit(static_cast<unsigned char>(w[0][0]))) {
+    add_atoms(lammps_count(w[0], where, "atoms read"), where, log);
   }
 }
 
@@ -73,6 +80,15 @@ double lammps_number(const std::string& text, const std::string& where, const st
   if (!std::isfinite(v))
     throw std::runtime_error(fmt::format("{}: {} {} is not finite", where, field, text));
   return v;
+}
+
+std::int64_t lammps_count(const std::string& text, const std::string& where,
+                          const std::string& field) {
+  const double v = lammps_number(text, where, field);
+  if (!(v >= 0 && v <= kMaxLammpsCount && v == std::floor(v)))
+    throw std::runtime_error(
+        fmt::format("{}: {} {} is not a whole number in [0, 2^53]", where, field, text));
+  return static_cast<std::int64_t>(v);
 }
 
 LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string>& columns) {
