@@ -184,6 +184,7 @@ std::optional<RunRecord> read_run_record(const PlannedRun& run) {
     r.steps = t["steps"].value_or(std::int64_t{0});
     r.particle_steps = t["particle_steps"].value_or(std::int64_t{0});
     r.error = t["error"].value_or(std::string());
+    r.version = t["version"].value_or(std::string());
     return r;
   } catch (const std::exception&) {
     return std::nullopt;
@@ -203,16 +204,12 @@ void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
     std::string detail;
     const RunStatus s = run_status(run, &detail);
     toml::table entry{{"status", to_string(s)}};
-    const std::string record = record_path(run);
-    if (fs::exists(record)) {
-      check_input_file("run record", record);
-      try {
-        const toml::table t = toml::parse_file(record);
-        if (auto w = t["wall_seconds"].value<double>()) entry.insert("wall_seconds", *w);
-        if (auto c = t["cpu_seconds"].value<double>()) entry.insert("cpu_seconds", *c);
-        if (auto v = t["version"].value<std::string>()) entry.insert("version", *v);
-      } catch (const std::exception&) {
-      }
+    // A record's cost and version; what an older record lacks (cpu_seconds before they were
+    // measured) is left out rather than written as 0.
+    if (const std::optional<RunRecord> r = read_run_record(run)) {
+      if (r->wall_seconds > 0) entry.insert("wall_seconds", r->wall_seconds);
+      if (r->cpu_seconds > 0) entry.insert("cpu_seconds", r->cpu_seconds);
+      if (!r->version.empty()) entry.insert("version", r->version);
     }
     if (!detail.empty()) entry.insert("detail", detail);
     runs.insert(run.name, std::move(entry));

@@ -53,6 +53,7 @@ struct RunRecord {
   // 2026-11-27 and of runs resumed from a checkpoint (the earlier attempts' are not known).
   std::int64_t particle_steps = 0;
   std::string error;
+  std::string version;  // of the jam that wrote it (read back; written as kVersion)
 };
 
 void write_run_record(const PlannedRun& run, const RunRecord& record);

@@ -79,7 +79,19 @@ BOOST_AUTO_TEST_CASE(runs_reruns_refuses_and_repairs) {
   const auto first = run_files("a");
   BOOST_TEST(first.size() == 16u);
   BOOST_TEST(fs::exists(kDir / "a" / "manifest.toml"));
-  BOOST_TEST(slurp(kDir / "a" / "manifest.toml").find("status = 'done'") != std::string::npos);
+  {
+    // Every done run's entry carries its record's cost and the version that ran it.
+    const std::string manifest = slurp(kDir / "a" / "manifest.toml");
+    auto count = [&](const std::string& pattern) {
+      const std::regex re(pattern);
+      return std::distance(std::sregex_iterator(manifest.begin(), manifest.end(), re),
+                           std::sregex_iterator());
+    };
+    BOOST_TEST(count("status = 'done'") == 16);
+    BOOST_TEST(count("cpu_seconds = [0-9]") == 16);
+    BOOST_TEST(count("wall_seconds = [0-9]") == 16);
+    BOOST_TEST(count("\\bversion = '0\\.1\\.0") == 16);
+  }
 
   o = run_jam("campaign status " + (kDir / "a").string());
   BOOST_TEST(o.output.find("done     16") != std::string::npos, o.output);
