@@ -8,6 +8,7 @@
 
 #include "app/check_command.hpp"
 #include "app/stats_command.hpp"
+#include "campaign/toml_file.hpp"
 #include "checks/checks.hpp"
 
 namespace jam {
@@ -23,8 +24,10 @@ Campaign pilot_campaign(const Campaign& c, int samples) {
   t.insert_or_assign("output", fmt::format("{}-pilot-{}", c.output, samples));
   t.insert_or_assign("name", fmt::format("{}-pilot-{}", c.name, samples));
   std::ostringstream text;
-  text << "# The pilot of " << c.source_path << " (jam campaign plan --pilot " << samples << ")\n"
-       << t << "\n";
+  // The name, not the file's path: the text must stay plain ASCII, a path need not be.
+  text << "# The pilot of campaign " << c.name << " (jam campaign plan --pilot " << samples
+       << ")\n"
+       << toml_text(t) << "\n";
   return parse_campaign(text.str(), c.source_path);
 }
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "campaign/toml_file.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
 
@@ -42,12 +43,11 @@ SampleCounts read_added_samples(const Campaign& c) {
   const std::string path = added_samples_path(c);
   SampleCounts counts;
   if (!fs::exists(fs::symlink_status(path))) return counts;
-  check_input_file("added samples", path);
   toml::table t;
   try {
-    t = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    throw CampaignError(fmt::format("{}: {}", path, e.description()));
+    t = read_toml_file("added samples", path);
+  } catch (const std::runtime_error& e) {
+    throw CampaignError(e.what());
   }
   const toml::array* list = t["ensemble"].as_array();
   if (!list) return counts;
@@ -100,7 +100,7 @@ void write_added_samples(const Campaign& c, const SampleCounts& counts) {
   }
   std::ostringstream text;
   text << "# Samples added by `jam campaign run --until-decided` (jam writes this file).\n"
-       << toml::table{{"ensemble", std::move(list)}} << "\n";
+       << toml_text(toml::table{{"ensemble", std::move(list)}}) << "\n";
   AtomicFile out(path);
   std::fputs(text.str().c_str(), out.stream());
   out.commit();

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "campaign/external_campaign.hpp"
+#include "campaign/toml_file.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/hdf5_file.hpp"
@@ -140,17 +141,9 @@ RunStatus run_status(const PlannedRun& run, std::string* detail) {
     return RunStatus::kCorrupt;
   }
   if (fs::exists(checkpoint_path(file))) return RunStatus::kPartial;
-  const std::string record = record_path(run);
-  if (fs::exists(record)) {
-    check_input_file("run record", record);
-    try {
-      const toml::table t = toml::parse_file(record);
-      if (t["status"].value_or(std::string()) == "failed") {
-        if (detail) *detail = t["error"].value_or(std::string());
-        return RunStatus::kFailed;
-      }
-    } catch (const std::exception&) {
-    }
+  if (const std::optional<RunRecord> r = read_run_record(run); r && r->status == "failed") {
+    if (detail) *detail = r->error;
+    return RunStatus::kFailed;
   }
   return RunStatus::kMissing;
 }
@@ -166,17 +159,15 @@ void write_run_record(const PlannedRun& run, const RunRecord& r) {
                 {"version", std::string(kVersion)},
                 {"host", std::string(host)}};
   if (!r.error.empty()) t.insert("error", r.error);
-  std::ostringstream text;
-  text << t << "\n";
-  write_text(record_path(run), text.str());
+  write_text(record_path(run), toml_text(t) + "\n");
 }
 
 std::optional<RunRecord> read_run_record(const PlannedRun& run) {
   const std::string path = record_path(run);
   if (!fs::exists(path)) return std::nullopt;
-  check_input_file("run record", path);
+  check_input_file("run record", path);  // a FIFO is an error, not an unreadable record
   try {
-    const toml::table t = toml::parse_file(path);
+    const toml::table t = read_toml_file("run record", path);
     RunRecord r;
     r.status = t["status"].value_or(std::string());
     r.wall_seconds = t["wall_seconds"].value_or(0.0);
@@ -218,9 +209,7 @@ void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
                        {"campaign", c.source_text},
                        {"code_version", std::string(kVersion)},
                        {"runs", std::move(runs)}};
-  std::ostringstream text;
-  text << manifest << "\n";
-  write_text((fs::path(c.output) / "manifest.toml").string(), text.str());
+  write_text((fs::path(c.output) / "manifest.toml").string(), toml_text(manifest) + "\n");
 }
 
 }  // namespace jam

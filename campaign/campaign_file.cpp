@@ -15,6 +15,7 @@
 #include <variant>
 
 #include "campaign/run_plan.hpp"
+#include "campaign/toml_file.hpp"
 #include "checks/check_registry.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/compression_run.hpp"
@@ -291,15 +292,9 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   // Plain ASCII only: the TOML parser of Debian 12 (toml++ 3.3.0) reaches undefined behaviour
   // on some non-ASCII characters (marzer/tomlplusplus#295, found here by fuzzing), and no key
   // or value of a campaign needs one.
-  int line = 1;
-  for (const char ch : text) {
-    const auto byte = static_cast<unsigned char>(ch);
-    if (byte == '\n') ++line;
-    if (byte >= 0x80 || (byte < 0x20 && byte != '\n' && byte != '\t' && byte != '\r') ||
-        byte == 0x7f) {
-      throw CampaignError(fmt::format("{}:{}: byte 0x{:02x}: campaign files are plain ASCII text",
-                                      path, line, byte));
-    }
+  if (const auto bad = first_non_ascii(text)) {
+    throw CampaignError(fmt::format("{}:{}: byte 0x{:02x}: campaign files are plain ASCII text",
+                                    path, bad->line, bad->byte));
   }
   toml::table table;
   try {

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "campaign/run_plan.hpp"
+#include "campaign/toml_file.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/open_run.hpp"
 #include "sim/io/output_path.hpp"
@@ -76,8 +77,9 @@ void write_external(const std::string& directory, const ExternalCampaign& c) {
                 {"run", std::move(runs)},
                 {"set_aside", std::move(aside)}};
   std::ostringstream text;
-  text << "# An external campaign: runs imported by `jam campaign import` (docs/cross-simulator.md)\n"
-       << t << "\n";
+  text << "# An external campaign: runs imported by `jam campaign import` "
+          "(docs/cross-simulator.md)\n"
+       << toml_text(t) << "\n";
   AtomicFile out((fs::path(directory) / kFile).string());
   const std::string s = text.str();
   if (std::fwrite(s.data(), 1, s.size(), out.stream()) != s.size())
@@ -136,13 +138,7 @@ bool is_external_campaign(const std::string& directory) {
 
 ExternalCampaign read_external_campaign(const std::string& directory) {
   const std::string path = (fs::path(directory) / kFile).string();
-  check_input_file("external campaign", path);
-  toml::table t;
-  try {
-    t = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}: {}", path, e.description()));
-  }
+  const toml::table t = read_toml_file("external campaign", path);
   ExternalCampaign c;
   c.name = text_of(t, "name", path);
   c.phi_step = number_of(t, "phi_step", path);

@@ -175,3 +175,17 @@ BOOST_AUTO_TEST_CASE(counts_of_an_edited_external_file_are_whole_numbers) {
     }
   }
 }
+
+// A run imported from a directory whose name is not ASCII: external.toml escapes it (jam's TOML
+// files are plain ASCII, campaign/toml_file.hpp) and reads it back as it was.
+BOOST_AUTO_TEST_CASE(a_source_path_beyond_ascii_reads_back) {
+  const fs::path src = scratch("sources_nonascii") / "donn\u00e9es \u03c6";
+  fs::create_directories(src);
+  const fs::path dir = scratch("nonascii") / "c";
+  const std::string run = write_run(src, -3.0, 0);
+  jam::import_runs(dir.string(), {run}, {});
+  const auto c = jam::read_external_campaign(dir.string());
+  BOOST_TEST_REQUIRE(c.runs.size() == 1u);
+  BOOST_TEST(c.runs[0].source == fs::absolute(run).lexically_normal().string());
+  BOOST_TEST(jam::test::slurp(dir / "external.toml").find("\\u00E9") != std::string::npos);
+}
