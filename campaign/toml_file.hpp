@@ -21,7 +21,8 @@ struct NonAsciiByte {
 };
 std::optional<NonAsciiByte> first_non_ascii(std::string_view text);
 
-/// The largest TOML file read (an external campaign of 100,000 runs takes about 60 MB less).
+/// The largest TOML file read: a bound against a damaged or substituted file, far above what jam
+/// writes (a record is a few hundred bytes; external.toml grows by one short table per run).
 inline constexpr std::size_t kMaxTomlBytes = std::size_t{64} << 20;
 
 /// `table` as TOML text in plain ASCII: characters beyond it (a user's path, an error message)
