@@ -1,7 +1,6 @@
 // Without contacts, particles follow the host flow exactly: r(t) = (L(t)/L0) r(0), and the
 // packing follows phi(t) = phi_init exp(D rate t). Every integrator of the list
 // (sim/dynamics/integrators.hpp).
-#define BOOST_TEST_MODULE affine_compression
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 

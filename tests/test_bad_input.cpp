@@ -1,6 +1,5 @@
 // Every bad input of `jam sim` is rejected with a one-line error naming the option and the
 // value, a non-zero exit status, and no output file.
-#define BOOST_TEST_MODULE bad_input
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

@@ -2,7 +2,6 @@
 // and every number in them is finite and positive where it must be. No timing is asserted
 // (timings on a shared machine are not reproducible); the benchmarks' results live in
 // reports/benchmarks/.
-#define BOOST_TEST_MODULE bench_smoke
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

@@ -6,7 +6,6 @@
 // its run files alone) are left again by each ancestor in turn; a parent that failed
 // holds its children back; bad chain_phi_init values are refused naming the key; the plan
 // states the saving.
-#define BOOST_TEST_MODULE campaign_chains
 #include <boost/test/unit_test.hpp>
 #include <filesystem>
 #include <fstream>

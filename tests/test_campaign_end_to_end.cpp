@@ -2,7 +2,6 @@
 // incompatible changes are refused, corrupt run files are detected and redone, a campaign
 // killed (SIGKILL) at random moments finishes with run files identical to an uninterrupted
 // one without redoing finished runs, and an MPI campaign equals the local one.
-#define BOOST_TEST_MODULE campaign_end_to_end
 #include <signal.h>
 #include <sys/wait.h>
 

@@ -4,7 +4,6 @@
 // step is unstable is marked failed with the error while the others finish; a full disk and an
 // unwritable directory give a clear error and leave earlier results intact; 1 and 2 threads
 // give identical run files.
-#define BOOST_TEST_MODULE campaign_faults
 #include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -1,6 +1,5 @@
 // Campaign files: every kind of bad input is rejected with the file, line and key; seeds
 // derive from (base seed, size, phi_init, sample) only; the plan is complete and ordered.
-#define BOOST_TEST_MODULE campaign_file
 #include <fmt/format.h>
 
 #include <boost/test/unit_test.hpp>

@@ -4,7 +4,6 @@
 // leave one complete, consistent campaign. With campaign.toml deleted, a rerun at another dt
 // does not take the old runs for its own: they are set aside (never deleted) and redone, and
 // `jam stats` averages only runs of the planned parameters.
-#define BOOST_TEST_MODULE campaign_owner
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

@@ -3,7 +3,6 @@
 // cannot decide the pressure at constant phi, and warns with the samples needed; with 400
 // samples every comparison decides; a --scatter-from that is missing is one line and no plan;
 // --pilot K runs the campaign's first K samples in <output>-pilot-K and plans from them.
-#define BOOST_TEST_MODULE campaign_plan
 #include <boost/test/unit_test.hpp>
 #include <filesystem>
 #include <fstream>

@@ -4,7 +4,6 @@
 // comparison it judges on (compare_weighted) has its false-alarm and false-pass rates
 // measured. The chained start's transient (margin.cpp, first_chained_compression_point) ends
 // after the pressure's minimum.
-#define BOOST_TEST_MODULE chain_check
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

@@ -4,7 +4,6 @@
 // order measured on two relaxing particles, and the error controller rejecting a step across a
 // planted stiff event and still landing on the reference, and the continuous extension (dense
 // output) within the step's tolerance of a converged solution from the same start.
-#define BOOST_TEST_MODULE chebyshev
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 

@@ -2,7 +2,6 @@
 // unique and complete; every name it registers is accepted by `jam check` (the ones that run
 // by name) and as a campaign file's [margins] key, and a name it does not register is refused
 // by both in one line naming it; `all` runs exactly the members of `all`.
-#define BOOST_TEST_MODULE check_registry
 #include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>

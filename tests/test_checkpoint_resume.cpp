@@ -2,7 +2,6 @@
 // file bitwise identical to an uninterrupted run, having resumed from checkpoints rather than
 // from the start; SIGINT stops a run cleanly with a checkpoint (exit 130); a jamming-point
 // search killed or stopped resumes from its last checkpointed decision.
-#define BOOST_TEST_MODULE checkpoint_resume
 #include <signal.h>
 
 #include <boost/test/unit_test.hpp>

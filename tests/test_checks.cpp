@@ -1,7 +1,6 @@
 // The statistical checks on synthetic run sets with run-to-run correlated noise: each passes
 // on data that should pass and fails on data with a planted difference, the false-alarm rate
 // of the finite-size test is measured over many repeats, and the JSON and JUnit outputs parse.
-#define BOOST_TEST_MODULE checks
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <cstdlib>

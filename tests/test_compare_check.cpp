@@ -6,7 +6,6 @@
 // compare_fit and compare_fit_phi_j; ensembles and fits without a partner are named; the grids
 // are matched on shared values or interpolated exactly where the curve is linear; and
 // `jam check compare DIR --against REF` runs through the baseline path of the registry.
-#define BOOST_TEST_MODULE compare_check
 #include <fmt/format.h>
 
 #include <boost/test/unit_test.hpp>

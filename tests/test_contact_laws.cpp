@@ -4,7 +4,6 @@
 // SSE2 / AVX2 f/r give the scalar bits, "in contact" is where the force is nonzero, and its
 // LAMMPS table is -dU/dr row by row; the harmonic table equals the one written independently
 // by reference/lammps/make_table.py.
-#define BOOST_TEST_MODULE contact_laws
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <cstring>

@@ -5,7 +5,6 @@
 // threads, and a checkpoint round trip of the configuration must give them.
 // Regenerate (after a deliberate change of a law): JAM_REGENERATE_REFERENCE=1
 // test_contact_reference
-#define BOOST_TEST_MODULE contact_reference
 #include <fmt/format.h>
 #include <unistd.h>
 

@@ -3,7 +3,6 @@
 // search and keeps every contact while the box shrinks (cells are sized by the big diameter),
 // the stability bound is the closed form for two big particles, and `jam sim` runs at both ends
 // of the range and refuses values outside it.
-#define BOOST_TEST_MODULE diameter_ratio
 #include <unistd.h>
 
 #include <algorithm>

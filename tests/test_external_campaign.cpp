@@ -1,7 +1,6 @@
 // External campaigns (campaign/external_campaign.hpp): runs jam did not plan join a campaign
 // directory only when they are open runs of its model, each set-aside file keeps its reason,
 // nothing the user had is touched, and the statistics average what was imported.
-#define BOOST_TEST_MODULE external_campaign
 #include <boost/test/unit_test.hpp>
 #include <fmt/format.h>
 #include <array>

@@ -2,7 +2,6 @@
 // with two pairs of particles placed at exactly the same point (one pair of equal species, one
 // mixed) relax and compress without a single non-finite number, under every integrator, and
 // through the whole `jam sim` pipeline (data file in, run file out).
-#define BOOST_TEST_MODULE extreme_starts
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

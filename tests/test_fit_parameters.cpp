@@ -2,7 +2,6 @@
 // equal parameters with small errors pass, beta 30% apart fails and is named, a phi_J shift of
 // 0.01 fails its own verdict, large errors are inconclusive, and without per-size fits it says
 // so. The t quantiles are checked against tabulated values.
-#define BOOST_TEST_MODULE fit_parameters
 #include <gsl/gsl_cdf.h>
 
 #include <boost/test/unit_test.hpp>

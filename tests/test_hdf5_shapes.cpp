@@ -5,7 +5,6 @@
 // dataset), and a FIFO is refused before it is opened. Each reader runs in a child process
 // with a time limit, so that a crash or a hang fails its test and not the suite, and the
 // child's memory growth is measured.
-#define BOOST_TEST_MODULE hdf5_shapes
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>

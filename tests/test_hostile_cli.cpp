@@ -4,7 +4,6 @@
 // file system cannot hold are refused up front, the LAMMPS importer refuses what would make a
 // corrupt run, and grids are bounded before they are allocated. Every jam started here runs
 // under `timeout`, so that a regression to a hang fails the test instead of CI.
-#define BOOST_TEST_MODULE hostile_cli
 #include <sys/stat.h>
 #include <unistd.h>
 

@@ -3,7 +3,6 @@
 // from the installed stored results) and the report (installed report scripts and jamio) with
 // the source tree hidden: a private mount namespace with an empty tmpfs over it (root only;
 // skipped with a message otherwise).
-#define BOOST_TEST_MODULE install
 #include <fcntl.h>
 #include <sched.h>
 #include <sys/mount.h>

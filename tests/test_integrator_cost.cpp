@@ -1,6 +1,5 @@
 // The integrators' cost model (sim/dynamics/integrator_cost.hpp), which `jam campaign plan`
 // and the per-run limits rest on: its integral over a compression against the closed form.
-#define BOOST_TEST_MODULE integrator_cost
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 

@@ -1,6 +1,5 @@
 // Jackknife errors and bias correction against closed forms; averages at constant phi and at
 // constant Z on runs whose curves are known exactly; the shrunk covariance.
-#define BOOST_TEST_MODULE jackknife_and_averages
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

@@ -2,7 +2,6 @@
 // and balances the forces above it; a perfect square (cubic) lattice of equal spheres
 // compressed through contact jams exactly at phi = pi/4 (pi/6), which the run finds. A search
 // stopped and resumed replays its decisions and gives the uninterrupted search's point.
-#define BOOST_TEST_MODULE jamming_point
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <filesystem>

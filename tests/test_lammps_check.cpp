@@ -1,7 +1,6 @@
 // `jam check lammps`: passes against the stored LAMMPS result, fails when that result is
 // perturbed (a particle moved by 1e-6, the pressure changed by 1e-3), and is inconclusive, never
 // passed, when there is neither lmp nor a stored result.
-#define BOOST_TEST_MODULE lammps_check
 #include <fmt/format.h>
 #include <unistd.h>
 

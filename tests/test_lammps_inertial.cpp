@@ -5,7 +5,6 @@
 // pressure and energy to 1e-5 relative, contacts exactly, overdamped pressure within 0.5%. The
 // tolerances are argued in checks/lammps_check.cpp; a step-order mistake (forces at the deformed
 // box) moves particles by ~5e-6 and fails.
-#define BOOST_TEST_MODULE lammps_inertial
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

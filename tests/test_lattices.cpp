@@ -2,7 +2,6 @@
 // spacing a, with only nearest neighbours overlapping (d > a, d <= sqrt(2) a):
 //   Z = 2D, E/N = D * (1/2) delta^2 with delta = 1 - a/d,
 //   p = (1/(D V)) sum_pairs f r = (1/(D a^D N)) * (D N) * (delta/d) * a = delta / (d a^(D-1)).
-#define BOOST_TEST_MODULE lattices
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 

@@ -5,7 +5,6 @@
 // a long-double reference. Then 1e7 real steps of a small system: positions stay wrapped, phi
 // stays exact, and the neighbor list is rebuilt as often as the affine shrinking requires.
 // Sizes: N = 2 runs where the box allows it.
-#define BOOST_TEST_MODULE long_runs
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
@@ -58,8 +57,8 @@ double worst_packing_error(double phi0, double rate, double dt, double steps) {
 // about k ulp, ~1e-6 after 1e10 steps, and fail.
 BOOST_AUTO_TEST_CASE(packing_fraction_over_the_longest_paper_runs) {
   for (const char* name : {"paper-2d.toml", "paper-3d.toml"}) {
-    const jam::Campaign c =
-        jam::read_campaign(std::string(JAM_SOURCE_DIR) + "/reference/campaigns/" + name);
+    const jam::Campaign c = jam::read_campaign(
+        (std::filesystem::path(JAM_SOURCE_DIR) / "reference" / "campaigns" / name).string());
     const double slowest =
         std::pow(10.0, *std::min_element(c.log10_rates.begin(), c.log10_rates.end()));
     const double phi0 = *std::min_element(c.phi_init.begin(), c.phi_init.end());

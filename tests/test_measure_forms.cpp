@@ -5,7 +5,6 @@
 // whose length is not a multiple of the block or of four. The scalar and AVX2 forms of the
 // first pass agree bit for bit on every block. Without the whole stress tensor the pressure
 // and the rest keep their bits.
-#define BOOST_TEST_MODULE measure_forms
 #include <boost/test/unit_test.hpp>
 #include <cstring>
 

@@ -1,6 +1,5 @@
 // The cell-list Verlet list finds exactly the pairs an O(N^2) search finds, and never misses
 // a contact between rebuilds while the box shrinks.
-#define BOOST_TEST_MODULE neighbor_list
 #include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <set>

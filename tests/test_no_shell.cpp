@@ -2,7 +2,6 @@
 // (sim/io/process.hpp), so names holding `;`, `$( )`, quotes or blanks are only names. The
 // LAMMPS check runs in a campaign directory with such a name, and a campaign directory that
 // does not exist is a tool error (exit 2), not created.
-#define BOOST_TEST_MODULE no_shell
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

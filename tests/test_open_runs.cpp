@@ -3,7 +3,6 @@
 // and leaves nothing behind; a LAMMPS run of any input made by the test imports with its
 // columns named (and is refused when its box does not shrink at the stated rate); configuration
 // frames are measured by jam to the analytic pressure, Z and energy of an overlapping pair.
-#define BOOST_TEST_MODULE open_runs
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <filesystem>

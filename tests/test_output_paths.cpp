@@ -2,7 +2,6 @@
 // a device node, a socket or a directory where a file belongs is refused in one line naming
 // the option, and left as it was; a symbolic link is written through (its target replaced,
 // the link kept); a link to nothing is refused; a campaign's output that is a file is refused.
-#define BOOST_TEST_MODULE output_paths
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>

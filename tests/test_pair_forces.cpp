@@ -3,7 +3,6 @@
 // the entries they own
 // ([first, n)): on jammed and dilute packings in 2D and 3D, with every tail length, rows split
 // across blocks, and rows longer than a block (a huge skin).
-#define BOOST_TEST_MODULE pair_forces
 #include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>

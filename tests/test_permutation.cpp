@@ -2,7 +2,6 @@
 // one rule for the p-value and the threshold (a statistic above its threshold is detected,
 // never "no difference detected"), and the honest words when too few splits make alpha
 // unreachable.
-#define BOOST_TEST_MODULE permutation
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

@@ -4,7 +4,6 @@
 // `jam check`'s: checks.json records those it was judged with, other options judge again (and
 // the same ones do not), and a bad value is one line naming it, before any run. `jam check` on
 // the same directory prints one table per check with its cases whole.
-#define BOOST_TEST_MODULE pipeline
 #include <boost/test/unit_test.hpp>
 #include <filesystem>
 #include <fstream>

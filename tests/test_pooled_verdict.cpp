@@ -4,7 +4,6 @@
 // power to fail a 15% effect, the false-alarm rate without an effect, and the false-pass rate
 // of an effect of 1.2 x the margin. The data: synthetic_runs.hpp (10% scatter per run, AR(1)
 // correlation 0.9 along 60 grid points).
-#define BOOST_TEST_MODULE pooled_verdict
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

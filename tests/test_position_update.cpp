@@ -2,7 +2,6 @@
 // dispatched ones) give the one-particle forms' bits, including particles that cross the periodic
 // boundary in either direction, land exactly on 1, or are NaN, at every tail length; and the
 // one-particle form wraps into [0, 1). The same for the Chebyshev step's continuous extension.
-#define BOOST_TEST_MODULE position_update
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <cstring>

@@ -2,7 +2,6 @@
 // calibrated by the finished runs (campaign/progress_estimate.hpp), and each run's recorded
 // core-seconds, its thread's CPU time, which --until-decided --budget counts
 // (campaign/campaign_dir.hpp).
-#define BOOST_TEST_MODULE progress_estimate
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

@@ -1,5 +1,4 @@
 // Iterative rattler removal on small contact graphs with known answers.
-#define BOOST_TEST_MODULE rattlers
 #include <boost/test/unit_test.hpp>
 
 #include "sim/observables/rattlers.hpp"

@@ -6,7 +6,6 @@
 // simulator built with -ffp-contract=off); the new samples' mean must agree with the stored
 // ten within errors. That the check fails on planted differences (one ulp, a 15% shift) is
 // shown in test_regression_check.cpp; here it must pass, and must have compared something.
-#define BOOST_TEST_MODULE reduced_regression
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

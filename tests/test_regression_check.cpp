@@ -2,7 +2,6 @@
 // rerun samples must be bitwise identical (a one-ulp change fails, a tolerance admits it), new
 // samples of the same distribution pass and a planted 15% shift fails, the whole check's
 // false-alarm rate over several ensembles is measured, and what cannot be compared is inconclusive.
-#define BOOST_TEST_MODULE regression_check
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

@@ -1,6 +1,5 @@
 // Run files: determinism (bitwise), the documented schema, the output grid, and LAMMPS data
 // files written and read back.
-#define BOOST_TEST_MODULE run_files
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <filesystem>

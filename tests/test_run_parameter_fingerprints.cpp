@@ -1,7 +1,6 @@
 // Fingerprints identify stored runs, checkpoints, relaxed starts and campaign directories, so
 // their text must never change for an existing configuration. The expected strings are fixed
 // literals (taken from the version before the parameter table), not computed.
-#define BOOST_TEST_MODULE run_parameter_fingerprints
 #include <boost/test/unit_test.hpp>
 #include <string>
 

@@ -3,7 +3,6 @@
 // earlier versions, unknown keys and bad values are refused, the run file carries every
 // attribute the table names and reference/schema.md, docs/cli.md and the default campaign file
 // document them. The expected spellings and values are literals here, not read from the table.
-#define BOOST_TEST_MODULE run_parameters
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>

@@ -2,7 +2,6 @@
 // two sizes with the same mean pressure, one scattering six times more than the other, are
 // not a detection (the former null, relabelling runs between the sizes, detected exactly this
 // with hundreds of samples), while a 15% systematic difference is.
-#define BOOST_TEST_MODULE sample_pairs
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

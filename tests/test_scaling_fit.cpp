@@ -2,7 +2,6 @@
 // sample-to-sample noise that is correlated along each run: it recovers phi_J, beta and y
 // within their errors, about 68% of its 1-sigma intervals cover the truth (measured over many
 // data sets), and impossible fits fail with a message.
-#define BOOST_TEST_MODULE scaling_fit
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

@@ -4,7 +4,6 @@
 // flipped bit in any attribute that gives its data meaning (compression_rate, phi_init,
 // jamming_packing_fraction) fails its checksum; a run file of schema 1 (datasets-only
 // checksum) stays readable, flagged as unverified.
-#define BOOST_TEST_MODULE seals
 #include <fmt/format.h>
 #include <unistd.h>
 

@@ -3,7 +3,6 @@
 // `jam campaign run --until-decided` does, measured on synthetic run sets with nothing
 // planted: with alpha spent over the looks it stays at or below alpha; judging every look at
 // the full alpha (what the spending prevents) exceeds it.
-#define BOOST_TEST_MODULE sequential
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

@@ -2,7 +2,6 @@
 // and the estimated safe bound, a non-zero exit and no run file; time steps inside the bound
 // run. 2D and 3D, Euler and Heun, and velocity Verlet at a large quality factor. Also: the
 // stability estimate itself against a case with a closed form.
-#define BOOST_TEST_MODULE stability
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>

@@ -1,7 +1,6 @@
 // `jam stats DIR` on a real (tiny) campaign: stats.h5 has the documented schema and shapes,
 // pooling doubles the samples, the means are the means of the stored per-sample tables,
 // held exponents are reported, and a directory without finished runs is an error.
-#define BOOST_TEST_MODULE stats_end_to_end
 #include <sys/wait.h>
 #include <unistd.h>
 

@@ -4,7 +4,6 @@
 // pairs (not the neighbor list); and the Chebyshev integrator driven by it against the
 // Gershgorin bound and a converged Heun reference from the same state; the packed form of
 // the product's per-contact terms against the scalar one, bit for bit.
-#define BOOST_TEST_MODULE stiffest_mode_estimate
 #include <Eigen/Eigenvalues>
 #include <boost/test/unit_test.hpp>
 #include <cmath>

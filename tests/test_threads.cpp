@@ -1,7 +1,6 @@
 // A run split over threads (--threads): the neighbor list and the rebuild decisions are those
 // of one thread exactly; the forces agree with one thread and with an O(N^2) sum to round-off;
 // and a threaded run repeats itself bit for bit.
-#define BOOST_TEST_MODULE threads
 #include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>

@@ -3,7 +3,6 @@
 // they hold, read as outside input: a FIFO, an oversized file or raw non-ASCII text (on which
 // Debian 12's toml++ 3.3.0 can reach undefined behaviour) is one error naming the file, never
 // a hang or a parse.
-#define BOOST_TEST_MODULE toml_files
 #include <sys/stat.h>
 
 #include <boost/test/unit_test.hpp>

@@ -1,6 +1,5 @@
 // Two overlapping particles relax as the closed-form solution of the overdamped equation of
 // motion, and the integrators converge at their order in dt (measured slopes).
-#define BOOST_TEST_MODULE two_particle_relaxation
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 

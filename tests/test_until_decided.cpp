@@ -4,7 +4,6 @@
 // verdicts and added samples; killed (SIGKILL) in the middle of a later look and run again it
 // ends with the same files; two shards run at once, and under mpirun two ranks, end with the
 // same verdicts too; a tight budget stops it and says so.
-#define BOOST_TEST_MODULE until_decided
 #include <signal.h>
 
 #include <boost/test/unit_test.hpp>

@@ -3,7 +3,6 @@
 // whole, however long; each number in one unit (relative effects in %, in the rows as in the
 // reasons that reach the terminal, never beside a fraction); a short reason per row, the
 // whole one left to checks.json and the report.
-#define BOOST_TEST_MODULE verdict_table
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <regex>

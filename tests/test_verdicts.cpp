@@ -6,7 +6,6 @@
 // planted) are measured over 300 repeats each and must be at or below alpha. A difference
 // planted at t = 0 alone (the relaxed start's residual pressure) changes no verdict. Exit
 // statuses of `jam check`: docs/statistics-and-checks.md.
-#define BOOST_TEST_MODULE verdicts
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

@@ -1,7 +1,6 @@
 // The virial pressure (trace of the paper's stress tensor over D) equals -dE/dV, and the
 // elastic forces equal -grad E, both from central finite differences of the total energy,
 // on random overlapping configurations in 2D and 3D, for every contact law.
-#define BOOST_TEST_MODULE virial_pressure
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 

@@ -3,7 +3,6 @@
 // observed difference would be detected, is right four times in five (the power of 0.8 it
 // aims at); the cheapest split costs less than the equal one at the same error; pooling over
 // rates recovers a smooth scatter exactly and shrinks the noise of a rough one.
-#define BOOST_TEST_MODULE window_scatter
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>

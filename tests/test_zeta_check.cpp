@@ -1,7 +1,6 @@
 // The zeta check (checks/zeta_check.cpp) on planted data: zeta = p / rate equal at the two
 // slowest rates passes, a 30% difference fails, three noisy samples are inconclusive, and
 // without the campaign's own fit (phi_J unknown) it says so instead of guessing.
-#define BOOST_TEST_MODULE zeta_check
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 
