@@ -108,8 +108,8 @@ def save(fig, out_dir, file, plotted):
     stem = os.path.join(out_dir, os.path.splitext(file)[0])
     try:
         _named(stem + ".png", lambda p: fig.savefig(p, dpi=DPI))
-        # The layout that the PNG's draw placed holds for the SVG (it is in figure fractions):
-        # laying the figure out again would double the report's time for the same picture.
+        # The layout that the PNG's draw placed holds for the SVG (it is in figure fractions);
+        # with the layout engine kept, savefig would lay the figure out and draw it once more.
         fig.set_layout_engine(None)
         _named(stem + ".svg", lambda p: fig.savefig(p, format="svg", metadata={"Date": None}))
     finally:
