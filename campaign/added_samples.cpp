@@ -10,6 +10,7 @@
 #include "campaign/toml_file.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/io/whole_number.hpp"
 
 namespace jam {
 namespace fs = std::filesystem;
@@ -55,13 +56,14 @@ SampleCounts read_added_samples(const Campaign& c) {
     const toml::table* e = node.as_table();
     if (!e) throw CampaignError(fmt::format("{}: 'ensemble' entries must be tables", path));
     const double n = number(*e, "n", path), samples = number(*e, "samples", path);
-    if (n != std::floor(n) || !(std::abs(n) < 1e15) || samples != std::floor(samples) ||
-        !(samples < 1e9)) {
+    const auto whole_n = whole_number(n, 0, kMaxExactWhole);
+    const auto whole_samples = whole_number(samples, 0, 999'999'999);
+    if (!whole_n || !whole_samples) {
       throw CampaignError(
-          fmt::format("{}: ensemble n = {}, samples = {}: whole numbers", path, n, samples));
+          fmt::format("{}: ensemble n = {}, samples = {}: whole numbers (samples below 1e9)", path,
+                      n, samples));
     }
-    const EnsembleId given{static_cast<std::int64_t>(n), number(*e, "phi_init", path),
-                           number(*e, "log10_rate", path)};
+    const EnsembleId given{*whole_n, number(*e, "phi_init", path), number(*e, "log10_rate", path)};
     const std::optional<EnsembleId> found = campaign_ensemble(c, given);
     if (!found) {
       throw CampaignError(fmt::format(
@@ -69,11 +71,11 @@ SampleCounts read_added_samples(const Campaign& c) {
           given.n, given.phi_init, given.log10_rate));
     }
     const EnsembleId id = *found;
-    if (samples < static_cast<double>(c.samples)) {
+    if (*whole_samples < c.samples) {
       throw CampaignError(fmt::format("{}: ensemble samples = {}, fewer than the campaign's {}",
                                       path, samples, c.samples));
     }
-    counts[id] = static_cast<std::int64_t>(samples);
+    counts[id] = *whole_samples;
   }
   double runs = 0;
   for (const auto& [id, s] : samples_per_ensemble(c, counts)) runs += static_cast<double>(s);

@@ -1,6 +1,7 @@
 #include "campaign/external_campaign.hpp"
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
-#include <toml++/toml.h>
 #include <tuple>
 
 #include "campaign/run_plan.hpp"
@@ -17,6 +17,7 @@
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/open_run.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/io/whole_number.hpp"
 
 namespace fs = std::filesystem;
 
@@ -38,18 +39,14 @@ double number_of(const toml::table& t, const char* key, const std::string& where
   return *v;
 }
 
-/// The largest whole number a toml double holds exactly (2^53).
-constexpr std::int64_t kMaxWhole = std::int64_t{1} << 53;
-
 /// A whole number in [lo, hi] (n, sample, dim): anything else would be cast to an integer
 /// out of range or truncated without a word.
 std::int64_t whole_of(const toml::table& t, const char* key, const std::string& where,
                       std::int64_t lo, std::int64_t hi) {
   const double v = number_of(t, key, where);
-  if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi) && v == std::floor(v)))
-    throw std::runtime_error(
-        fmt::format("{}: {} = {} is not a whole number in [{}, {}]", where, key, v, lo, hi));
-  return static_cast<std::int64_t>(v);
+  if (const auto whole = whole_number(v, lo, hi)) return *whole;
+  throw std::runtime_error(
+      fmt::format("{}: {} = {} is not a whole number in [{}, {}]", where, key, v, lo, hi));
 }
 
 void write_external(const std::string& directory, const ExternalCampaign& c) {
@@ -158,10 +155,10 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
       x.name = text_of(*r, "name", where);
       if (x.name.find('/') != std::string::npos || x.name.find("..") != std::string::npos)
         throw std::runtime_error(fmt::format("{}: name '{}' is not a run name", where, x.name));
-      x.n = whole_of(*r, "n", where, 1, kMaxWhole);
+      x.n = whole_of(*r, "n", where, 1, kMaxExactWhole);
       x.phi_init = number_of(*r, "phi_init", where);
       x.log10_rate = number_of(*r, "log10_rate", where);
-      x.sample = whole_of(*r, "sample", where, 0, kMaxWhole);
+      x.sample = whole_of(*r, "sample", where, 0, kMaxExactWhole);
       x.source = text_of(*r, "source", where);
       x.source_checksum = text_of(*r, "source_checksum", where);
       x.simulator = text_of(*r, "simulator", where);

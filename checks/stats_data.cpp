@@ -9,6 +9,7 @@
 
 #include "checks/margin.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/whole_number.hpp"
 
 namespace jam::checks {
 namespace {
@@ -33,11 +34,9 @@ std::size_t rows_of(const h5::File& f, const std::string& group) {
 
 std::int64_t sample_id(const h5::File& f, const std::string& group, double id) {
   // Converting a double beyond int64 (or NaN) is undefined: only sample numbers pass.
-  if (!(std::abs(id) < 0x1p53) || id != std::floor(id)) {
-    throw std::runtime_error(fmt::format(
-        "{}: dataset '{}/sample_ids' holds {}, not a sample number", f.path(), group, id));
-  }
-  return static_cast<std::int64_t>(id);
+  if (const auto whole = whole_number(id, -kMaxExactWhole, kMaxExactWhole)) return *whole;
+  throw std::runtime_error(fmt::format("{}: dataset '{}/sample_ids' holds {}, not a sample number",
+                                       f.path(), group, id));
 }
 
 int read_dim(const h5::File& f) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/whole_number.hpp"
 #include "stats/campaign_stats.hpp"
 
 namespace jam::stats {
@@ -14,11 +15,9 @@ namespace {
 
 /// A sample number stored as a double: an integer (converting anything else is undefined).
 std::int64_t sample_id(const h5::File& f, const std::string& group, double id) {
-  if (!(std::abs(id) < 0x1p53) || id != std::floor(id)) {
-    throw std::runtime_error(fmt::format(
-        "{}: dataset '{}/sample_ids' holds {}, not a sample number", f.path(), group, id));
-  }
-  return static_cast<std::int64_t>(id);
+  if (const auto whole = whole_number(id, -kMaxExactWhole, kMaxExactWhole)) return *whole;
+  throw std::runtime_error(fmt::format("{}: dataset '{}/sample_ids' holds {}, not a sample number",
+                                       f.path(), group, id));
 }
 
 /// One averaging of an ensemble: its grid, sample ids and per-sample tables.

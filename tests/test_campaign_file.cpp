@@ -4,10 +4,15 @@
 
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "campaign/added_samples.hpp"
 #include "campaign/campaign_file.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/throughput.hpp"
@@ -300,4 +305,42 @@ BOOST_AUTO_TEST_CASE(a_million_samples_of_ten_sizes_refused_before_planning) {
   BOOST_TEST(rejection(big) ==
              "c.toml:6: samples: 1000000 x 10 sizes x 2 phi_init x 2 rates = 4e+07 runs (at most "
              "100000 per campaign file; split it with first_sample)");
+}
+
+// added-samples.toml (written by `jam campaign run --until-decided`, read on every resume) is
+// outside input: a size or sample count that is not a whole number in range is refused naming
+// the file, never cast to an integer; a good one is read.
+BOOST_AUTO_TEST_CASE(added_samples_are_whole_numbers_in_range) {
+  Campaign c = parse_campaign(kGood, "c.toml");
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "jam_test_campaign_file_added";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  c.output = dir.string();
+  auto read = [&](const std::string& n, const std::string& samples) {
+    std::ofstream(added_samples_path(c)) << fmt::format(
+        "[[ensemble]]\nn = {}\nphi_init = 0.7\nlog10_rate = -3\nsamples = {}\n", n, samples);
+    return read_added_samples(c);
+  };
+  const SampleCounts good = read("64", "6");
+  BOOST_TEST_REQUIRE(good.size() == 1u);
+  BOOST_TEST(good.begin()->first.n == 64);
+  BOOST_TEST(good.begin()->second == 6);
+  for (const auto& [n, samples] : std::vector<std::pair<std::string, std::string>>{{"64.5", "6"},
+                                                                                   {"-64", "6"},
+                                                                                   {"1e300", "6"},
+                                                                                   {"64", "6.5"},
+                                                                                   {"64", "1e300"},
+                                                                                   {"64", "nan"},
+                                                                                   {"64", "-inf"},
+                                                                                   {"nan", "6"}}) {
+    BOOST_TEST_CONTEXT("n = " << n << ", samples = " << samples) {
+      BOOST_CHECK_EXCEPTION(read(n, samples), CampaignError, [&](const CampaignError& e) {
+        const std::string what = e.what();
+        return what.rfind(added_samples_path(c), 0) == 0 &&
+               what.find("whole numbers") != std::string::npos;
+      });
+    }
+  }
+  std::filesystem::remove_all(dir);
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "checks/lammps_check.hpp"
@@ -15,6 +16,7 @@
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_import.hpp"
 #include "sim/io/lammps_log.hpp"
+#include "sim/io/whole_number.hpp"
 
 using namespace jam::checks;
 namespace fs = std::filesystem;
@@ -151,6 +153,27 @@ BOOST_AUTO_TEST_CASE(import_turns_a_lammps_log_into_a_run_file) {
                         });
   BOOST_TEST(!fs::exists(out + "2"));
   fs::remove_all(kDir);
+}
+
+// whole_number, under every count read as a double (log counts, TOML sizes and samples, sample
+// ids, data-file integers): whole numbers in [lo, hi] pass with their bounds; fractions, NaN,
+// infinities and whole numbers out of range do not.
+BOOST_AUTO_TEST_CASE(whole_number_takes_whole_numbers_in_range_only) {
+  using jam::kMaxExactWhole;
+  using jam::whole_number;
+  BOOST_TEST(whole_number(0.0, 0, 10).value_or(-1) == 0);
+  BOOST_TEST(whole_number(-0.0, 0, 10).value_or(-1) == 0);
+  BOOST_TEST(whole_number(10.0, 0, 10).value_or(-1) == 10);
+  BOOST_TEST(whole_number(-7.0, -kMaxExactWhole, 0).value_or(0) == -7);
+  BOOST_TEST(whole_number(0x1p53, 0, kMaxExactWhole).value_or(-1) == kMaxExactWhole);
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double v : {11.0, -1.0, 2.5, -0.5, 1e300, inf, -inf, std::nan("")}) {
+    BOOST_TEST_CONTEXT(v) {
+      BOOST_TEST(!whole_number(v, 0, 10));
+    }
+  }
+  BOOST_TEST(!whole_number(0x1p53 + 2, 0, kMaxExactWhole));  // whole, one step past the bound
+  BOOST_TEST(!whole_number(-0x1p53 - 2, -kMaxExactWhole, 0));
 }
 
 // Counts a log states (atoms, steps) are whole numbers a double holds exactly: 1e58 atoms, a

@@ -3,8 +3,8 @@
 the check registry that checks.json carries (`jam check --list --json`), not from a list of its
 own; checks.json files written before they carried it are still drawn as before.
 
-On the stored reduced-scale 2D result (reference/results/reduced-2d) with a checks.h5 written
-here, drawn by reports/jam_report.py:
+On the stored reduced-scale 2D result (reference/results/reduced-2d, cut to a few ensembles and
+verdicts) with a checks.h5 written here, drawn by reports/jam_report.py:
   - as stored (no registry): the finite-size figure is drawn;
   - with jam's registry: the same;
   - with a registry that sends finite_size to the verdict table only: no finite-size figure,
@@ -25,7 +25,8 @@ import subprocess
 import sys
 import tempfile
 
-from report_errors_fixture import synthetic_checks_h5
+import report_errors_fixture
+from report_errors_fixture import small_campaign, synthetic_checks_h5
 
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 JAM = "jam"
@@ -33,16 +34,11 @@ TIMEOUT = 120  # seconds for one report
 
 
 def campaign(work, edit=None):
-    """A copy of the stored campaign in work/campaign; edit(checks.json object) changes its
-    verdict file first. Returns the directory."""
+    """The stored campaign, cut (report_errors_fixture.small_campaign), in work/campaign;
+    edit(checks.json object) changes its verdict file first. Returns the directory."""
     out = os.path.join(work, "campaign")
-    stored = os.path.join(SOURCE, "reference", "results", "reduced-2d")
-    os.makedirs(out)
-    for name in ("stats.h5", "campaign.toml", "checks.json"):
-        shutil.copy(os.path.join(stored, name), out)
+    checks = small_campaign(out)
     path = os.path.join(out, "checks.json")
-    with open(path) as f:
-        checks = json.load(f)
     if edit:
         edit(checks)
         with open(path, "w") as f:
@@ -161,6 +157,7 @@ def main():
     parser.add_argument("--source", default=SOURCE, help="the source tree (holds reports/)")
     a = parser.parse_args()
     SOURCE, JAM = os.path.abspath(a.source), os.path.abspath(a.jam)
+    report_errors_fixture.SOURCE = SOURCE
     results = [run_case(case) for case in CASES]
     print(f"{results.count(True)} passed, {results.count(False)} failed")
     return 0 if all(results) else 1

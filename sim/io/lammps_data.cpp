@@ -15,6 +15,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/io/whole_number.hpp"
 
 namespace jam {
 
@@ -97,11 +98,9 @@ struct Reader {
   }
 
   long long integer(std::string_view token, std::string_view field) const {
-    const double v = number(token, field);
-    if (v != std::floor(v) || std::abs(v) > 9e15) {
-      fail(fmt::format("{}: '{}' is not an integer", field, token));
-    }
-    return static_cast<long long>(v);
+    const auto v = whole_number(number(token, field), -kMaxExactWhole, kMaxExactWhole);
+    if (!v) fail(fmt::format("{}: '{}' is not an integer", field, token));
+    return *v;
   }
 };
 

@@ -15,6 +15,7 @@
 #include "sim/io/open_run.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
+#include "sim/io/whole_number.hpp"
 
 namespace jam {
 namespace {
@@ -32,7 +33,7 @@ void check_thermo(const LammpsThermo& d, const std::string& path) {
     }
   }
   for (std::size_t k = 0; k < d.time.size(); ++k) {
-    if (!(d.step[k] >= 0 && d.step[k] <= kMaxLammpsCount && d.step[k] == std::floor(d.step[k]))) {
+    if (!whole_number(d.step[k], 0, kMaxExactWhole)) {
       throw std::runtime_error(
           fmt::format("{}: thermo line {}: Step {} is not a whole number in [0, 2^53]", path, k + 1,
                       d.step[k]));

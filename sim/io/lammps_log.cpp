@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sim/io/output_path.hpp"
+#include "sim/io/whole_number.hpp"
 
 namespace jam {
 namespace {
@@ -21,7 +22,7 @@ bool literal(const std::string& word) {
 /// Atoms created or read add up; their sum stays a count too.
 void add_atoms(std::int64_t atoms, const std::string& where, LammpsLog& log) {
   const std::int64_t total = log.atoms.value_or(0) + atoms;  // both <= 2^53: no overflow
-  if (static_cast<double>(total) > kMaxLammpsCount)
+  if (total > kMaxExactWhole)
     throw std::runtime_error(fmt::format("{}: {} atoms in all (at most 2^53)", where, total));
   log.atoms = total;
 }
@@ -84,11 +85,10 @@ double lammps_number(const std::string& text, const std::string& where, const st
 
 std::int64_t lammps_count(const std::string& text, const std::string& where,
                           const std::string& field) {
-  const double v = lammps_number(text, where, field);
-  if (!(v >= 0 && v <= kMaxLammpsCount && v == std::floor(v)))
-    throw std::runtime_error(
-        fmt::format("{}: {} {} is not a whole number in [0, 2^53]", where, field, text));
-  return static_cast<std::int64_t>(v);
+  if (const auto count = whole_number(lammps_number(text, where, field), 0, kMaxExactWhole))
+    return *count;
+  throw std::runtime_error(
+      fmt::format("{}: {} {} is not a whole number in [0, 2^53]", where, field, text));
 }
 
 LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string>& columns) {

@@ -30,12 +30,8 @@ std::vector<std::string> lammps_words(const std::string& line);
 /// The whole of `text` as a finite number, else one line naming where, the field and the value.
 double lammps_number(const std::string& text, const std::string& where, const std::string& field);
 
-/// The largest count a log may state (atoms, steps): 2^53, below which a double holds every
-/// whole number, so a count read as a number converts to an integer exactly.
-inline constexpr double kMaxLammpsCount = 9007199254740992.0;
-
-/// The whole of `text` as a whole number in [0, kMaxLammpsCount], else one line naming where,
-/// the field and the value.
+/// The whole of `text` as a whole number in [0, kMaxExactWhole] (whole_number.hpp: the largest
+/// count a log may state, atoms or steps), else one line naming where, the field and the value.
 std::int64_t lammps_count(const std::string& text, const std::string& where,
                           const std::string& field);
 
