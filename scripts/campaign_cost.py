@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""The measured cost of a campaign directory: CPU seconds per ensemble from the runs' records,
+the chained starts left again (from the campaign's logs), and an estimate for records that
+hold fewer CPU seconds than their runs took.
+
+    scripts/campaign_cost.py RUN_DIR [--log FILE ...] [--json]
+
+A record counts the CPU seconds of every attempt of its run since checkpoints carry them
+(2026-11-27); a run stopped and resumed before that kept only its last attempt's. Such a
+record is found by its cost per force evaluation (run files count evaluations across resumes,
+the `force_evaluations` attribute): below SHORT times the median of its size, it is short, and
+its estimate is its evaluations at the median cost per evaluation of its ensemble's other
+runs (of its size's, when fewer than three are left). A chained start left again by a done
+parent (docs/campaigns.md, chained starts) writes no record; its CPU seconds are in the log
+line `... left its start at PHI again (S CPU seconds)`, counted once per run and second.
+Reads only; prints a table, or JSON with --json.
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import statistics
+import sys
+import tomllib
+
+import h5py
+
+SHORT = 0.75  # a record below 3/4 of its size's median cost per evaluation is short
+NAME = re.compile(r"n(\d+)_phi([\d.]+)_r(-?[\d.]+)_s(\d+)$")
+AGAIN = re.compile(r"campaign \S+: (\S+) left its start at \S+ again \((\d+) CPU seconds\)")
+
+
+def fail(message):
+    print(f"campaign_cost: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def done_runs(directory):
+    """(name, size, log10 rate, CPU seconds, force evaluations) of every done run."""
+    out = []
+    for record in sorted(glob.glob(os.path.join(directory, "runs", "*.record"))):
+        name = os.path.basename(record)[: -len(".record")]
+        match = NAME.match(name)
+        if not match:
+            continue
+        with open(record, "rb") as f:
+            r = tomllib.load(f)
+        if r.get("status") != "done":
+            continue
+        with h5py.File(os.path.join(directory, "runs", name + ".h5"), "r") as f:
+            evaluations = f.attrs.get("force_evaluations")
+        if evaluations is None or not float(evaluations) > 0:
+            fail(f"{name}.h5: no force_evaluations attribute")
+        out.append((name, int(match[1]), float(match[3]), float(r.get("cpu_seconds", 0)),
+                    float(evaluations)))
+    return out
+
+
+def starts_again(logs):
+    """CPU seconds of the chained starts left again, per run, from the logs."""
+    seen = set()
+    for path in logs:
+        with open(path, errors="replace") as f:
+            for line in f:
+                m = AGAIN.search(line)
+                if m:
+                    seen.add((m[1], int(m[2])))
+    return sorted(seen)
+
+
+def account(runs, again):
+    per_size = {}
+    for name, n, rate, cpu, ev in runs:
+        per_size.setdefault(n, []).append(cpu / ev)
+    median = {n: statistics.median(v) for n, v in per_size.items()}
+    short = {name for name, n, rate, cpu, ev in runs if cpu / ev < SHORT * median[n]}
+    ensembles = {}
+    for name, n, rate, cpu, ev in runs:
+        e = ensembles.setdefault((n, rate), {"runs": 0, "cpu": 0.0, "rates": [], "short": []})
+        e["runs"] += 1
+        e["cpu"] += cpu
+        if name in short:
+            e["short"].append((name, cpu, ev))
+        else:
+            e["rates"].append(cpu / ev)
+    rows, estimated = [], []
+    for (n, rate), e in sorted(ensembles.items()):
+        per_ev = statistics.median(e["rates"]) if len(e["rates"]) >= 3 else median[n]
+        for name, cpu, ev in e["short"]:
+            estimated.append({"run": name, "cpu_seconds": cpu, "force_evaluations": ev,
+                              "estimated_cpu_seconds": ev * per_ev,
+                              "missing_cpu_seconds": ev * per_ev - cpu})
+        rows.append({"n": n, "log10_rate": rate, "runs": e["runs"], "cpu_seconds": e["cpu"],
+                     "short_records": len(e["short"])})
+    recorded = sum(r["cpu_seconds"] for r in rows)
+    missing = sum(x["missing_cpu_seconds"] for x in estimated)
+    again_cpu = sum(s for _, s in again)
+    return {"ensembles": rows, "short_records": estimated,
+            "starts_again": [{"run": r, "cpu_seconds": s} for r, s in again],
+            "cpu_seconds_recorded": recorded, "cpu_seconds_missing_estimate": missing,
+            "cpu_seconds_starts_again": again_cpu,
+            "cpu_seconds_total": recorded + missing + again_cpu}
+
+
+def print_table(a):
+    print(f"{'N':>7} {'log10 rate':>10} {'runs':>5} {'CPU h':>8} {'short':>6}")
+    for r in a["ensembles"]:
+        print(f"{r['n']:>7} {r['log10_rate']:>10.2f} {r['runs']:>5} "
+              f"{r['cpu_seconds'] / 3600:>8.3f} {r['short_records']:>6}")
+    for x in a["short_records"]:
+        print(f"short record {x['run']}: {x['cpu_seconds']:.0f} CPU s for "
+              f"{x['force_evaluations']:.0f} evaluations, "
+              f"estimated {x['estimated_cpu_seconds']:.0f}")
+    print(f"recorded {a['cpu_seconds_recorded'] / 3600:.2f} CPU h, short records' estimated "
+          f"rest {a['cpu_seconds_missing_estimate'] / 3600:.2f}, {len(a['starts_again'])} starts "
+          f"left again {a['cpu_seconds_starts_again'] / 3600:.2f}: "
+          f"{a['cpu_seconds_total'] / 3600:.2f} CPU h in all")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("directory", help="campaign directory (its 'output')")
+    parser.add_argument("--log", nargs="*", default=[], help="the campaign's logs")
+    parser.add_argument("--json", action="store_true", help="JSON instead of a table")
+    a = parser.parse_args()
+    if not os.path.isdir(os.path.join(a.directory, "runs")):
+        fail(f"{a.directory}: no runs/ directory (not a campaign directory)")
+    runs = done_runs(a.directory)
+    if not runs:
+        fail(f"{a.directory}: no done runs")
+    result = account(runs, starts_again(a.log))
+    if a.json:
+        json.dump(result, sys.stdout, indent=1)
+        print()
+    else:
+        print_table(result)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
