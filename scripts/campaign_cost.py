@@ -12,7 +12,9 @@ the `force_evaluations` attribute): below SHORT times the median of its size, it
 its estimate is its evaluations at the median cost per evaluation of its ensemble's other
 runs (of its size's, when fewer than three are left). A chained start left again by a done
 parent (docs/campaigns.md, chained starts) writes no record; its CPU seconds are in the log
-line `... left its start at PHI again (S CPU seconds)`, counted once per run and second.
+line `... left its start at PHI again (S CPU seconds)`. Every such line counts (a start left
+again twice, on two machines, cost twice); a log given twice, or an earlier copy of another
+(the snapshot's copy of the run directory's log: its prefix), counts once.
 Reads only; prints a table, or JSON with --json.
 """
 import argparse
@@ -58,15 +60,27 @@ def done_runs(directory):
 
 
 def starts_again(logs):
-    """CPU seconds of the chained starts left again, per run, from the logs."""
-    seen = set()
+    """(run, CPU seconds) of every chained start left again, from the logs; a log that is a
+    copy of another, or an earlier copy (its prefix), is left out."""
+    texts = []
     for path in logs:
-        with open(path, errors="replace") as f:
-            for line in f:
-                m = AGAIN.search(line)
-                if m:
-                    seen.add((m[1], int(m[2])))
-    return sorted(seen)
+        if os.path.exists(path) and not os.path.isfile(path):
+            fail(f"--log: {path}: not a regular file")  # a FIFO would block the read
+        try:
+            with open(path, "rb") as f:
+                texts.append(f.read())
+        except OSError as e:
+            fail(f"--log: {path}: {e.strerror}")
+    kept, out = [], []
+    for text in sorted(texts, key=len, reverse=True):
+        if any(k.startswith(text) for k in kept):
+            continue
+        kept.append(text)
+        for line in text.decode(errors="replace").splitlines():
+            m = AGAIN.search(line)
+            if m:
+                out.append((m[1], int(m[2])))
+    return sorted(out)
 
 
 def account(runs, again):

@@ -2,9 +2,10 @@
 """scripts/campaign_cost.py on a made-up campaign directory whose costs are known: ten runs of
 one ensemble at 1 ms per force evaluation, one of them with a record holding a third of its
 CPU seconds (a resume that lost its first attempts) and one at 1.2 ms (a loaded machine, not
-short); two chained starts left again, one logged twice. The account must find the short
-record only, estimate it from its siblings, count each start once, and refuse a directory
-that is not a campaign's.
+short); three chained starts left again, one run's twice (a start lost and left again
+costs twice). The account must find the short record only, estimate it from its siblings,
+count every start line, count a log given twice or copied earlier once, and refuse a directory that
+is not a campaign's and a log that cannot be read.
 
 Usage (ctest runs it): test_campaign_cost.py --source .
 """
@@ -54,8 +55,12 @@ class CampaignCost(unittest.TestCase):
         return subprocess.run([sys.executable, script, *extra], capture_output=True, text=True,
                               timeout=60)
 
-    def test_short_record_found_and_estimated_starts_counted_once(self):
-        r = self.cost(self.dir, "--log", self.log, "--json")
+    def test_short_record_estimated_every_start_line_counted_each_log_once(self):
+        # An earlier copy of the log (a snapshot's: its first line only) adds nothing.
+        copy = os.path.join(self.work.name, "copy.log")
+        with open(self.log) as f, open(copy, "w") as g:
+            g.write(f.readline())
+        r = self.cost(self.dir, "--log", self.log, copy, self.log, "--json")
         self.assertEqual(r.returncode, 0, r.stderr)
         a = json.loads(r.stdout)
         self.assertEqual([x["run"] for x in a["short_records"]], ["n1024_phi0.4000_r-6.00_s003"])
@@ -63,21 +68,34 @@ class CampaignCost(unittest.TestCase):
         self.assertAlmostEqual(a["short_records"][0]["estimated_cpu_seconds"], 100.0, places=6)
         self.assertAlmostEqual(a["cpu_seconds_recorded"], 8 * 100 + 100 / 3 + 120, places=6)
         self.assertAlmostEqual(a["cpu_seconds_missing_estimate"], 100 - 100 / 3, places=6)
-        self.assertEqual(a["cpu_seconds_starts_again"], 50)
-        self.assertAlmostEqual(a["cpu_seconds_total"], 10 * 100 + 20 + 50, places=6)
+        self.assertEqual(a["cpu_seconds_starts_again"], 80)
+        self.assertEqual(len(a["starts_again"]), 3)
+        self.assertAlmostEqual(a["cpu_seconds_total"], 10 * 100 + 20 + 80, places=6)
         self.assertEqual(a["ensembles"][0]["runs"], 10)
 
     def test_table_states_the_total(self):
         r = self.cost(self.dir, "--log", self.log)
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("short record n1024_phi0.4000_r-6.00_s003", r.stdout)
-        self.assertIn(f"{1070 / 3600:.2f} CPU h in all", r.stdout)
+        self.assertIn(f"{1100 / 3600:.2f} CPU h in all", r.stdout)
 
     def test_not_a_campaign_refused_in_one_line(self):
         r = self.cost(self.work.name)
         self.assertEqual(r.returncode, 2)
         self.assertEqual(len(r.stderr.splitlines()), 1, r.stderr)
         self.assertIn("no runs/ directory", r.stderr)
+
+    def test_unreadable_log_refused_in_one_line(self):
+        missing = os.path.join(self.work.name, "missing.log")
+        r = self.cost(self.dir, "--log", missing)
+        self.assertEqual(r.returncode, 2)
+        self.assertEqual(len(r.stderr.splitlines()), 1, r.stderr)
+        self.assertIn(missing, r.stderr)
+        fifo = os.path.join(self.work.name, "fifo.log")
+        os.mkfifo(fifo)
+        r = self.cost(self.dir, "--log", fifo)  # refused, not read (a read would block)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("not a regular file", r.stderr)
 
 
 if __name__ == "__main__":
