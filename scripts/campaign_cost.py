@@ -10,7 +10,9 @@ A record counts the CPU seconds of every attempt of its run since checkpoints ca
 record is found by its cost per force evaluation (run files count evaluations across resumes,
 the `force_evaluations` attribute): below SHORT times the median of its size, it is short, and
 its estimate is its evaluations at the median cost per evaluation of its ensemble's other
-runs (of its size's, when fewer than three are left). A chained start left again by a done
+runs (of its size's, when fewer than three are left). Only runs without a jamming-point
+search are judged (its minimizations cost CPU that force_evaluations does not count), and
+only at sizes whose runs take a minute or more (MIN_CPU). A chained start left again by a done
 parent (docs/campaigns.md, chained starts) writes no record; its CPU seconds are in the log
 line `... left its start at PHI again (S CPU seconds)`. Every such line counts (a start left
 again twice, on two machines, cost twice); a log given twice, or an earlier copy of another
@@ -25,10 +27,15 @@ import re
 import statistics
 import sys
 import tomllib
+import typing
 
 import h5py
 
 SHORT = 0.75  # a record below 3/4 of its size's median cost per evaluation is short
+# Below a median of a minute per run, a run's fixed costs (relaxation, set-up, output) weigh
+# in its cost per evaluation and a short record cannot be told from a cheap one; a lost
+# attempt of such runs is small anyway.
+MIN_CPU = 60.0
 NAME = re.compile(r"n(\d+)_phi([\d.]+)_r(-?[\d.]+)_s(\d+)$")
 AGAIN = re.compile(r"campaign \S+: (\S+) left its start at \S+ again \((\d+) CPU seconds\)")
 
@@ -38,8 +45,18 @@ def fail(message):
     sys.exit(2)
 
 
+class Run(typing.NamedTuple):
+    name: str
+    n: int
+    phi_init: float
+    log10_rate: float
+    cpu: float  # the record's CPU seconds (its wall seconds where it has none)
+    evaluations: float  # force evaluations of the dynamics, across resumes
+    judged: bool  # whether a short record could be told from it (see MIN_CPU)
+
+
 def done_runs(directory):
-    """(name, size, log10 rate, CPU seconds, force evaluations) of every done run."""
+    """Every done run of the directory, in name order."""
     out = []
     for record in sorted(glob.glob(os.path.join(directory, "runs", "*.record"))):
         name = os.path.basename(record)[: -len(".record")]
@@ -52,10 +69,12 @@ def done_runs(directory):
             continue
         with h5py.File(os.path.join(directory, "runs", name + ".h5"), "r") as f:
             evaluations = f.attrs.get("force_evaluations")
+            searched = float(f.attrs.get("jamming_minimizations", 0)) > 0
         if evaluations is None or not float(evaluations) > 0:
             fail(f"{name}.h5: no force_evaluations attribute")
-        out.append((name, int(match[1]), float(match[3]), float(r.get("cpu_seconds", 0)),
-                    float(evaluations)))
+        cpu = float(r.get("cpu_seconds") or r.get("wall_seconds", 0))
+        out.append(Run(name, int(match[1]), float(match[2]), float(match[3]), cpu,
+                       float(evaluations), not searched))
     return out
 
 
@@ -83,30 +102,44 @@ def starts_again(logs):
     return sorted(out)
 
 
-def account(runs, again):
+def short_records(runs):
+    """The runs whose records are short, each with its estimate."""
     per_size = {}
-    for name, n, rate, cpu, ev in runs:
-        per_size.setdefault(n, []).append(cpu / ev)
-    median = {n: statistics.median(v) for n, v in per_size.items()}
-    short = {name for name, n, rate, cpu, ev in runs if cpu / ev < SHORT * median[n]}
+    for r in runs:
+        if r.judged:
+            per_size.setdefault(r.n, []).append(r)
+    out = {}
+    for n, sized in per_size.items():
+        if statistics.median(r.cpu for r in sized) < MIN_CPU:
+            continue
+        median = statistics.median(r.cpu / r.evaluations for r in sized)
+        short = {r.name for r in sized if r.cpu / r.evaluations < SHORT * median}
+        for r in sized:
+            if r.name not in short:
+                continue
+            siblings = [x.cpu / x.evaluations for x in sized if x.name not in short
+                        and (x.phi_init, x.log10_rate) == (r.phi_init, r.log10_rate)]
+            per_ev = statistics.median(siblings) if len(siblings) >= 3 else median
+            out[r.name] = {"run": r.name, "cpu_seconds": r.cpu,
+                           "force_evaluations": r.evaluations,
+                           "estimated_cpu_seconds": r.evaluations * per_ev,
+                           "missing_cpu_seconds": r.evaluations * per_ev - r.cpu}
+    return out
+
+
+def account(runs, again):
+    short = short_records(runs)
     ensembles = {}
-    for name, n, rate, cpu, ev in runs:
-        e = ensembles.setdefault((n, rate), {"runs": 0, "cpu": 0.0, "rates": [], "short": []})
+    for r in runs:
+        e = ensembles.setdefault((r.n, r.phi_init, r.log10_rate),
+                                 {"runs": 0, "cpu": 0.0, "short": 0})
         e["runs"] += 1
-        e["cpu"] += cpu
-        if name in short:
-            e["short"].append((name, cpu, ev))
-        else:
-            e["rates"].append(cpu / ev)
-    rows, estimated = [], []
-    for (n, rate), e in sorted(ensembles.items()):
-        per_ev = statistics.median(e["rates"]) if len(e["rates"]) >= 3 else median[n]
-        for name, cpu, ev in e["short"]:
-            estimated.append({"run": name, "cpu_seconds": cpu, "force_evaluations": ev,
-                              "estimated_cpu_seconds": ev * per_ev,
-                              "missing_cpu_seconds": ev * per_ev - cpu})
-        rows.append({"n": n, "log10_rate": rate, "runs": e["runs"], "cpu_seconds": e["cpu"],
-                     "short_records": len(e["short"])})
+        e["cpu"] += r.cpu
+        e["short"] += r.name in short
+    rows = [{"n": n, "phi_init": phi, "log10_rate": rate, "runs": e["runs"],
+             "cpu_seconds": e["cpu"], "short_records": e["short"]}
+            for (n, phi, rate), e in sorted(ensembles.items())]
+    estimated = [short[name] for name in sorted(short)]
     recorded = sum(r["cpu_seconds"] for r in rows)
     missing = sum(x["missing_cpu_seconds"] for x in estimated)
     again_cpu = sum(s for _, s in again)
@@ -118,9 +151,9 @@ def account(runs, again):
 
 
 def print_table(a):
-    print(f"{'N':>7} {'log10 rate':>10} {'runs':>5} {'CPU h':>8} {'short':>6}")
+    print(f"{'N':>7} {'phi_init':>8} {'log10 rate':>10} {'runs':>5} {'CPU h':>8} {'short':>6}")
     for r in a["ensembles"]:
-        print(f"{r['n']:>7} {r['log10_rate']:>10.2f} {r['runs']:>5} "
+        print(f"{r['n']:>7} {r['phi_init']:>8.4f} {r['log10_rate']:>10.2f} {r['runs']:>5} "
               f"{r['cpu_seconds'] / 3600:>8.3f} {r['short_records']:>6}")
     for x in a["short_records"]:
         print(f"short record {x['run']}: {x['cpu_seconds']:.0f} CPU s for "

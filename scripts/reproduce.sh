@@ -13,7 +13,8 @@
 #    check (of NAME-chain-test.toml's chained samples when there is one); the reports (reports/NAME/: the free fit; reports/NAME-q-fixed/: q held),
 # 5. the stored result reference/results/NAME/: stats.h5, fit-*.json, checks.json,
 #    phi-init-checks.json or chain-checks.json, jamming-stats.h5 (the jamming-point
-#    campaign's stats), campaign.toml and provenance.json (code
+#    campaign's stats), campaign.toml, cost.json (each campaign's measured CPU seconds,
+#    scripts/campaign_cost.py) and provenance.json (code
 #    version, machine, date, wall time of every stage, core-seconds of every campaign),
 #    written to a temporary directory and renamed into place.
 #
@@ -56,22 +57,29 @@ verdicts() {
   fi
 }
 
-# core_seconds DIR: the sum of the runs' CPU seconds in DIR's manifest (a run's wall seconds
-# where its record has none): wall time also counts a machine's other load and any stretch in
-# which the campaign was stopped.
-core_seconds() {
-  /usr/bin/python3 -c '
-import sys, tomllib
-runs = tomllib.load(open(sys.argv[1], "rb")).get("runs", {})
-print(sum(float(r.get("cpu_seconds") or r.get("wall_seconds", 0)) for r in runs.values()))' \
-    "$1/manifest.toml"
+# measure KEY DIR: the measured CPU seconds of the campaign in DIR into cores[KEY], its account
+# (scripts/campaign_cost.py: the runs' records, a run's wall seconds where its record has
+# none; the chained starts left again, from the campaign's log when the stored result keeps
+# it in logs/; an estimate for records short of their run) into cost.json under KEY. Wall
+# time would also count a machine's other load and any stretch in which the campaign was
+# stopped.
+costs=$(mktemp -d)
+trap 'rm -rf "$costs"' EXIT
+measure() {
+  local key=$1 dir=$2 log
+  log=reference/results/$name/logs/$(basename "$dir").log
+  local logs=()
+  [ -f "$log" ] && logs=(--log "$log")
+  /usr/bin/python3 scripts/campaign_cost.py "$dir" "${logs[@]}" --json >"$costs/$key.json"
+  cores[$key]=$(/usr/bin/python3 -c 'import json, sys
+print(json.load(open(sys.argv[1]))["cpu_seconds_total"])' "$costs/$key.json")
 }
 declare -A cores
 
 # A separate phi_init campaign, for campaigns whose own phi_init values do not compare starts.
 if [ -f "reference/campaigns/$name-phi-init.toml" ]; then
   stage phi_init_campaign $jam campaign run "reference/campaigns/$name-phi-init.toml" $quiet
-  cores[phi_init_campaign]=$(core_seconds "runs/$name-phi-init")
+  measure phi_init_campaign "runs/$name-phi-init"
   stage phi_init_stats $jam stats "runs/$name-phi-init" --no-fit >/dev/null
   # The check fails where the start is remembered (fast rates): that is its finding.
   stage phi_init_check verdicts "runs/$name-phi-init/checks-phi_init.json" \
@@ -82,14 +90,14 @@ fi
 # would cost more than they do): its stats (every run's phi_Ji) and its report.
 if [ -f "reference/campaigns/$name-jamming.toml" ]; then
   stage jamming_campaign $jam campaign run "reference/campaigns/$name-jamming.toml" $quiet
-  cores[jamming_campaign]=$(core_seconds "runs/$name-jamming")
+  measure jamming_campaign "runs/$name-jamming"
   stage jamming_stats $jam stats "runs/$name-jamming" --no-fit >/dev/null
   verdicts "runs/$name-jamming/checks.json" $jam check all "runs/$name-jamming"
   $jam report "runs/$name-jamming" --out "reports/$name-jamming" --quiet
 fi
 
 stage campaign $jam campaign run "$campaign" $quiet
-cores[campaign]=$(core_seconds "runs/$name")
+measure campaign "runs/$name"
 fits=$(mktemp -d)
 # The fits that hold the paper's values, kept beside the result for comparison ...
 stage stats_q_fixed $jam stats "runs/$name" --order 3 --fix-paper-q >/dev/null
@@ -115,13 +123,13 @@ chain_json=""
 if [ -f "reference/campaigns/$name-chain-control.toml" ]; then
   stage chain_control_campaign $jam campaign run "reference/campaigns/$name-chain-control.toml" \
     $quiet
-  cores[chain_control_campaign]=$(core_seconds "runs/$name-chain-control")
+  measure chain_control_campaign "runs/$name-chain-control"
   $jam stats "runs/$name-chain-control" --no-fit >/dev/null
   chained="runs/$name"
   window=()
   if [ -f "reference/campaigns/$name-chain-test.toml" ]; then
     stage chain_test_campaign $jam campaign run "reference/campaigns/$name-chain-test.toml" $quiet
-    cores[chain_test_campaign]=$(core_seconds "runs/$name-chain-test")
+    measure chain_test_campaign "runs/$name-chain-test"
     $jam stats "runs/$name-chain-test" --no-fit >/dev/null
     chained="runs/$name-chain-test"
     window=(--phi-min "$(/usr/bin/python3 -c 'import h5py, sys
@@ -136,7 +144,7 @@ $jam report "$qfixed" --out "reports/$name-q-fixed" --quiet
 
 out=reference/results/$name
 tmp=$(mktemp -d "reference/results/.$name.XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
+trap 'rm -rf "$tmp" "$costs"' EXIT
 cp "runs/$name/stats.h5" "runs/$name/checks.json" "$fits"/fit-*.json "$tmp/"
 rm -rf "$fits"
 [ -f "runs/$name-phi-init/checks-phi_init.json" ] &&
@@ -145,6 +153,11 @@ rm -rf "$fits"
 [ -f "reference/campaigns/$name-jamming.toml" ] &&
   cp "runs/$name-jamming/stats.h5" "$tmp/jamming-stats.h5"
 cp "$campaign" "$tmp/campaign.toml"
+/usr/bin/python3 -c 'import json, os, sys
+d = sys.argv[1]
+json.dump({f[:-5]: json.load(open(os.path.join(d, f))) for f in sorted(os.listdir(d))},
+          open(sys.argv[2], "w"), indent=1)' "$costs" "$tmp/cost.json"
+rm -rf "$costs"
 total_cores=0
 core_fields=""
 for k in "${!cores[@]}"; do
@@ -169,7 +182,7 @@ cat >"$tmp/provenance.json" <<EOF
   "machine": "$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores, $(free -g | awk '/Mem:/ {print $2}') GiB",
   "os": "$(. /etc/os-release && echo "$PRETTY_NAME")",
   "wall_seconds": {${walls%, }},
-  "wall_seconds_note": "wall times of this invocation's stages; runs an earlier invocation (or a separate jam campaign run) already did take none here and count only in the *_core_seconds (the sum of the runs' own CPU seconds, their wall seconds where a record has none)",
+  "wall_seconds_note": "wall times of this invocation's stages; runs an earlier invocation (or a separate jam campaign run) already did take none here and count only in the *_core_seconds (each campaign's measured CPU seconds, scripts/campaign_cost.py: its runs' own CPU seconds, their wall seconds where a record has none, with the chained starts left again and the short records' estimated rest; cost.json holds each account)",
   "campaign_run_core_seconds": ${cores[campaign]},
   ${core_fields}"total_core_seconds": $total_cores${regression}
 }
@@ -183,7 +196,7 @@ if [ -d "$out" ]; then
     [ -e "$entry" ] || continue
     case $(basename "$entry") in
       stats.h5 | checks.json | fit-*.json | phi-init-checks.json | chain-checks.json | \
-        jamming-stats.h5 | campaign.toml | provenance.json) ;;
+        jamming-stats.h5 | campaign.toml | provenance.json | cost.json) ;;
       *) cp -a "$entry" "$tmp/" ;;
     esac
   done
