@@ -8,6 +8,7 @@ and checks that what the figures draw is there.
 
 import contextlib
 import os
+import re
 import sys
 import tomllib
 from dataclasses import dataclass, field
@@ -58,8 +59,10 @@ COLLAPSE = ("x", "compression_rate", "in_fit", "scaled_pressure", "scaled_pressu
 SCAN = ("rate_max", "phi_min", "phi_max", "phi_j", "phi_j_error", "beta", "beta_error", "y",
         "y_error")
 # Curves a figure draws from the verdicts it shows, by figure (the registry's `figure`).
+# (sample_pairs: one curve pair_<k> per pair of samples besides the grid, each checked too.)
 CURVES = {"finite_size": ("grid", "delta", "sigma"), "compare": ("grid", "delta", "sigma"),
-          "lammps": ("grid", "pressure_jam", "pressure_lammps", "delta", "sigma")}
+          "lammps": ("grid", "pressure_jam", "pressure_lammps", "delta", "sigma"),
+          "sample_pairs": ("grid",)}
 JAMMING = ("mean", "error", "found")
 ENSEMBLE = ("n", "phi_init", "log10_rate", "compression_rate", "samples")
 
@@ -183,7 +186,8 @@ def _datasets(group, required, where, optional=()):
     if out and required:
         _require(required, out, where, "dataset")
         _numbers(out, tuple(required) + tuple(optional), where)
-        lengths = {name: len(out[name]) for name in required}
+        lengths = {name: len(out[name]) for name in tuple(required) + tuple(optional)
+                   if name in out}
         if len(set(lengths.values())) > 1:
             raise ValueError(f"{where}: datasets of different lengths {lengths}")
     return out
@@ -247,7 +251,8 @@ def _fit(fit, where="/fit"):
     if families:
         out["families"] = families
     if fit.scan is not None:
-        out["scan"] = _datasets(fit.scan, SCAN, where + "/scan", ("half_window", "chosen"))
+        out["scan"] = _datasets(fit.scan, SCAN, where + "/scan",
+                                ("half_window", "chosen", "quality_ok"))
         out["scan_failures"] = require(fit.scan.attrs, where + "/scan",
                                        strings=("failures",)).get("failures", "")
     return out
@@ -402,15 +407,24 @@ def _attach_curves(checks, verdicts):
     path = checks.curves_path
     with reading(path, "checks file"):
         require(checks.curves_attrs, "/", numbers=("wall_time",), strings=("version",))
+        seen = set()
         for name, g in checks.curves.items():
-            k = int(name.split("_", 1)[0])
+            # jam names a verdict's group <index>_<check>, the index zero-padded.
+            head = name.split("_", 1)[0]
+            if not re.fullmatch(r"[0-9]+", head) or int(head) in seen:
+                raise ReportInputError(f"{path}: group /verdicts/{name}: not named "
+                                       "<index>_<check> with an index of its own")
+            k = int(head)
+            seen.add(k)
             require(g.attrs, f"/verdicts/{name}", strings=("check",))
             if k >= len(verdicts) or verdicts[k].check != g.attrs["check"]:
                 raise ReportInputError(
                     f"{path}: group {name} does not match checks.json; "
                     "rerun `jam check` (the two files come from different runs)", NOT_READY)
-            verdicts[k].curves = _datasets(g, CURVES.get(verdicts[k].figure, ()),
-                                           f"/verdicts/{name}")
+            figure = verdicts[k].figure
+            pairs = tuple(c for c in (g or {}) if c.startswith("pair_")) \
+                if figure == "sample_pairs" else ()
+            verdicts[k].curves = _datasets(g, CURVES.get(figure, ()), f"/verdicts/{name}", pairs)
     return checks.curves_attrs
 
 

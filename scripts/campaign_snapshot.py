@@ -9,7 +9,12 @@ save copies into DEST (a directory that can be committed or copied off the machi
   partial/       the checkpoints of the partial runs and the chained starts of the runs not
                  done yet, replaced as a whole (a newer checkpoint supersedes the one before);
   status.json    `jam campaign status RUN_DIR --json`;
-  campaign.toml  the campaign file as RUN_DIR holds it.
+  campaign.toml  the campaign file as RUN_DIR holds it;
+  .jam-snapshot  the mark of a snapshot: save writes only into an empty (or new) directory or
+                 a snapshot (one saved before the mark existed is recognized by its
+                 status.json), and replaces partial/ only when it holds nothing but
+                 checkpoints and chained starts, so that it never deletes a file it did not
+                 write.
 restore copies them back into RUN_DIR (runs/, runs/<name>.h5.checkpoint, chain/) and never
 overwrites a file there; it refuses while a campaign runs in RUN_DIR (its lock, .lock).
 `jam campaign run` then continues: done runs are not redone, partial ones resume from their
@@ -19,15 +24,21 @@ and identity, so a restored file is only ever taken by the run it belongs to.
 
 Files are written under a temporary name and renamed when complete; the campaign may keep
 running while save copies (jam replaces its files by renaming, so a copy is of one whole file).
+Only regular files are copied: anything else (a FIFO would block the copy) is refused.
 """
 import argparse
 import fcntl
 import json
 import os
 import shutil
+import stat
 import subprocess
 import sys
 import tempfile
+
+
+MARK = ".jam-snapshot"
+PARTIAL = (".h5.checkpoint", ".start.h5")  # what save puts in partial/
 
 
 def fail(message):
@@ -36,7 +47,10 @@ def fail(message):
 
 
 def copy_atomic(source, target):
-    """Copies source to target through a temporary file in target's directory."""
+    """Copies the regular file source to target through a temporary file in target's
+    directory (FileNotFoundError when source is gone)."""
+    if not stat.S_ISREG(os.stat(source).st_mode):
+        fail(f"{source}: not a regular file")
     os.makedirs(os.path.dirname(target), exist_ok=True)
     fd, temporary = tempfile.mkstemp(prefix=".snapshot-", dir=os.path.dirname(target))
     try:
@@ -58,7 +72,38 @@ def campaign_status(jam, run_dir):
     return result.stdout, json.loads(result.stdout)
 
 
+def saved_before_the_mark(dest):
+    """Whether dest is a snapshot saved before save marked them: its status.json is one."""
+    try:
+        with open(os.path.join(dest, "status.json"), "rb") as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                return False
+            return isinstance(json.load(f).get("run"), dict)
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def check_dest(dest):
+    """Refuses a DEST whose files save would replace without having written them."""
+    mark = os.path.join(dest, MARK)
+    if not os.path.isfile(mark):
+        if os.listdir(dest) and not saved_before_the_mark(dest):
+            fail(f"DEST {dest}: not empty and not a snapshot (no {MARK}): save writes into "
+                 f"an empty directory or a snapshot only")
+    for name in ("partial", "partial.old"):
+        path = os.path.join(dest, name)
+        if not os.path.lexists(path):
+            continue
+        if os.path.islink(path) or not os.path.isdir(path):
+            fail(f"DEST {dest}: {name} is not a directory save made")
+        foreign = sorted(e for e in os.listdir(path) if not e.endswith(PARTIAL))
+        if foreign:
+            fail(f"DEST {dest}: {name}/ holds {foreign[0]}, which save did not write: "
+                 f"refusing to replace it")
+
+
 def save(run_dir, dest, jam):
+    check_dest(dest)
     text, status = campaign_status(jam, run_dir)
     runs = status["run"]
     copied = kept = 0
@@ -99,6 +144,11 @@ def save(run_dir, dest, jam):
         f.write(text)
     os.replace(f.name, os.path.join(dest, "status.json"))
     copy_atomic(os.path.join(run_dir, "campaign.toml"), os.path.join(dest, "campaign.toml"))
+    if not os.path.isfile(os.path.join(dest, MARK)):
+        with tempfile.NamedTemporaryFile("w", dir=dest, prefix=".mark-", delete=False) as f:
+            f.write("a snapshot of a campaign directory: scripts/campaign_snapshot.py save "
+                    "replaces its partial/, status.json and campaign.toml\n")
+        os.replace(f.name, os.path.join(dest, MARK))
     done = sum(1 for r in runs.values() if r["status"] == "done")
     print(f"campaign_snapshot: {dest}: {done}/{len(runs)} runs done ({copied} files copied, "
           f"{kept} kept), {len(partial)} partial products")
@@ -108,7 +158,15 @@ def restore(dest, run_dir):
     if not os.path.isdir(os.path.join(dest, "runs")):
         fail(f"DEST {dest}: holds no runs/ (not a snapshot)")
     os.makedirs(run_dir, exist_ok=True)
-    with open(os.path.join(run_dir, ".lock"), "a") as lock:
+    lock_path = os.path.join(run_dir, ".lock")
+    try:  # without blocking: a FIFO there would hang a plain open
+        fd = os.open(lock_path, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NONBLOCK, 0o644)
+    except OSError as e:
+        fail(f"RUN_DIR {run_dir}: cannot open its lock {lock_path}: {e.strerror}")
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        fail(f"RUN_DIR {run_dir}: its lock {lock_path} is not a regular file")
+    with os.fdopen(fd, "a") as lock:
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:

@@ -30,6 +30,24 @@ campaign=reference/campaigns/$name.toml
 [ -f "$campaign" ] || { echo "reproduce: name: no campaign file $campaign" >&2; exit 2; }
 jam=build/jam
 [ -x "$jam" ] || { echo "reproduce: $jam missing: run scripts/setup.sh first" >&2; exit 2; }
+# runs/NAME-q-fixed holds a copy of the result's stats and checks for the q-fixed report, made
+# again on every invocation. Before any work: a directory of that name that holds anything else
+# (or a file of that name) is not this script's, and is left alone.
+qfixed=runs/$name-q-fixed
+if [ -L "$qfixed" ] || { [ -e "$qfixed" ] && [ ! -d "$qfixed" ]; }; then
+  echo "reproduce: $qfixed is not a directory this script made: move it away first" >&2
+  exit 2
+fi
+for entry in "$qfixed"/* "$qfixed"/.[!.]*; do
+  [ -e "$entry" ] || [ -L "$entry" ] || continue
+  case $(basename "$entry") in
+    campaign.toml | manifest.toml | stats.h5 | checks.json | checks.h5)
+      [ -f "$entry" ] && [ ! -L "$entry" ] && continue ;;
+  esac
+  echo "reproduce: $qfixed holds $(basename "$entry"), which this script did not write:" \
+    "move it away first" >&2
+  exit 2
+done
 quiet=""
 [ -t 1 ] || quiet="--quiet"
 commit=$(git rev-parse HEAD 2>/dev/null || echo unknown)
@@ -103,8 +121,8 @@ fits=$(mktemp -d)
 stage stats_q_fixed $jam stats "runs/$name" --order 3 --fix-paper-q >/dev/null
 scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-q-fixed.json" \
   "jam stats --order 3 --fix-paper-q"
-# The q-fixed report reads a copy of the directory's stats and checks, not the runs.
-qfixed=runs/$name-q-fixed
+# The q-fixed report reads a copy of the directory's stats and checks, not the runs
+# (checked at the start that an earlier one is this script's).
 rm -rf "$qfixed" && mkdir -p "$qfixed"
 cp "runs/$name"/{campaign.toml,manifest.toml,stats.h5} "$qfixed/"
 stage stats_held $jam stats "runs/$name" --order 3 --fix-paper-exponents >/dev/null

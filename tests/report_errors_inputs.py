@@ -428,4 +428,56 @@ def case_verdicts_beyond_what_a_report_shows(work):
                              "lines")
 
 
-INPUT_CASES = [case_random_stats, case_missing_dataset, case_truncated_checks, case_hostile_values_are_escaped, case_markup_in_a_number_of_the_fit_is_refused, case_a_huge_case_name_gives_a_small_summary, case_mistyped_checks_fields, case_hostile_values_in_every_field, case_dollar_in_a_case_name_is_text, case_mistyped_stats_and_values_fields, case_fifo_and_device_inputs_refused, case_error_line_is_visible_and_short, case_verdicts_beyond_what_a_report_shows]
+
+def checks_h5_edit(edit):
+    """An edit of checks.h5's verdict groups: edit(verdicts group)."""
+    def apply(camp):
+        with h5py.File(os.path.join(camp, "checks.h5"), "r+") as f:
+            edit(f["verdicts"])
+    return apply
+
+
+def pairs_of_two_columns(verdicts):
+    g = verdicts[next(k for k in sorted(verdicts) if k.endswith("_sample_pairs"))]
+    g["grid"] = np.linspace(0.80, 0.86, 50)
+    g["pair_0"] = np.zeros((50, 2))
+
+
+def index_twice(verdicts):
+    first = sorted(verdicts)[1]
+    verdicts.copy(verdicts[first], first.lstrip("0"))
+
+
+def scan_edit(name, value):
+    def apply(camp):
+        with h5py.File(os.path.join(camp, "stats.h5"), "r+") as f:
+            del f[f"fit/scan/{name}"]
+            f[f"fit/scan/{name}"] = value
+    return apply
+
+
+def case_curves_and_scan_of_the_wrong_shape(work):
+    """A sample-pairs curve of two columns (drawn as two lines, written to the CSV as '[a b]'
+    cells), a scan's `chosen` of one value (broadcast: every row starred representative), a
+    verdict group whose index is negative or given twice (shown on another verdict, or
+    silently replaced): one line naming the file and the field, exit 2, no report."""
+    camp = campaign(work)
+    stats, checks_h5 = os.path.join(camp, "stats.h5"), os.path.join(camp, "checks.h5")
+    cases = [
+        (checks_h5_edit(pairs_of_two_columns),
+         [checks_h5, "pair_0", "2-dimensional", "expected one dimension of numbers"]),
+        (scan_edit("chosen", np.ones(1)), [stats, "/scan", "datasets of different lengths"]),
+        (scan_edit("quality_ok", np.ones(1)), [stats, "/scan", "datasets of different lengths"]),
+        (checks_h5_edit(lambda v: v.move(sorted(v)[0], "-1_finite_size")),
+         [checks_h5, "-1_finite_size", "not named <index>_<check>"]),
+        (checks_h5_edit(index_twice), [checks_h5, "not named <index>_<check>"]),
+    ]
+    for edit, words in cases:
+        shutil.rmtree(camp)
+        camp = campaign(work)
+        edit(camp)
+        before = tree(work)
+        expect_error(report(camp, os.path.join(work, "r")), words, before, work)
+
+
+INPUT_CASES = [case_random_stats, case_missing_dataset, case_truncated_checks, case_hostile_values_are_escaped, case_markup_in_a_number_of_the_fit_is_refused, case_a_huge_case_name_gives_a_small_summary, case_mistyped_checks_fields, case_hostile_values_in_every_field, case_dollar_in_a_case_name_is_text, case_mistyped_stats_and_values_fields, case_fifo_and_device_inputs_refused, case_error_line_is_visible_and_short, case_verdicts_beyond_what_a_report_shows, case_curves_and_scan_of_the_wrong_shape]

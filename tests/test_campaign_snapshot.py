@@ -3,7 +3,9 @@
 its directory lost, restored from the snapshot and finished; its run files are then those of
 the same campaign run without a stop, value for value. Also: save keeps what DEST holds and
 replaces its partial products whole; restore overwrites nothing, refuses while the campaign's
-lock is held, and refuses a DEST that is not a snapshot. A run resumed from its checkpoint
+lock is held, and refuses a DEST that is not a snapshot. Neither deletes nor replaces a file it
+did not write (save refuses a DEST that holds other files and is no snapshot, and a partial/
+with anything but checkpoints and starts), and neither hangs on a FIFO. A run resumed from its checkpoint
 records the CPU seconds of its attempts before the stop too.
 
 Usage (ctest runs it): test_campaign_snapshot.py --jam build/jam --source .
@@ -117,7 +119,7 @@ class Snapshot(unittest.TestCase):
                          [FAST + ".h5", FAST + ".record"])
         self.assertEqual(sorted(os.listdir(os.path.join(dest, "partial"))),
                          [SLOW + ".h5.checkpoint", SLOW + ".start.h5"])
-        for name in ("status.json", "campaign.toml"):
+        for name in ("status.json", "campaign.toml", ".jam-snapshot"):
             self.assertTrue(os.path.isfile(os.path.join(dest, name)), name)
 
         # Saved again: the run files are kept, the partial products replaced whole (a planted
@@ -126,6 +128,11 @@ class Snapshot(unittest.TestCase):
         result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)
         self.assertIn("0 files copied, 2 kept", result.stdout)
         self.assertNotIn("stale.start.h5", os.listdir(os.path.join(dest, "partial")))
+        # A snapshot saved before snapshots were marked is known by its status.json.
+        os.unlink(os.path.join(dest, ".jam-snapshot"))
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertTrue(os.path.isfile(os.path.join(dest, ".jam-snapshot")))
 
         shutil.rmtree(run_dir)  # the machine is lost
         result = self.snapshot("restore", dest, run_dir)
@@ -188,6 +195,44 @@ class Snapshot(unittest.TestCase):
                                ARGS.jam)
         self.assertEqual(result.returncode, 2)
         self.assertIn("no such directory", result.stderr)
+
+    def test_save_replaces_nothing_it_did_not_write(self):
+        run_dir = os.path.join(self.dir, "run")  # refused before it is read
+        os.makedirs(run_dir)
+        dest = os.path.join(self.dir, "results")
+        os.makedirs(os.path.join(dest, "partial"))
+        notes = os.path.join(dest, "partial", "notes.txt")
+        with open(notes, "w") as f:
+            f.write("mine")
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)
+        self.assertEqual(result.returncode, 2)
+        self.assertEqual(len(result.stderr.splitlines()), 1, result.stderr)
+        self.assertIn("not empty and not a snapshot", result.stderr)
+        # Even a snapshot's partial/ is replaced only when it holds save's files alone.
+        with open(os.path.join(dest, "status.json"), "w") as f:
+            f.write('{"run": {}}')
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("partial/ holds notes.txt", result.stderr)
+        self.assertEqual(slurp(notes), "mine")
+
+    def test_no_hang_on_a_fifo(self):
+        dest = os.path.join(self.dir, "kept")
+        os.makedirs(os.path.join(dest, "runs"))
+        os.mkfifo(os.path.join(dest, "runs", FAST + ".h5"))
+        result = subprocess.run([sys.executable, self.script, "restore", dest,
+                                 os.path.join(self.dir, "a")], capture_output=True, text=True,
+                                timeout=60)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("not a regular file", result.stderr)
+        run_dir = os.path.join(self.dir, "b")
+        os.makedirs(run_dir)
+        os.mkfifo(os.path.join(run_dir, ".lock"))
+        os.unlink(os.path.join(dest, "runs", FAST + ".h5"))
+        result = subprocess.run([sys.executable, self.script, "restore", dest, run_dir],
+                                capture_output=True, text=True, timeout=60)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn(".lock", result.stderr)
 
 
 if __name__ == "__main__":
