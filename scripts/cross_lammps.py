@@ -7,11 +7,13 @@
      stiffness 1.1), planted in the input, not in the data;
   2. each ensemble's logs imported through the generic route (jam import lammps with its
      columns named, jam campaign import: scripts/import_lammps_ensemble.py) into
-     runs/lammps-<name>;
+     runs/lammps-<name>, built beside it and renamed into place (an existing one is replaced
+     only if this script made it, else refused);
   3. `jam pipeline reference/campaigns/cross-jam.toml --report reports/cross-lammps`: jam's own
      ensemble of the design, its statistics, those of the three imported campaigns
      (compare_with), every check with `compare` among them, and the report;
-  4. the products copied into reference/results/cross-lammps/, with provenance.json (the cost
+  4. the products copied into reference/results/cross-lammps/ (each written whole, then all
+     renamed into place), with provenance.json (the cost
      of each part: LAMMPS wall seconds from its ensemble.json, jam's core seconds from its
      run records).
 
@@ -26,13 +28,19 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 import tomllib
+
+from script_files import Staged, fail
 
 ENSEMBLES = {"right": (1.4, 1.0, 32), "d135": (1.35, 1.0, 10), "k110": (1.4, 1.1, 10)}
 DESIGN = ["--n", "1024", "--dim", "2", "--phi-init", "0.75", "--phi-stop", "0.87",
           "--rates", "-4", "-5", "--first-seed", "1000", "--q", "0.2", "--dt", "0.064"]
 STORED = "reference/results/cross-lammps"
+# Written into each runs/lammps-<name> this script makes: only a directory holding it is
+# replaced when the script runs again (one without it may be a campaign imported by hand).
+MARKER = ".made-by-cross-lammps"
 
 
 def run(argv):
@@ -59,31 +67,64 @@ def jam_core_seconds(directory):
     return total
 
 
+def refuse_unless_ours(target):
+    """Fails unless `target` is absent or a directory (not a link) this script made."""
+    if not os.path.lexists(target):
+        return
+    if (os.path.islink(target) or not os.path.isdir(target)
+            or not os.path.isfile(os.path.join(target, MARKER))
+            or os.path.islink(os.path.join(target, MARKER))):
+        fail(f"{target}: exists and was not made by this script (no {MARKER}); "
+             f"move it away to have it made anew")
+
+
+def import_ensemble(logs, name, jam):
+    """runs/lammps-<name> imported anew: built beside it, marked, and renamed into place;
+    the one it replaces was made by this script."""
+    target = f"runs/lammps-{name}"
+    os.makedirs("runs", exist_ok=True)
+    work = tempfile.mkdtemp(prefix=f".lammps-{name}-", dir="runs")
+    try:
+        # Its own name: jam campaign import names the campaign after its directory.
+        built = os.path.join(work, f"lammps-{name}")
+        run([sys.executable, "scripts/import_lammps_ensemble.py", os.path.join(logs, name),
+             built, "--jam", jam, "--q", "0.2"])
+        if not os.path.isdir(built):
+            fail(f"{os.path.join(logs, name)}: nothing imported")
+        with open(os.path.join(built, MARKER), "w") as f:
+            f.write("made by scripts/cross_lammps.py, which replaces this directory\n")
+        refuse_unless_ours(target)
+        if os.path.lexists(target):
+            os.rename(target, os.path.join(work, "replaced"))
+        os.rename(built, target)
+    finally:
+        shutil.rmtree(work)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--logs", default="/work/runs/cross-lammps")
     parser.add_argument("--jam", default="build/jam")
     args = parser.parse_args()
     started = time.time()
+    for name in ENSEMBLES:  # refused before hours of LAMMPS, not after
+        refuse_unless_ours(f"runs/lammps-{name}")
     for name, (d_big, stiffness, samples) in ENSEMBLES.items():
         run([sys.executable, "scripts/cross_lammps_runs.py", "--out",
              os.path.join(args.logs, name), *DESIGN, "--samples", str(samples),
              "--d-big", repr(d_big), "--stiffness", repr(stiffness)])
-        target = f"runs/lammps-{name}"
-        shutil.rmtree(target, ignore_errors=True)  # made by this script alone
-        run([sys.executable, "scripts/import_lammps_ensemble.py", os.path.join(args.logs, name),
-             target, "--jam", args.jam, "--q", "0.2"])
+        import_ensemble(args.logs, name, args.jam)
     run([args.jam, "pipeline", "reference/campaigns/cross-jam.toml", "--report",
          "reports/cross-lammps"])
-    os.makedirs(STORED, exist_ok=True)
-    for f in ("campaign.toml", "stats.h5", "checks.json"):
-        shutil.copy(os.path.join("runs/cross-jam", f), os.path.join(STORED, f))
+    # Everything is read first and the stored files are renamed into place together at the
+    # end: a failure leaves them as they were, not some new and some old.
+    copies = [(os.path.join("runs/cross-jam", f), os.path.join(STORED, f))
+              for f in ("campaign.toml", "stats.h5", "checks.json")]
     cost = {"jam_campaign_core_seconds": jam_core_seconds("runs/cross-jam")}
     for name in ENSEMBLES:
-        os.makedirs(os.path.join(STORED, f"lammps-{name}"), exist_ok=True)
-        for f in ("external.toml", "stats.h5"):
-            shutil.copy(os.path.join(f"runs/lammps-{name}", f),
-                        os.path.join(STORED, f"lammps-{name}", f))
+        copies += [(os.path.join(f"runs/lammps-{name}", f),
+                    os.path.join(STORED, f"lammps-{name}", f))
+                   for f in ("external.toml", "stats.h5")]
         seconds, parameters = lammps_seconds(args.logs, name)
         cost[f"lammps_{name}_wall_seconds"] = round(seconds, 1)
         cost[f"lammps_{name}_parameters"] = parameters
@@ -94,9 +135,14 @@ def main():
                   "code_version": version.splitlines()[0] if version else "", "git_commit": commit,
                   "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
                   "wall_seconds_of_this_invocation": round(time.time() - started, 1), **cost}
-    with open(os.path.join(STORED, "provenance.json"), "w") as f:
-        json.dump(provenance, f, indent=2)
-        f.write("\n")
+    for name in ENSEMBLES:
+        os.makedirs(os.path.join(STORED, f"lammps-{name}"), exist_ok=True)
+    with Staged() as staged:
+        for source, target in copies:
+            staged.copy(source, target)
+        staged.text(os.path.join(STORED, "provenance.json"),
+                    json.dumps(provenance, indent=2) + "\n")
+        staged.commit()
     print(f"stored in {STORED}")
 
 

@@ -36,10 +36,15 @@ import sys
 import time
 from pathlib import Path
 
+from script_files import fail
+
 ROOT = Path(__file__).resolve().parent.parent
 INPUT = ROOT / "reference" / "lammps" / "compress_random.in"
 MAKE_TABLE = ROOT / "reference" / "lammps" / "make_table.py"
 COMPLETE = b"Total wall time"
+# Paths under --out reach LAMMPS as -var values substituted into read_data, write_data and
+# pair_coeff, and LAMMPS splits words, reads quotes and substitutes $ after substitution.
+UNSAFE_IN_OUT = "$#'\"`"
 # The parameters that define an ensemble: a directory holding runs of other values is refused.
 PHYSICS = ("n", "dim", "phi_init", "phi_stop", "q", "dt", "d_big", "stiffness", "relax_energy",
            "skin", "first_seed", "table_inner", "input_sha256")
@@ -136,6 +141,11 @@ def parse_args():
                    help="inner radius of the contact table, a fraction of d_ij")
     p.add_argument("--lmp", default="lmp")
     a = p.parse_args()
+    out = str(a.out.resolve())
+    if any(c.isspace() or c in UNSAFE_IN_OUT for c in out):
+        given = repr(str(a.out)) + ("" if out == str(a.out) else f" ({out!r})")
+        fail(f"--out {given}: holds whitespace or one of {UNSAFE_IN_OUT}, which LAMMPS would "
+             f"split or substitute in its commands; choose a path without them")
     if a.n < 2 or a.n % 2 or not 0 < a.phi_init < a.phi_stop < 1 or a.samples < 1:
         sys.exit("cross_lammps_runs: need even n >= 2, 0 < phi_init < phi_stop < 1, samples >= 1")
     if a.first_seed + a.first_sample < 1 or a.first_sample < 0:

@@ -16,6 +16,8 @@ import sys
 
 import h5py
 
+from script_files import fail, refuse_same, require_input, write_text
+
 
 def plain(value):
     """HDF5 attribute -> JSON value (NaN and inf as null)."""
@@ -35,6 +37,8 @@ def main():
         sys.exit("usage: fit_to_json.py STATS_H5 OUT_JSON [HOW]")
     source, target = sys.argv[1], sys.argv[2]
     how = sys.argv[3] if len(sys.argv) == 4 else source
+    require_input(source, "STATS_H5")
+    refuse_same(target, "OUT_JSON", source, "STATS_H5")
     with h5py.File(source, "r") as f:
         if "fit" not in f:
             sys.exit(f"fit_to_json.py: {source}: no fit group")
@@ -48,9 +52,11 @@ def main():
             scan = fit["scan"]
             out["scan"] = {k: [plain(x) for x in scan[k][()]] for k in scan.keys()}
             out["scan_failures"] = plain(scan.attrs.get("failures", ""))
-    with open(target, "w") as stream:
-        json.dump(out, stream, indent=1, sort_keys=True)
-        stream.write("\n")
+    try:
+        text = json.dumps(out, indent=1, sort_keys=True) + "\n"
+    except (TypeError, ValueError) as e:
+        fail(f"STATS_H5 {source}: the fit holds a value JSON cannot hold ({e})")
+    write_text(target, text)
 
 
 if __name__ == "__main__":

@@ -20,6 +20,8 @@ import subprocess
 import sys
 import tempfile
 
+from script_files import Staged, fail, open_input
+
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -40,6 +42,15 @@ def main():
     stored = os.path.join(SOURCE, "reference", "results", args.name)
     if not os.path.isfile(os.path.join(stored, "stats.h5")):
         sys.exit(f"rejudge: {stored}: no stored stats.h5")
+    # Read before anything is replaced: a result re-judged must be recorded as such.
+    path = os.path.join(stored, "provenance.json")
+    with open_input(path, "provenance") as f:
+        try:
+            provenance = json.load(f)
+        except ValueError as e:
+            fail(f"provenance {path}: not JSON ({e})")
+    if not isinstance(provenance, dict):
+        fail(f"provenance {path}: not a JSON object")
     version = subprocess.run([args.jam, "--version"], capture_output=True, text=True,
                              check=True).stdout.splitlines()[0].split()[-1]
     with tempfile.TemporaryDirectory() as tmp:
@@ -55,25 +66,19 @@ def main():
                                os.path.join(SOURCE, "reference")])
         if done.returncode not in (0, 1, 3):
             sys.exit(f"rejudge: jam check exited {done.returncode}; nothing changed")
-        for name in ("checks.json",) + (("stats.h5",) if refit else ()):
-            new = os.path.join(stored, f".{name}.rejudge")
-            shutil.copy2(os.path.join(work, name), new)
-            os.replace(new, os.path.join(stored, name))
-    path = os.path.join(stored, "provenance.json")
-    with open(path) as f:
-        provenance = json.load(f)
-    provenance["checks_rejudged"] = {
-        "command": f"scripts/rejudge.py {args.name}",
-        "code_version": version,
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "note": "checks.json judged anew from the stored stats.h5; the runs, the averages and "
-                "the representative fits are those of the stored result (per-size fits added "
-                "by jam stats --refit where missing)",
-    }
-    with open(path + ".rejudge", "w") as f:
-        json.dump(provenance, f, indent=2)
-        f.write("\n")
-    os.replace(path + ".rejudge", path)
+        provenance["checks_rejudged"] = {
+            "command": f"scripts/rejudge.py {args.name}",
+            "code_version": version,
+            "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+            "note": "checks.json judged anew from the stored stats.h5; the runs, the averages "
+                    "and the representative fits are those of the stored result (per-size fits "
+                    "added by jam stats --refit where missing)",
+        }
+        with Staged() as staged:
+            for name in ("checks.json",) + (("stats.h5",) if refit else ()):
+                staged.copy(os.path.join(work, name), os.path.join(stored, name))
+            staged.text(path, json.dumps(provenance, indent=2) + "\n")
+            staged.commit()
 
 
 if __name__ == "__main__":

@@ -29,6 +29,8 @@ import tempfile
 import h5py
 import numpy as np
 
+from script_files import fail, refuse_same, write_text
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -47,8 +49,12 @@ def resample(source, target, keep, rng):
                 for key in list(h.keys()):
                     if key.endswith("_samples") or key == "sample_ids":
                         data = h[key][...]
-                        if data.shape[0] != samples:
-                            continue
+                        # Rows of other length cannot be kept with the others: the copy would
+                        # disagree with its own samples.
+                        if data.ndim == 0 or data.shape[0] != samples:
+                            fail(f"{source}: ensembles/{name}/{part}/{key} has shape "
+                                 f"{data.shape}, but the ensemble has {samples} samples; "
+                                 f"its rows cannot be resampled")
                         del h[key]
                         h.create_dataset(key, data=data[rows])
             g.attrs["samples"] = len(rows)
@@ -86,6 +92,8 @@ def main():
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--json", help="write the numbers here")
     a = p.parse_args()
+    if a.json:
+        refuse_same(a.json, "--json", os.path.join(a.result, "stats.h5"), "stats.h5")
     rng = random.Random(a.seed)
     estimates = {}  # (check, case) -> {"former": [...], "pooled": [...]}
     with tempfile.TemporaryDirectory() as tmp:
@@ -124,9 +132,8 @@ def main():
               f"{a.resamples} resamples of {a.keep} samples: former {former:.2f}, "
               f"pooled {pooled:.2f}")
     if a.json:
-        with open(a.json, "w") as f:
-            json.dump({"result": a.result, "resamples": a.resamples, "keep": a.keep,
-                       "summary": summary}, f, indent=1)
+        write_text(a.json, json.dumps({"result": a.result, "resamples": a.resamples,
+                                       "keep": a.keep, "summary": summary}, indent=1))
 
 
 if __name__ == "__main__":

@@ -16,6 +16,8 @@ import argparse
 import h5py
 import numpy as np
 
+from script_files import require_input
+
 OFFSETS = (-0.008, -0.004, 0.0, 0.004, 0.008)
 
 
@@ -42,6 +44,7 @@ def main():
     ap.add_argument("--phi-init", type=float, default=None,
                     help="only the ensembles of this phi_init (default: the lowest)")
     args = ap.parse_args()
+    require_input(args.stats, "stats")
     with h5py.File(args.stats, "r") as f:
         phi_j = float(f["fit/representative"].attrs["phi_j"])
         groups = [g for g in f["ensembles"].values() if "jamming" in g]
