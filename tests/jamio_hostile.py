@@ -77,6 +77,8 @@ def _huge_shape(f):
 HOSTILE_RUNS = {
     "array-n.h5": lambda f: f.attrs.__setitem__("n", np.array([64, 64])),
     "string-n.h5": lambda f: f.attrs.__setitem__("n", np.bytes_(b"abc")),
+    "nan-sample.h5": lambda f: f.attrs.__setitem__("sample", np.nan),
+    "huge-seed.h5": lambda f: f.attrs.__setitem__("seed", 1e300),
     "compound-attribute.h5": lambda f: f.attrs.__setitem__(
         "phi_init", np.array((1, 2.0), dtype=[("a", "i4"), ("b", "f8")])),
     "compound-pressure.h5": _compound,
@@ -86,15 +88,51 @@ HOSTILE_RUNS = {
 }
 
 
+def _outside(data, hostile):
+    """Files whose members are kept outside them, in data/run.h5 and the campaign's stats.h5
+    (regular files: what a file names must be refused unopened, wherever it points), by name:
+    pressure an external link, a soft link through an external link, external storage; a
+    stats.h5 whose ensemble group is an external link."""
+    run = os.path.join(data, "run.h5")
+    stats = os.path.join(data, "campaign", "stats.h5")
+    raw = os.path.join(hostile, "pressure.raw")
+
+    def external_link(f):
+        del f["pressure"]
+        f["pressure"] = h5py.ExternalLink(run, "/pressure")
+
+    def soft_link(f):
+        del f["pressure"]
+        f["elsewhere"] = h5py.ExternalLink(run, "/")
+        f["pressure"] = h5py.SoftLink("/elsewhere/pressure")
+
+    def external_storage(f):
+        m = len(f["packing_fraction"])
+        with open(raw, "wb") as out:
+            out.write(np.zeros(m).tobytes())
+        del f["pressure"]
+        f.create_dataset("pressure", shape=(m,), dtype="f8", external=[(raw, 0, 8 * m)])
+
+    def external_group(f):
+        name = f"ensembles/{sorted(f['ensembles'])[0]}/constant_phi"
+        del f[name]
+        f[name] = h5py.ExternalLink(stats, "/" + name)
+    return {"external-link.h5": (run, external_link), "soft-link-out.h5": (run, soft_link),
+            "external-storage.h5": (run, external_storage),
+            "stats-external-link.h5": (stats, external_group)}
+
+
 def make_hostile(data, out):
-    """data/broken/hostile: run files of HOSTILE_RUNS, a checks.json nested 100,000 deep, a
-    checks.json of 300 MB (sparse: it takes no disk), symbolic links to a FIFO and to
-    /dev/zero where stats.h5 and checks.json belong."""
+    """data/broken/hostile: run files of HOSTILE_RUNS, files reaching outside themselves
+    (_outside), a checks.json nested 100,000 deep, a checks.json of 300 MB (sparse: it takes
+    no disk), symbolic links to a FIFO and to /dev/zero where stats.h5 and checks.json
+    belong."""
     hostile = os.path.join(out, "hostile")
     os.mkdir(hostile)
-    for name, edit in HOSTILE_RUNS.items():
+    runs = {name: (os.path.join(data, "run.h5"), edit) for name, edit in HOSTILE_RUNS.items()}
+    for name, (original, edit) in {**runs, **_outside(data, hostile)}.items():
         path = os.path.join(hostile, name)
-        shutil.copy(os.path.join(data, "run.h5"), path)
+        shutil.copy(original, path)
         with h5py.File(path, "r+") as f:
             edit(f)
     for name, write in (("nested", lambda f: f.write("[" * 100_000 + "]" * 100_000)),
@@ -230,6 +268,38 @@ def case_mistyped_run_attribute(data, source):
     expect_child_error("load_runs", campaign, ["n64.h5", "attribute 'n'", "not a whole number"])
 
 
+def case_sample_and_seed_whole_numbers(data, source):
+    """A sample of NaN (it passed as a number) and a seed of 1e300 (a whole number no int64
+    holds): each refused, naming the attribute and its value."""
+    hostile = os.path.join(data, "broken", "hostile")
+    path = os.path.join(hostile, "nan-sample.h5")
+    expect_child_error("load_run", path, [path, "attribute 'sample'", "nan", "not a whole number"])
+    path = os.path.join(hostile, "huge-seed.h5")
+    expect_child_error("load_run", path, [path, "attribute 'seed'", "1e+300",
+                                          "not a whole number"])
+
+
+def case_members_outside_the_file_refused(data, source):
+    """pressure an external link to another run file, a soft link through an external link,
+    values kept in another file, an ensemble's group an external link in stats.h5: each
+    refused, naming the member, and nothing opened (followed, a FIFO there blocked the read for
+    ever); in a child stopped after 30 s."""
+    hostile = os.path.join(data, "broken", "hostile")
+    for load in ("load_run", "validate_run"):
+        path = os.path.join(hostile, "external-link.h5")
+        expect_child_error(load, path, [path, "'/pressure' is an external link",
+                                        os.path.join(data, "run.h5"), "not followed"])
+        path = os.path.join(hostile, "soft-link-out.h5")
+        expect_child_error(load, path, [path, "'/elsewhere' is an external link",
+                                        "not followed"])
+        path = os.path.join(hostile, "external-storage.h5")
+        expect_child_error(load, path, [path, "dataset '/pressure'", "another file",
+                                        "not read"])
+    path = os.path.join(hostile, "stats-external-link.h5")
+    expect_child_error("load_stats", path, [path, "/constant_phi' is an external link",
+                                            "not followed"])
+
+
 def case_compound_dataset_refused(data, source):
     """pressure of a compound type: refused by its type, not read (load_run returned it and
     load_runs raised a plain TypeError); a dataset named with an escape sequence is named with
@@ -279,6 +349,7 @@ def case_links_to_a_fifo_or_device(data, source):
 
 
 HOSTILE_CASES = [case_errors, case_hostile_files, case_array_valued_scalar_attribute,
-                 case_mistyped_run_attribute, case_compound_dataset_refused,
+                 case_mistyped_run_attribute, case_sample_and_seed_whole_numbers,
+                 case_members_outside_the_file_refused, case_compound_dataset_refused,
                  case_huge_claimed_dataset, case_checks_json_of_300_mb_refused_unread,
                  case_links_to_a_fifo_or_device]

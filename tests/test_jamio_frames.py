@@ -47,6 +47,8 @@ output = "adaptive"
 FIXED = ADAPTIVE.replace('name = "frames"', 'name = "euler"\nintegrator = "euler"\ndt = 0.05') \
                 .replace('output = "adaptive"', 'output = "fixed"')
 KEYS = ["n", "phi_init", "log10_rate", "phi"]
+# An ensemble's constant-phi averages in the adaptive campaign's stats.h5 (2 samples).
+GROUP = "ensembles/n64_phi0.7013_r-3.00/constant_phi"
 
 
 def run(cmd, cwd, expect=(0,), env=None):
@@ -268,12 +270,25 @@ class Frames(unittest.TestCase):
         return copy, path
 
     def assert_refused(self, campaign, words):
+        self.assert_one_line(lambda: self.jamio.runs_frame(campaign), words)
+
+    def assert_one_line(self, call, words):
+        """call() raises one line of JamioError holding every word."""
         with self.assertRaises(self.jamio.JamioError) as e:
-            self.jamio.runs_frame(campaign)
+            call()
         text = str(e.exception)
         self.assertEqual(len(text.splitlines()), 1, text)
         for w in words:
             self.assertIn(w, text)
+
+    def planted_stats(self, edit):
+        """A copy of the adaptive campaign's stats.h5, alone in a directory, changed by
+        edit(h5py file)."""
+        path = os.path.join(tempfile.mkdtemp(dir=self.work, prefix="stats-"), "stats.h5")
+        shutil.copy(os.path.join(self.dir("adaptive"), "stats.h5"), path)
+        with h5py.File(path, "r+") as f:
+            edit(f)
+        return path
 
     def test_a_point_off_the_grid_is_refused(self):
         def shift(f):
@@ -292,6 +307,87 @@ class Frames(unittest.TestCase):
                 b"phi_init=0.69999999999999996", b"phi_init=0.71")
         campaign, path = self.planted("n32_phi0.7000_r-3.00_s000.h5", retarget)
         self.assert_refused(campaign, [path, "phi_init 0.71", "[0.7, 0.7013]"])
+
+    def test_a_samples_table_of_another_shape_is_refused(self):
+        """pressure_samples transposed (points x samples) or flattened has as many values as
+        (samples, points): reshaped, they went to other rows without a word. Refused, naming
+        the dataset and its shape."""
+        name = f"{GROUP}/pressure_samples"
+        with h5py.File(os.path.join(self.dir("adaptive"), "stats.h5"), "r") as f:
+            s, m = f[name].shape
+        self.assertGreater(m, s)
+        for shape in ((m, s), (s * m,)):
+            def edit(f):
+                v = f[name][()]
+                del f[name]
+                f[name] = v.T if len(shape) == 2 else v.reshape(-1)
+            path = self.planted_stats(edit)
+            self.assert_one_line(lambda: self.jamio.stats_frame(path, samples=True),
+                                 [path, name, f"has shape {shape}", f"expected shape {(s, m)}"])
+
+    def test_sample_ids_and_sizes_that_are_not_whole_numbers_are_refused(self):
+        """A sample id of 1.5 (read as 1) or NaN (as -2^63), an ensemble's n of 64.5 and a
+        run's sample of 2.7 (cut to 64 and 2): each refused, naming the field and the value."""
+        for ids, words in (([0.0, 1.5], ["sample_ids[1] = 1.5"]),
+                           ([np.nan, 1.0], ["sample_ids[0] = nan"])):
+            def edit(f):
+                f[f"{GROUP}/sample_ids"][...] = ids
+            path = self.planted_stats(edit)
+            for samples in (False, True):
+                self.assert_one_line(lambda: self.jamio.stats_frame(path, samples=samples),
+                                     [path, *words, "not a whole number"])
+
+        def half_size(f):
+            f[os.path.dirname(GROUP)].attrs["n"] = 64.5
+        path = self.planted_stats(half_size)
+        self.assert_one_line(lambda: self.jamio.load_stats(path),
+                             [path, "attribute 'n'", "64.5", "not a whole number"])
+        campaign, path = self.planted("n64_phi0.7000_r-2.50_s001.h5",
+                                      lambda f: f.attrs.__setitem__("sample", 2.7))
+        self.assert_refused(campaign, [path, "attribute 'sample'", "2.7", "not a whole number"])
+
+    def test_missing_or_mismatched_datasets_are_one_line(self):
+        """What raised IndexError, KeyError, ZeroDivisionError or a pandas ValueError: a run of
+        no points, a missing `_error`, sample_ids or z_step, a mean shorter than its grid, a
+        run's phi_step missing or 0 where the campaign file gives none. Each a JamioError
+        naming the file and the field."""
+        def empty(f):
+            for k in [k for k, v in f.items() if isinstance(v, h5py.Dataset)]:
+                del f[k]
+                f[k] = np.zeros(0)
+        campaign, path = self.planted("n64_phi0.7000_r-2.50_s001.h5", empty)
+        self.assert_refused(campaign, [path, "'packing_fraction' is empty"])
+
+        def shorten(f):
+            mean = f[f"{GROUP}/pressure_mean"][()]
+            del f[f"{GROUP}/pressure_mean"]
+            f[f"{GROUP}/pressure_mean"] = mean[1:]
+        # (edit, words, average, the tables that read it: of means, of samples)
+        for edit, words, average, tables in (
+                (lambda f: f[GROUP].__delitem__("pressure_error"),
+                 ["pressure_error missing"], "constant_phi", (False,)),
+                (lambda f: f[GROUP].__delitem__("sample_ids"), ["sample_ids missing"],
+                 "constant_phi", (False, True)),
+                (lambda f: f.attrs.__delitem__("z_step"), ["'z_step'"], "constant_z",
+                 (False, True)),
+                (shorten, ["pressure_mean has shape", "expected shape"], "constant_phi",
+                 (False,))):
+            path = self.planted_stats(edit)
+            for samples in tables:
+                self.assert_one_line(lambda: self.jamio.stats_frame(path, average, samples),
+                                     [path, *words])
+        for edit, words in ((lambda f: f.attrs.__delitem__("phi_step"),
+                             ["has no attribute 'phi_step'"]),
+                            (lambda f: f.attrs.__setitem__("phi_step", 0.0),
+                             ["attribute 'phi_step' is 0.0"])):
+            campaign, path = self.planted("n64_phi0.7000_r-2.50_s001.h5", edit)
+            toml = os.path.join(campaign, "campaign.toml")
+            with open(toml) as f:
+                text = f.read()
+            with open(toml, "w") as f:  # the campaign file gives no phi_step: the run's is used
+                f.write("".join(line for line in text.splitlines(True)
+                                if not line.startswith("phi_step")))
+            self.assert_refused(campaign, [path, *words])
 
     def test_without_pandas_or_xarray_one_line_names_the_package(self):
         code = ("import sys\n"

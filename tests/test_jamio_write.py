@@ -3,10 +3,11 @@
 
 write_run read back by validate_run and by h5py (every attribute, type and dataset as the format
 says); every malformed input refused with one line naming the field and the value, and nothing
-left behind (a pre-existing file kept, no `.partial`, also when the write fails midway);
-validate_run on hand-made malformed files (a 2-D or undeclared-huge packing_fraction refused by
-its shape before a value is read, array attributes, decreasing phi, phi off phi_init exp(D rate
-t), missing attributes, wrong units, integer datasets) and on a run file of jam's own (`jam
+left behind (a pre-existing file kept, no `.partial`, also when the write fails midway; a
+temporary name already taken neither written nor removed); validate_run on hand-made malformed
+files (a 2-D or undeclared-huge packing_fraction refused by its shape before a value is read,
+array attributes, decreasing phi, phi off phi_init exp(D rate t), missing attributes, wrong
+units, integer datasets, a series kept in another file) and on a run file of jam's own (`jam
 sim`); write_frames' file (attributes, shapes, units) and its refusals. The HOOMD-blue import:
 tests/test_jamio_gsd.py.
 
@@ -191,6 +192,43 @@ def case_write_fails_midway(work):
         module.validate_run = saved
 
 
+def case_temporary_name_taken(work):
+    """The temporary name `<path>.<pid>.partial` already taken, by a symbolic link to another
+    file or by a file another writer is writing: neither is opened, written or removed (the
+    link's target was truncated, and the name unlinked after the write); the run is written
+    through a name of its own, also when the write fails midway."""
+    out = os.path.join(work, "run.h5")
+    taken = f"{out}.{os.getpid()}.partial"
+    victim = os.path.join(work, "victim.txt")
+    with open(victim, "wb") as f:
+        f.write(b"not jamio's")
+    os.symlink(victim, taken)
+    write(out)
+    only(work, ["run.h5", os.path.basename(taken), "victim.txt"])
+    check(os.path.islink(taken) and os.readlink(taken) == victim, "the link was removed")
+    with open(victim, "rb") as f:
+        check(f.read() == b"not jamio's", "the link's target was written")
+    check(jamio().validate_run(out).sample == 3, "the run written")
+    os.unlink(taken)
+    os.unlink(out)
+    with open(taken, "wb") as f:
+        f.write(b"the other writer's")
+    module = sys.modules["jamio.write"]
+    saved = module.validate_run
+
+    def disk_full(path):
+        check(path != taken, "checked the other writer's file")
+        raise OSError(28, "No space left on device")
+    try:
+        module.validate_run = disk_full
+        refused(lambda: write(out), "run.h5", "no space left")
+    finally:
+        module.validate_run = saved
+    only(work, [os.path.basename(taken), "victim.txt"])
+    with open(taken, "rb") as f:
+        check(f.read() == b"the other writer's", "the other writer's file was changed")
+
+
 def malformed_copy(work, name, change):
     """A valid run (write_run) copied to `name` and changed by change(h5py file)."""
     good = os.path.join(work, "good.h5")
@@ -233,6 +271,27 @@ def huge(name, shape):
     return change
 
 
+def outside(work, how):
+    """pressure kept outside the run file, in good.h5 beside it (a regular file: what the run
+    file names must be refused, not opened, wherever it points): `how` is "external link",
+    "soft link" (through an external link elsewhere in the file) or "external storage"."""
+    good = os.path.join(work, "good.h5")
+
+    def change(f):
+        del f["pressure"]
+        if how == "external link":
+            f["pressure"] = h5py.ExternalLink(good, "/pressure")
+        elif how == "soft link":
+            f["elsewhere"] = h5py.ExternalLink(good, "/")
+            f["pressure"] = h5py.SoftLink("/elsewhere/pressure")
+        else:
+            raw = os.path.join(work, "pressure.raw")
+            with open(raw, "wb") as out:
+                out.write(np.zeros(6).tobytes())
+            f.create_dataset("pressure", shape=(6,), dtype=np.float64, external=[(raw, 0, 48)])
+    return change
+
+
 def case_validate_malformed(work):
     t, phi = series()
     rows = np.vstack([phi[:3], phi[3:]])
@@ -270,6 +329,13 @@ def case_validate_malformed(work):
          ("contacts_per_particle[0] = -1.0",)),
         ("simulator_empty.h5", set_attribute("simulator", b""), ("simulator ''",)),
         ("sample_bool.h5", set_attribute("sample", np.True_), ("sample True",)),
+        # Followed, these were read from good.h5 (and a FIFO there blocked for ever).
+        ("external_link.h5", outside(work, "external link"),
+         ("'/pressure' is an external link", "good.h5", "not followed")),
+        ("soft_link_out.h5", outside(work, "soft link"),
+         ("'/elsewhere' is an external link", "not followed")),
+        ("external_storage.h5", outside(work, "external storage"),
+         ("dataset '/pressure'", "another file", "not read")),
     ]
     for name, change, words in cases:
         path = malformed_copy(work, name, change)
@@ -389,8 +455,8 @@ def case_write_frames(work):
 # ---- GSD import ----------------------------------------------------------------------------------
 
 
-CASES = [case_round_trip, case_write_refused, case_write_fails_midway, case_validate_malformed,
-         case_jam_native, case_write_frames]
+CASES = [case_round_trip, case_write_refused, case_write_fails_midway, case_temporary_name_taken,
+         case_validate_malformed, case_jam_native, case_write_frames]
 
 if __name__ == "__main__":
     sys.exit(fixture.run(CASES, __doc__.split("\n")[1], "test_jamio_write."))

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import h5py
 
 from .errors import JamioError, open_regular, reading, shown
-from .hdf5 import attrs, group, read_hdf5
+from .hdf5 import attrs, group, member, members, read_hdf5
 
 
 @dataclass
@@ -99,9 +99,9 @@ def read_verdicts(path):
 
 
 def _read_curves(f):
-    groups = f.get("verdicts")
+    groups = member(f, "verdicts")
     curves = {} if groups is None else {
-        name: group(g) for name, g in groups.items() if isinstance(g, h5py.Group)}
+        name: group(g) for name, g in members(groups).items() if isinstance(g, h5py.Group)}
     return attrs(f), curves
 
 

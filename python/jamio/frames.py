@@ -18,12 +18,13 @@ need nothing beyond numpy and h5py (xarray brings pandas; both are extras of the
 
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
 
 from .campaign import load_design
-from .errors import JamioError, optional_module
+from .errors import JamioError, optional_module, shown
 from .grid import external_grid, run_coordinates, run_grid, snap
 from .runs import (OPTIONAL_SERIES, PROVENANCE, SERIES, _load_each, load_external_runs,
                    present_series, run_files)
@@ -67,6 +68,9 @@ def _run_columns(run, design, optional):
     n, phi_init, log10_rate, sample = run_coordinates(run, design)
     phi = run_grid(run, design, phi_init, log10_rate)
     m = len(phi)
+    if m == 0:  # no row would carry the run's coordinates
+        raise JamioError(run.path, "dataset 'packing_fraction' is empty: a run has at least "
+                                   "one output point")
     out = {"run": np.full(m, run.name, dtype=object), "n": np.full(m, n, dtype=np.int64),
            "phi_init": np.full(m, phi_init), "log10_rate": np.full(m, log10_rate),
            "sample": np.full(m, sample, dtype=np.int64), "phi": phi}
@@ -151,23 +155,66 @@ def runs_dataset(campaign_dir, skip_unreadable=False):
     return _dataset(frame.drop(columns="run"), RUN_COORDINATES)
 
 
+def _step(stats, name):
+    """stats.h5's root attribute `name` (phi_step, z_step), a number > 0; a JamioError naming it
+    otherwise (the grid's values are multiples of it)."""
+    v = stats.attrs.get(name)
+    if v is None:
+        raise JamioError(stats.path, f"has no attribute '{name}' (the step of its grid)")
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
+        raise JamioError(stats.path, f"attribute '{name}' is {shown(v)}, expected a number > 0")
+    return float(v)
+
+
 def _phi_step(stats):
     """The constant-phi grid's step: stats.h5's `phi_step`, else the campaign file beside it
     (or an external campaign's external.toml), else the grids' smallest spacing rounded to 10
     significant digits (files written before `phi_step`, apart from their campaign)."""
     if "phi_step" in stats.attrs:
-        return float(stats.attrs["phi_step"])
+        return _step(stats, "phi_step")
     directory = os.path.dirname(os.path.abspath(stats.path))
     if any(os.path.exists(os.path.join(directory, f))
            for f in ("campaign.toml", "manifest.toml", "external.toml")):
         step = load_design(directory).phi_step
         if step:
             return step
-    gaps = [np.diff(e.constant_phi["packing_fraction"]) for e in stats.ensembles.values()
-            if e.constant_phi is not None and len(e.constant_phi["packing_fraction"]) > 1]
+    grids = [_values(stats, f"ensembles/{name}/constant_phi", e.constant_phi, "packing_fraction")
+             for name, e in stats.ensembles.items()
+             if e.constant_phi is not None and "packing_fraction" in e.constant_phi]
+    gaps = [np.diff(g) for g in grids if len(g) > 1]
     if not gaps:
         raise JamioError(stats.path, "has no phi_step and no grid of two points to take it from")
-    return float(f"{np.min(np.concatenate(gaps)):.10g}")
+    step = float(f"{np.min(np.concatenate(gaps)):.10g}")
+    if not step > 0:
+        raise JamioError(stats.path, f"has no phi_step, and its grids' smallest spacing {step!r} "
+                                     "is not above 0 to take it from")
+    return step
+
+
+def _values(stats, where, group, key, shape=None):
+    """group[key], the dataset `where`/key of stats.h5, as float64: numbers of exactly `shape`
+    (of one dimension when shape is None); a JamioError naming the dataset otherwise (a table
+    built from values of another shape would put them on other rows)."""
+    if key not in group:
+        raise JamioError(stats.path, f"{where}/{key} missing")
+    v = group[key]
+    if v.dtype.kind not in "biuf" or (v.ndim != 1 if shape is None else v.shape != shape):
+        expected = "one dimension" if shape is None else f"shape {shape}"
+        raise JamioError(stats.path, f"{where}/{key} has shape {v.shape} of {v.dtype}, expected "
+                                     f"{expected} of numbers")
+    return np.asarray(v, dtype=np.float64)
+
+
+def _sample_ids(stats, where, group):
+    """The ensemble's sample ids as int64 (stats.h5 stores them as floats): each a whole number
+    of int64's range; a JamioError naming the first that is not (1.5 would become 1)."""
+    ids = _values(stats, where, group, "sample_ids")
+    bad = np.flatnonzero(~(np.isfinite(ids) & (ids == np.round(ids)) & (np.abs(ids) < 2.0 ** 63)))
+    if bad.size:
+        k = int(bad[0])
+        raise JamioError(stats.path, f"{where}/sample_ids[{k}] = {shown(float(ids[k]))} is not "
+                                     "a whole number")
+    return ids.astype(np.int64)
 
 
 def _grid(stats, average, name, group, step):
@@ -179,14 +226,18 @@ def _grid(stats, average, name, group, step):
                     if k in group), "contacts_per_particle")
     if key not in group:
         raise JamioError(stats.path, f"ensembles/{name}/{average} has no grid '{key}'")
-    return snap(group[key], step, stats.path, f"ensembles/{name}/{average}/{key}")
+    where = f"ensembles/{name}/{average}"
+    return snap(_values(stats, where, group, key), step, stats.path, f"{where}/{key}")
 
 
 def _observables(group):
     return [k[: -len("_mean")] for k in group if k.endswith("_mean")]
 
 
-def _coordinates(e, m, coordinate, grid):
+def _coordinates(stats, name, e, m, coordinate, grid):
+    missing = [c for c in ENSEMBLE_COORDINATES if c not in e.attrs]
+    if missing:
+        raise JamioError(stats.path, f"ensembles/{name} has no attribute '{missing[0]}'")
     out = {c: np.full(m, e.attrs[c]) for c in ENSEMBLE_COORDINATES}
     out[coordinate] = grid
     return out
@@ -195,25 +246,31 @@ def _coordinates(e, m, coordinate, grid):
 def _means(stats, name, e, average, step):
     """One ensemble's rows: a row per grid point, each observable's mean and errors."""
     group = getattr(e, average)
+    where = f"ensembles/{name}/{average}"
     grid = _grid(stats, average, name, group, step)
-    out = _coordinates(e, len(grid), AVERAGES[average], grid)
-    out["samples"] = np.full(len(grid), len(group["sample_ids"]))
+    m = len(grid)
+    out = _coordinates(stats, name, e, m, AVERAGES[average], grid)
+    out["samples"] = np.full(m, len(_sample_ids(stats, where, group)))
     for obs in _observables(group):
         for suffix in ("_mean", "_error", "_relative_error"):
-            out[obs + suffix] = group[obs + suffix]
+            out[obs + suffix] = _values(stats, where, group, obs + suffix, (m,))
     return out
 
 
 def _samples(stats, name, e, average, step):
     """One ensemble's rows: a row per sample and grid point, each observable's value."""
     group = getattr(e, average)
+    where = f"ensembles/{name}/{average}"
     grid = _grid(stats, average, name, group, step)
-    ids = np.asarray(group["sample_ids"], dtype=np.int64)
+    ids = _sample_ids(stats, where, group)
     m, s = len(grid), len(ids)
-    out = {c: np.tile(v, s) for c, v in _coordinates(e, m, AVERAGES[average], grid).items()}
+    out = {c: np.tile(v, s) for c, v in
+           _coordinates(stats, name, e, m, AVERAGES[average], grid).items()}
     out["sample"] = np.repeat(ids, m)
     for obs in _observables(group):
-        out[obs] = np.asarray(group[f"{obs}_samples"], dtype=np.float64).reshape(s * m)
+        # (samples, points) exactly: a transposed or flattened table has as many values, and
+        # reshaped it would put them on other rows.
+        out[obs] = _values(stats, where, group, f"{obs}_samples", (s, m)).reshape(s * m)
     return out
 
 
@@ -225,7 +282,7 @@ def _stats_table(stats, average, samples):
     rows = _samples if samples else _means
     step = 0.0
     if chosen:
-        step = _phi_step(stats) if average == "constant_phi" else float(stats.attrs["z_step"])
+        step = _phi_step(stats) if average == "constant_phi" else _step(stats, "z_step")
     parts = [rows(stats, name, e, average, step) for name, e in chosen]
     # Without any such average (constant Z of runs that carry no Z: an external campaign's),
     # the coordinates alone, so that the table is empty rather than without columns.

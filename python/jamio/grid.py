@@ -24,7 +24,7 @@ from decimal import Decimal
 
 import numpy as np
 
-from .errors import JamioError
+from .errors import JamioError, shown
 
 # The relative difference taken as round-off between a value and the one it stands for: jam's
 # grid uses the same slack (output_times in sim/run/compression_run.cpp, interpolate() in
@@ -127,12 +127,23 @@ def _off_grid(run, i, v, g, allowed, why):
                                 f"{limit} ({why})")
 
 
+def _run_attribute(run, name):
+    """The run file's `name` (phi_step, phi_stop), where the campaign file gives none: a number
+    > 0, or a JamioError naming the run and the attribute."""
+    v = run.attrs.get(name)
+    if v is None:
+        raise JamioError(run.path, f"has no attribute '{name}', and the campaign file gives none")
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
+        raise JamioError(run.path, f"attribute '{name}' is {shown(v)}, expected a number > 0")
+    return float(v)
+
+
 def run_grid(run, design, phi_init, log10_rate):
     """The grid value of each output point of `run`: the start (phi_init, or a chained rate's
     chain_phi_init), then multiples of phi_step, then phi_stop."""
     v = np.asarray(run["packing_fraction"], dtype=np.float64)
-    step = design.phi_step or float(run.attrs["phi_step"])
-    stop = design.phi_stop or float(run.attrs["phi_stop"])
+    step = design.phi_step or _run_attribute(run, "phi_step")
+    stop = design.phi_stop or _run_attribute(run, "phi_stop")
     dim = int(run.attrs.get("dim", design.dim))
     growth, why = _step_growth(run, 10.0 ** log10_rate, dim)
     chain = design.chain_phi_init.get(log10_rate)

@@ -7,7 +7,12 @@ declares. Every attribute jam writes is one number or one string, so an attribut
 unless it holds one value (a scalar, or an array of exactly one element, as jam's reader
 takes it) of a number or string type, a fixed-length string of at most MOST_STRING_BYTES. A
 dataset is refused unless it holds numbers or strings, its values fit in the file (or, stored
-compressed, in what its compressed bytes can expand to) and in MOST_DATASET_BYTES."""
+compressed, in what its compressed bytes can expand to) and in MOST_DATASET_BYTES.
+
+Members are looked up without following an external link (member): it names another file,
+which could be anything (a FIFO would block the open for ever) and is no part of the file
+checked; a dataset whose values are stored in another file (external storage) or mapped from
+other datasets (a virtual dataset) is refused for the same reason."""
 
 import os
 
@@ -114,13 +119,18 @@ def attrs(obj):
 
 
 def _check_size(dataset):
-    """Refuses, before reading, a dataset of another type than numbers or strings, or one that
-    cannot hold what it declares: declared but never written (no storage), more bytes than the
+    """Refuses, before reading, a dataset of another type than numbers or strings, one whose
+    values are kept in another file (external storage, a virtual dataset), or one that cannot
+    hold what it declares: declared but never written (no storage), more bytes than the
     whole file (uncompressed) or than its compressed bytes can expand to, or more than
     MOST_DATASET_BYTES."""
     where = f"dataset {shown(dataset.name)}"
     if not _plain_type(dataset.dtype):
         raise ValueError(f"{where} is {_kind(dataset.dtype)}, expected numbers or strings")
+    layout = dataset.id.get_create_plist()
+    if layout.get_external_count() or dataset.is_virtual:
+        raise ValueError(f"{where} keeps its values in another file (external storage or a "
+                         "virtual dataset); not read")
     declared = dataset.size * dataset.dtype.itemsize
     if declared == 0:
         return
@@ -133,7 +143,7 @@ def _check_size(dataset):
     file_size = os.path.getsize(dataset.file.filename)
     if stored > file_size:
         raise ValueError(f"{where} claims {stored} stored bytes in a file of {file_size}")
-    filtered = bool(dataset.id.get_create_plist().get_nfilters())
+    filtered = bool(layout.get_nfilters())
     if not filtered and declared > file_size:
         raise ValueError(f"{where} declares {declared} bytes in a file of {file_size}")
     if filtered and declared > MOST_EXPANSION * stored:
@@ -160,21 +170,59 @@ def units(datasets):
     return {k: _attribute(v, "units") for k, v in datasets.items() if "units" in v.attrs}
 
 
+# The most soft links followed to reach one member: HDF5's own limit (H5Pset_nlinks).
+MOST_SOFT_LINKS = 16
+
+
+def member(parent, name, _followed=None):
+    """parent[name] (a Dataset or Group), or None when `parent` has no member `name`; an
+    external link is a ValueError naming it, never opened (h5py would open the file it names,
+    and a FIFO there blocks for ever). A soft link is followed a step at a time, each step
+    looked up the same way: its path may lead through an external link elsewhere in the file."""
+    followed = [0] if _followed is None else _followed
+    link = parent.get(name, getlink=True)  # the link itself: nothing it names is opened
+    where = f"{parent.name.rstrip('/')}/{name}"
+    if isinstance(link, h5py.ExternalLink):
+        raise ValueError(f"{shown(where)} is an external link to {shown(link.filename)}, "
+                         "not followed")
+    if not isinstance(link, h5py.SoftLink):
+        return None if link is None else parent.get(name)
+    followed[0] += 1
+    if followed[0] > MOST_SOFT_LINKS:
+        raise ValueError(f"{shown(where)}: more than {MOST_SOFT_LINKS} soft links to follow")
+    target = parent.file["/"] if link.path.startswith("/") else parent
+    for part in (p for p in link.path.split("/") if p not in ("", ".")):
+        if not isinstance(target, h5py.Group):
+            return None
+        target = member(target, part, followed)
+    return target
+
+
+def members(parent):
+    """Every member of the group `parent` by name, each looked up by member (external links
+    refused); a ValueError naming `parent` when it is not a group."""
+    if not isinstance(parent, h5py.Group):
+        raise ValueError(f"{shown(parent.name)} is not a group")
+    return {name: member(parent, name) for name in parent}
+
+
 def group(g):
     """The datasets directly inside `g`, its attributes and the datasets' units (subgroups are
     not included)."""
-    datasets = {k: v for k, v in g.items() if isinstance(v, h5py.Dataset)}
+    datasets = {k: v for k, v in members(g).items() if isinstance(v, h5py.Dataset)}
     return Group({k: array(v) for k, v in datasets.items()}, attrs(g), units(datasets))
 
 
 def optional_group(parent, name):
     """group(parent[name]), or None when `parent` has no such group."""
-    return group(parent[name]) if isinstance(parent.get(name), h5py.Group) else None
+    g = member(parent, name)
+    return group(g) if isinstance(g, h5py.Group) else None
 
 
 def require(attributes, where, numbers=(), integers=(), strings=()):
     """Checks the types of the attributes a reader relies on (those present): each name in
-    `numbers` an int or float (not a bool), in `integers` a whole number, in `strings` a str;
+    `numbers` an int or float (not a bool), in `integers` a whole number that fits in int64
+    (not NaN, not 2.7: a reader's int() would cut it to another value), in `strings` a str;
     a ValueError naming the attribute and its value otherwise."""
     for name in numbers + integers + strings:
         if name not in attributes:
@@ -186,7 +234,7 @@ def require(attributes, where, numbers=(), integers=(), strings=()):
             ok = isinstance(v, (int, float)) and not isinstance(v, bool)
             expected = "a number"
             if name in integers:
-                ok = ok and float(v).is_integer()
+                ok = ok and -2 ** 63 <= v < 2 ** 63 and float(v).is_integer()
                 expected = "a whole number"
         if not ok:
             raise ValueError(f"attribute '{name}' of {shown(where)} is {shown(v)}, "

@@ -19,7 +19,8 @@ import h5py
 import numpy as np
 
 from .errors import JamioError, cause, shown
-from .hdf5 import MOST_STRING_BYTES, _check_size, _kind, _plain_type, read_hdf5, value
+from .hdf5 import (MOST_STRING_BYTES, _check_size, _kind, _plain_type, member, read_hdf5,
+                   value)
 
 FORMAT = "jam-open-run"
 FORMAT_VERSION = 1
@@ -391,11 +392,14 @@ def _read_series(f):
     before any value is read."""
     datasets = {}
     for name in SERIES_UNITS:
-        if name not in f:
+        try:
+            d = member(f, name)
+        except ValueError as e:  # a link out of the file, or soft links without end
+            raise Invalid(str(e)) from e
+        if d is None:
             if name in REQUIRED_SERIES:
                 raise Invalid(f"dataset '{name}' missing")
             continue
-        d = f.get(name)
         if not isinstance(d, h5py.Dataset):
             raise Invalid(f"'{name}' is not a dataset")
         if len(d.shape) != 1:

@@ -19,7 +19,7 @@ import numpy as np
 
 from .campaign import is_external, load_external
 from .errors import JamioError, optional_module, reading
-from .hdf5 import array, attrs, read_hdf5, require, units
+from .hdf5 import array, attrs, members, read_hdf5, require, units
 from .open_run import REQUIRED_SERIES, SERIES_UNITS, validate_run
 
 # The datasets every run file has (one entry per output point) and those only some have.
@@ -96,15 +96,15 @@ def _check(run):
     for name in PARAMETERS:
         if name not in run.attrs:
             raise ValueError(f"attribute '{name}' missing")
-    require(run.attrs, "/", numbers=("phi_init", "compression_rate", "sample"),
-            integers=("n", "seed"))
+    require(run.attrs, "/", numbers=("phi_init", "compression_rate", "phi_step", "phi_stop",
+                                     "dt"), integers=("n", "seed", "sample", "dim"))
     lengths = {name: len(run.data[name]) for name in SERIES + OPTIONAL_SERIES if name in run.data}
     if len(set(lengths.values())) > 1:
         raise ValueError(f"datasets of different lengths {lengths}")
 
 
 def _read_run(path, f):
-    datasets = {k: v for k, v in f.items() if isinstance(v, h5py.Dataset)}
+    datasets = {k: v for k, v in members(f).items() if isinstance(v, h5py.Dataset)}
     run = Run(path, attrs(f), {k: array(v) for k, v in datasets.items()}, units(datasets))
     _check(run)
     return run

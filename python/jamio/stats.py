@@ -8,7 +8,8 @@ from typing import NamedTuple
 
 import h5py
 
-from .hdf5 import Group, array, attrs, optional_group, read_hdf5, require, units
+from .hdf5 import (Group, array, attrs, member, members, optional_group, read_hdf5, require,
+                   units)
 
 # The root attributes every stats.h5 has.
 REQUIRED = ("campaign", "dim", "version")
@@ -163,30 +164,39 @@ class Stats:
 
 
 def _ensemble(name, g):
-    return Ensemble(name, attrs(g), optional_group(g, "constant_phi"),
+    # n and samples whole numbers, the coordinates numbers, as Ensemble.key and the tables
+    # (frames.py) take them: an n of 64.5 is refused here, not cut to 64 there.
+    a = require(attrs(g), g.name, numbers=("phi_init", "log10_rate", "compression_rate"),
+                integers=("n", "samples"))
+    return Ensemble(name, a, optional_group(g, "constant_phi"),
                     optional_group(g, "constant_z"), optional_group(g, "jamming"))
 
 
+def _coefficients(g):
+    c = member(g, "coefficients")
+    return None if c is None else array(c)
+
+
 def _fit(f, name):
-    if not isinstance(f.get(name), h5py.Group):
+    g = member(f, name)
+    if not isinstance(g, h5py.Group):
         return None
-    g = f[name]
-    families = g.get("families")
+    families = member(g, "families")
     families = {} if not isinstance(families, h5py.Group) else {
-        k: FamilyFit(attrs(v), array(v["coefficients"]) if "coefficients" in v else None,
-                     optional_group(v, "collapse"), _coefficient_units(v))
-        for k, v in families.items() if isinstance(v, h5py.Group)}
-    rep = g.get("representative")
+        k: FamilyFit(attrs(v), _coefficients(v), optional_group(v, "collapse"),
+                     _coefficient_units(v))
+        for k, v in members(families).items() if isinstance(v, h5py.Group)}
+    rep = member(g, "representative")
     if not isinstance(rep, h5py.Group):
         return Fit(attrs(g), None, None, None, optional_group(g, "scan"), families)
-    coefficients = array(rep["coefficients"]) if "coefficients" in rep else None
+    coefficients = _coefficients(rep)
     return Fit(attrs(g), attrs(rep), coefficients, optional_group(rep, "collapse"),
                optional_group(g, "scan"), families, _coefficient_units(rep))
 
 
 def _coefficient_units(g):
     """{"coefficients": unit} when the fit's coefficients state one."""
-    c = g.get("coefficients")
+    c = member(g, "coefficients")
     return units({"coefficients": c}) if isinstance(c, h5py.Dataset) else {}
 
 
@@ -196,10 +206,12 @@ def _read_stats(path, f):
         if key not in root:
             raise ValueError(f"root attribute '{key}' missing")
     require(root, "/", integers=("dim",), strings=("campaign", "version"))
-    groups = f.get("ensembles")
+    groups = member(f, "ensembles")
     ensembles = {} if groups is None else {
-        name: _ensemble(name, g) for name, g in groups.items() if isinstance(g, h5py.Group)}
-    paper = attrs(f["paper"]) if isinstance(f.get("paper"), h5py.Group) else {}
+        name: _ensemble(name, g) for name, g in members(groups).items()
+        if isinstance(g, h5py.Group)}
+    paper = member(f, "paper")
+    paper = attrs(paper) if isinstance(paper, h5py.Group) else {}
     return Stats(path, root, paper, ensembles, _fit(f, "fit"), _fit(f, "fit_z"))
 
 

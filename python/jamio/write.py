@@ -94,21 +94,47 @@ def _write_datasets(f, data, units):
         d.attrs["units"] = np.bytes_(units[name].encode("utf-8"))
 
 
+# The most temporary names tried beside one target (`<path>.<pid>.partial`, then with a
+# count): as many taken means something else is wrong.
+MOST_TEMPORARY_NAMES = 100
+
+
+def _claim_temporary(path):
+    """A new empty file beside `path`, created here and exclusively (O_EXCL: a name that exists,
+    a symbolic link included, is never opened): `<path>.<pid>.partial`, else with a count k
+    (`<path>.<pid>.<k>.partial`) when that name is taken, by a file an earlier process of the
+    same id left or by another thread's write. Returns its name: only that file is written,
+    and removed on an error."""
+    base = f"{path}.{os.getpid()}"
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+    for k in range(MOST_TEMPORARY_NAMES):
+        partial = f"{base}.partial" if k == 0 else f"{base}.{k}.partial"
+        try:
+            os.close(os.open(partial, flags, 0o666))
+            return partial
+        except FileExistsError:
+            continue
+    raise Invalid(f"cannot be written: {MOST_TEMPORARY_NAMES} temporary names "
+                  f"{shown(base + '.*partial')} are taken")
+
+
 def _write_atomically(path, what, overwrite, write, check):
-    """Writes `path` through `<path>.<pid>.partial`: write(h5py file), then check(partial) (a
-    JamioError naming the partial file is a bug here, reported against path), then the
-    rename; the partial file is removed on any error."""
+    """Writes `path` through a temporary file of its own (_claim_temporary): write(h5py file),
+    then check(partial) (a JamioError naming the partial file is a bug here, reported against
+    path), then the rename; the temporary file is removed on any error."""
     path = os.fspath(path)
     try:
         _target(path, overwrite)
     except Invalid as e:
         raise JamioError(path, f"{what}: {e}") from None
-    partial = f"{path}.{os.getpid()}.partial"
+    partial = None
     try:
+        partial = _claim_temporary(path)
         with h5py.File(partial, "w") as f:
             write(f)
         check(partial)
         _publish(partial, path, overwrite)
+        partial = None  # renamed: the name is no longer this call's to remove
     except Invalid as e:
         raise JamioError(path, f"{what}: {e}") from None
     except JamioError as e:
@@ -116,8 +142,9 @@ def _write_atomically(path, what, overwrite, write, check):
     except (OSError, RuntimeError, ValueError, TypeError) as e:
         raise JamioError(path, f"{what}: cannot be written ({cause(e)})") from e
     finally:
-        with contextlib.suppress(OSError):
-            os.unlink(partial)  # nothing left behind (gone already once renamed)
+        if partial is not None:  # nothing left behind, and nothing removed this call did not make
+            with contextlib.suppress(OSError):
+                os.unlink(partial)
 
 
 def _root(what, dim, n, rate, phi_init, simulator, simulator_version, sample, diameter_ratio,
