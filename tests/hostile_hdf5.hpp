@@ -111,6 +111,19 @@ class Editor {
         H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT));
   }
 
+  /// A dataset of `n` doubles whose values are stored in the file `elsewhere` (external
+  /// storage), never written: creating it opens nothing, reading it would open `elsewhere`.
+  void add_external(const std::string& name, hsize_t n, const std::string& elsewhere) {
+    if (H5Lexists(id_, name.c_str(), H5P_DEFAULT) > 0) H5Ldelete(id_, name.c_str(), H5P_DEFAULT);
+    const Owned space{H5Screate_simple(1, &n, nullptr), H5Sclose};
+    const Owned dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+    H5Pset_external(dcpl.id, elsewhere.c_str(), 0, n * sizeof(double));
+    const hid_t set =
+        H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
+    if (set < 0) throw std::runtime_error("cannot create dataset " + name);
+    H5Dclose(set);
+  }
+
   /// A chunked dataset of `written` doubles, then extended to `n`: the chunks past the first
   /// were never written, as when a flipped bit raises a dimension.
   void add_extended(const std::string& name, hsize_t written, hsize_t n) {

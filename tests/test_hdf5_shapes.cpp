@@ -382,6 +382,30 @@ BOOST_AUTO_TEST_CASE(external_link_to_a_fifo_in_stats_h5_is_not_followed) {
          "dataset '" + grid + "' is an external link to another file, not followed");
 }
 
+BOOST_AUTO_TEST_CASE(dataset_stored_in_a_fifo_is_refused_not_read) {
+  // External storage names another file for a dataset's values; a FIFO there would block
+  // the read (or the checksum walk) for ever. Both refuse it by name, at once.
+  const fs::path fifo = kDir / "values.bin";
+  BOOST_REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const fs::path dir = kDir / "external-storage";
+  fs::create_directories(dir);
+  const fs::path stats = dir / "stats.h5";
+  jam::test::write_template_stats(stats.string());
+  const std::string grid = "ensembles/n64_phi0.7000_r-2.00/constant_phi/packing_fraction";
+  Editor(stats).add_external(grid, 5, fifo.string());
+  expect(isolated(
+             [&] {
+               jam::checks::read_stats(dir.string());
+               return std::string();
+             },
+             20),
+         "dataset '" + grid + "' keeps its values in another file");
+  const fs::path run = valid_run_file("external-storage.h5");
+  Editor(run).add_external("extra", 5, fifo.string());
+  expect(isolated([&] { return run_file_problem(run); }, 20),
+         "keeps its values in another file, not written by jam");
+}
+
 BOOST_AUTO_TEST_CASE(valid_files_still_read_and_verify) {
   const fs::path file = valid_run_file("valid.h5");
   const auto check = jam::check_run_file(file.string());

@@ -136,6 +136,10 @@ void add_dataset(Walk& walk, hid_t set, const std::string& path) {
   const hsize_t count = h5::values_in(space.get(), path);
   // Declared but never written (a chunked dataset with no chunks): HDF5 would make up its
   // values; whatever the size, the file does not hold them.
+  // Values kept in another file (external storage, a virtual dataset): jam writes none, and
+  // reading them would open a file nothing has checked.
+  check(!h5::values_outside_the_file(set),
+        path + ": keeps its values in another file, not written by jam");
   check(count == 0 || H5Dget_storage_size(set) > 0,
         fmt::format("{}: {} values declared but never written", path, count));
   add_values(

@@ -79,6 +79,12 @@ hid_t local_links(hid_t property_class) {
   return link;
 }
 
+bool values_outside_the_file(hid_t dataset) {
+  const Handle plist(H5Dget_create_plist(dataset), H5Pclose);
+  if (plist.get() < 0) return true;  // not known to be inside: not read
+  return H5Pget_layout(plist.get()) == H5D_VIRTUAL || H5Pget_external_count(plist.get()) != 0;
+}
+
 std::vector<hsize_t> extent(hid_t space, const std::string& what) {
   const int rank = H5Sget_simple_extent_ndims(space);
   if (rank < 0 || rank > H5S_MAX_RANK) throw std::runtime_error(what + ": unreadable shape");
@@ -406,6 +412,12 @@ std::pair<Handle, std::size_t> open_array(const File& f, const std::string& name
         link.type == H5L_TYPE_EXTERNAL;
     throw std::runtime_error(external ? what + " is an external link to another file, not followed"
                                       : fmt::format("{}: missing dataset '{}'", f.path(), name));
+  }
+  if (values_outside_the_file(set.get())) {
+    throw std::runtime_error(
+        what +
+        " keeps its values in another file (external storage or a virtual dataset), "
+        "not read");
   }
   Handle space(check(H5Dget_space(set.get()), what + ": unreadable shape"), H5Sclose);
   if (H5Sget_simple_extent_type(space.get()) != H5S_SIMPLE) {

@@ -66,6 +66,10 @@ inline Extent at_most(std::size_t n) {
 /// Access properties (H5P_LINK_ACCESS, H5P_DATASET_ACCESS or H5P_GROUP_ACCESS) under which
 /// paths are resolved within the file: an external link is refused, never followed.
 hid_t local_links(hid_t property_class);
+/// Whether a dataset keeps its values outside its file: external storage (raw data in other
+/// files) or a virtual dataset (mapped from datasets of other files). Reading those would open
+/// files no check has seen (a FIFO there blocks the read for ever); jam writes neither.
+bool values_outside_the_file(hid_t dataset);
 
 /// The extent of a dataspace ({} for a scalar or null one); throws naming `what` if unreadable.
 std::vector<hsize_t> extent(hid_t space, const std::string& what);
