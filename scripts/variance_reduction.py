@@ -16,7 +16,7 @@ import argparse
 import h5py
 import numpy as np
 
-from script_files import require_input
+from script_files import fail, require_input
 
 OFFSETS = (-0.008, -0.004, 0.0, 0.004, 0.008)
 
@@ -61,6 +61,12 @@ def main():
                 continue
             grid = g["constant_phi/packing_fraction"][:]
             p = g["constant_phi/pressure_samples"][:]
+            # Each sample's phi_Ji beside its own pressures: the same samples, in one order.
+            ids = (g["jamming/sample_ids"][:], g["constant_phi/sample_ids"][:])
+            if p.shape != (len(phi_ji), len(grid)) or not np.array_equal(*ids):
+                fail(f"stats {args.stats}: ensemble {g.name}: pressure_samples {p.shape} and "
+                     f"jamming points of samples {ids[0].tolist()} against "
+                     f"{ids[1].tolist()} x {len(grid)} points do not pair")
             cells = [scatter(grid, p, phi_ji, phi_j + dx) for dx in OFFSETS]
             print(f"N {int(g.attrs['n']):5d} rate 1e{float(g.attrs['log10_rate']):<5g} "
                   + "  ".join("{:.2f}/{:.2f}/{:.2f}".format(*c) for c in cells))

@@ -137,6 +137,28 @@ class Scripts(unittest.TestCase):
         r = self.script("variance_reduction.py", self.fifo())
         self.assertRefused(r, "stats", "FIFO")
 
+    def test_variance_reduction_refuses_jamming_points_of_other_samples(self):
+        stats = os.path.join(self.dir, "stats.h5")
+
+        def write(jamming_ids):
+            with h5py.File(stats, "w") as f:
+                f.create_group("fit/representative").attrs["phi_j"] = 0.84
+                g = f.create_group("ensembles/e0")
+                g.attrs.update({"n": 64, "phi_init": 0.4, "log10_rate": -5.0})
+                g["jamming/packing_fraction_samples"] = [0.838, 0.840, 0.842, 0.844]
+                g["jamming/sample_ids"] = jamming_ids
+                grid = np.linspace(0.82, 0.86, 41)
+                g["constant_phi/packing_fraction"] = grid
+                g["constant_phi/pressure_samples"] = np.exp(40 * (grid - 0.84)) * np.ones((4, 1))
+                g["constant_phi/sample_ids"] = [0, 1, 2, 3]
+
+        write([0, 1, 2, 3])
+        r = self.script("variance_reduction.py", stats)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        write([1, 0, 2, 3])  # each point beside another sample's pressures
+        self.assertRefused(self.script("variance_reduction.py", stats), "/ensembles/e0",
+                           "do not pair")
+
     # samples_needed_stability.py
 
     def stability(self, *extra):
