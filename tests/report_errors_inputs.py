@@ -309,6 +309,17 @@ def edit_dataset(path, value):
     return edit
 
 
+def expect_each_refused(work, camp, cases):
+    """Each (edit, words) of `cases` made to a fresh copy of the campaign `camp`: the report
+    refuses it in one line holding `words`, and leaves the tree as it was."""
+    for edit, words in cases:
+        shutil.rmtree(camp)
+        camp = campaign(work)
+        edit(camp)
+        before = tree(work)
+        expect_error(report(camp, os.path.join(work, "r")), words, before, work)
+
+
 def case_mistyped_stats_and_values_fields(work):
     """A field of stats.h5, checks.h5, checks.json's values and registry, or manifest.toml of
     the wrong type: one line naming the file, the field and the value, exit 2, no report
@@ -345,12 +356,7 @@ def case_mistyped_stats_and_values_fields(work):
                                              'wall_seconds = "9 s"\n'),
          [manifest, "field 'runs.a.wall_seconds' is '9 s', not a number"]),
     ]
-    for edit, words in cases:
-        shutil.rmtree(camp)
-        camp = campaign(work)
-        edit(camp)
-        before = tree(work)
-        expect_error(report(camp, os.path.join(work, "r")), words, before, work)
+    expect_each_refused(work, camp, cases)
 
 
 def case_fifo_and_device_inputs_refused(work):
@@ -472,12 +478,7 @@ def case_curves_and_scan_of_the_wrong_shape(work):
          [checks_h5, "-1_finite_size", "not named <index>_<check>"]),
         (checks_h5_edit(index_twice), [checks_h5, "not named <index>_<check>"]),
     ]
-    for edit, words in cases:
-        shutil.rmtree(camp)
-        camp = campaign(work)
-        edit(camp)
-        before = tree(work)
-        expect_error(report(camp, os.path.join(work, "r")), words, before, work)
+    expect_each_refused(work, camp, cases)
 
 
 INPUT_CASES = [case_random_stats, case_missing_dataset, case_truncated_checks, case_hostile_values_are_escaped, case_markup_in_a_number_of_the_fit_is_refused, case_a_huge_case_name_gives_a_small_summary, case_mistyped_checks_fields, case_hostile_values_in_every_field, case_dollar_in_a_case_name_is_text, case_mistyped_stats_and_values_fields, case_fifo_and_device_inputs_refused, case_error_line_is_visible_and_short, case_verdicts_beyond_what_a_report_shows, case_curves_and_scan_of_the_wrong_shape]
