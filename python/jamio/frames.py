@@ -18,14 +18,13 @@ need nothing beyond numpy and h5py (xarray brings pandas; both are extras of the
 
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np
 
 from .campaign import load_design
 from .errors import JamioError, optional_module, shown
-from .grid import external_grid, run_coordinates, run_grid, snap
+from .grid import external_grid, positive_attribute, run_coordinates, run_grid, snap
 from .runs import (OPTIONAL_SERIES, PROVENANCE, SERIES, _load_each, load_external_runs,
                    present_series, run_files)
 from .stats import Stats, load_stats
@@ -155,23 +154,12 @@ def runs_dataset(campaign_dir, skip_unreadable=False):
     return _dataset(frame.drop(columns="run"), RUN_COORDINATES)
 
 
-def _step(stats, name):
-    """stats.h5's root attribute `name` (phi_step, z_step), a number > 0; a JamioError naming it
-    otherwise (the grid's values are multiples of it)."""
-    v = stats.attrs.get(name)
-    if v is None:
-        raise JamioError(stats.path, f"has no attribute '{name}' (the step of its grid)")
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
-        raise JamioError(stats.path, f"attribute '{name}' is {shown(v)}, expected a number > 0")
-    return float(v)
-
-
 def _phi_step(stats):
     """The constant-phi grid's step: stats.h5's `phi_step`, else the campaign file beside it
     (or an external campaign's external.toml), else the grids' smallest spacing rounded to 10
     significant digits (files written before `phi_step`, apart from their campaign)."""
     if "phi_step" in stats.attrs:
-        return _step(stats, "phi_step")
+        return positive_attribute(stats.path, stats.attrs, "phi_step", "the step of its grid")
     directory = os.path.dirname(os.path.abspath(stats.path))
     if any(os.path.exists(os.path.join(directory, f))
            for f in ("campaign.toml", "manifest.toml", "external.toml")):
@@ -282,7 +270,8 @@ def _stats_table(stats, average, samples):
     rows = _samples if samples else _means
     step = 0.0
     if chosen:
-        step = _phi_step(stats) if average == "constant_phi" else _step(stats, "z_step")
+        step = _phi_step(stats) if average == "constant_phi" else positive_attribute(
+            stats.path, stats.attrs, "z_step", "the step of its grid")
     parts = [rows(stats, name, e, average, step) for name, e in chosen]
     # Without any such average (constant Z of runs that carry no Z: an external campaign's),
     # the coordinates alone, so that the table is empty rather than without columns.

@@ -127,14 +127,17 @@ def _off_grid(run, i, v, g, allowed, why):
                                 f"{limit} ({why})")
 
 
-def _run_attribute(run, name):
-    """The run file's `name` (phi_step, phi_stop), where the campaign file gives none: a number
-    > 0, or a JamioError naming the run and the attribute."""
-    v = run.attrs.get(name)
+NO_DESIGN = "and the campaign file gives none"
+
+
+def positive_attribute(path, attributes, name, missing):
+    """attributes[name] of the file `path` as a float, a number > 0 (a grid's step or end); a
+    JamioError naming it otherwise (`missing`: what the error says when it is absent)."""
+    v = attributes.get(name)
     if v is None:
-        raise JamioError(run.path, f"has no attribute '{name}', and the campaign file gives none")
+        raise JamioError(path, f"has no attribute '{name}' ({missing})")
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
-        raise JamioError(run.path, f"attribute '{name}' is {shown(v)}, expected a number > 0")
+        raise JamioError(path, f"attribute '{name}' is {shown(v)}, expected a number > 0")
     return float(v)
 
 
@@ -142,8 +145,8 @@ def run_grid(run, design, phi_init, log10_rate):
     """The grid value of each output point of `run`: the start (phi_init, or a chained rate's
     chain_phi_init), then multiples of phi_step, then phi_stop."""
     v = np.asarray(run["packing_fraction"], dtype=np.float64)
-    step = design.phi_step or _run_attribute(run, "phi_step")
-    stop = design.phi_stop or _run_attribute(run, "phi_stop")
+    step = design.phi_step or positive_attribute(run.path, run.attrs, "phi_step", NO_DESIGN)
+    stop = design.phi_stop or positive_attribute(run.path, run.attrs, "phi_stop", NO_DESIGN)
     dim = int(run.attrs.get("dim", design.dim))
     growth, why = _step_growth(run, 10.0 ** log10_rate, dim)
     chain = design.chain_phi_init.get(log10_rate)
