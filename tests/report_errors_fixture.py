@@ -24,6 +24,19 @@ CAMPAIGN = os.path.join("reference", "results", "reduced-2d")
 TIMEOUT = 300  # seconds for one report (about 12 s of CPU; more on a loaded machine): a hang fails its case
 
 
+# The intact campaign's report, made once by the driver (test_report_errors.check_fixture).
+INTACT_REPORT = None
+
+
+def written_report(out):
+    """A report jam wrote, at out: a copy of INTACT_REPORT, marker included (a report costs
+    about 12 s of CPU; the cases that replace one need one to exist, not to be made anew)."""
+    if INTACT_REPORT is None:
+        raise AssertionError("no intact report: the driver makes it first")
+    shutil.copytree(INTACT_REPORT, out, symlinks=True)
+    return out
+
+
 class Skip(Exception):
     """A case that cannot run here; the message says why."""
 

@@ -11,7 +11,7 @@ import h5py
 
 import report_errors_fixture as fixture
 from report_errors_fixture import (campaign, contents, expect_error, expect_untouched, fill,
-                                   report, tmpfs, tree)
+                                   report, tmpfs, tree, written_report)
 
 
 def case_read_only(work):
@@ -149,11 +149,10 @@ def case_own_report_replaced_foreign_file_refused(work):
     put into it, it is refused and the file kept; a report of an older version (no marker,
     only report files) is replaced too."""
     camp = campaign(work)
-    out = os.path.join(work, "r")
-    for attempt in range(2):
-        r = report(camp, out)
-        if r.returncode != 0 or not os.path.isfile(os.path.join(out, ".jam-report")):
-            raise AssertionError(f"attempt {attempt}: exit {r.returncode}: {r.stderr}")
+    out = written_report(os.path.join(work, "r"))
+    r = report(camp, out)
+    if r.returncode != 0 or not os.path.isfile(os.path.join(out, ".jam-report")):
+        raise AssertionError(f"its own report was not replaced: exit {r.returncode}: {r.stderr}")
     with open(os.path.join(out, "notes.txt"), "w") as f:
         f.write("mine\n")
     before = contents(work)
@@ -200,10 +199,7 @@ def case_directory_named_like_a_figure_is_not_owned(work):
     """A report jam wrote, then a directory extra.png/ with a file in it, listed in the marker:
     refused and kept in place (the directory was moved aside into `r.old-*` with a warning)."""
     camp = campaign(work)
-    out = os.path.join(work, "r")
-    r = report(camp, out)
-    if r.returncode != 0:
-        raise AssertionError(f"exit {r.returncode}: {r.stderr}")
+    out = written_report(os.path.join(work, "r"))
     os.mkdir(os.path.join(out, "extra.png"))
     with open(os.path.join(out, "extra.png", "mine.txt"), "w") as f:
         f.write("mine\n")

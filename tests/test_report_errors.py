@@ -30,20 +30,18 @@ from report_errors_outputs import OUTPUT_CASES
 CASES = [*OUTPUT_CASES, *INPUT_CASES]
 
 
-def check_fixture():
+def check_fixture(keep):
     """The unmodified campaign copy makes a report, so the failures below are the planted ones;
-    None, or why not."""
-    work = tempfile.mkdtemp(prefix="jam-report-errors-")
+    None, or why not. The report stays in keep as fixture.INTACT_REPORT."""
     try:
-        r = report(campaign(work), os.path.join(work, "reports", "r"))
-        if r.returncode != 0 or not os.path.isfile(os.path.join(work, "reports", "r",
-                                                                "index.html")):
+        out = os.path.join(keep, "reports", "r")
+        r = report(campaign(keep), out)
+        if r.returncode != 0 or not os.path.isfile(os.path.join(out, "index.html")):
             return f"the intact campaign makes no report (exit {r.returncode}):\n{r.stderr}"
+        fixture.INTACT_REPORT = out
         return None
     except AssertionError as e:
         return str(e)
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
 
 
 def run_case(case):
@@ -69,12 +67,16 @@ def main():
     parser.add_argument("--source", default=fixture.SOURCE,
                         help="the source tree (holds reports/)")
     fixture.SOURCE = os.path.abspath(parser.parse_args().source)
-    broken = check_fixture()
-    if broken:
-        print(f"FAILED  fixture: {broken}")
-        print("0 passed, 1 failed")
-        return 1
-    results = [run_case(case) for case in CASES]
+    keep = tempfile.mkdtemp(prefix="jam-report-errors-")
+    try:
+        broken = check_fixture(keep)
+        if broken:
+            print(f"FAILED  fixture: {broken}")
+            print("0 passed, 1 failed")
+            return 1
+        results = [run_case(case) for case in CASES]
+    finally:
+        shutil.rmtree(keep, ignore_errors=True)
     passed, failed = results.count("passed"), results.count("failed")
     print(f"{passed} passed, {failed} failed")
     return 1 if failed else 0
