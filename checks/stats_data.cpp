@@ -9,7 +9,7 @@
 
 #include "checks/margin.hpp"
 #include "sim/io/hdf5_file.hpp"
-#include "sim/io/whole_number.hpp"
+#include "stats/sample_ids.hpp"
 
 namespace jam::checks {
 namespace {
@@ -30,13 +30,6 @@ std::vector<std::vector<double>> table(const h5::File& f, const std::string& nam
 /// The rows of a table whose row count is its own (constant Z keeps its own sample list).
 std::size_t rows_of(const h5::File& f, const std::string& group) {
   return f.read_dataset(group + "/sample_ids").size();
-}
-
-std::int64_t sample_id(const h5::File& f, const std::string& group, double id) {
-  // Converting a double beyond int64 (or NaN) is undefined: only sample numbers pass.
-  if (const auto whole = whole_number(id, -kMaxExactWhole, kMaxExactWhole)) return *whole;
-  throw std::runtime_error(fmt::format("{}: dataset '{}/sample_ids' holds {}, not a sample number",
-                                       f.path(), group, id));
 }
 
 int read_dim(const h5::File& f) {
@@ -74,8 +67,7 @@ EnsembleTables read_ensemble(const h5::File& f, const std::string& name) {
   if (f.has_attribute("chain_phi_init", g))
     e.chain_phi_init = f.read_attribute_double("chain_phi_init", g);
   e.phi_grid = f.read_dataset(phi + "/packing_fraction");
-  for (double id : f.read_dataset(phi + "/sample_ids"))
-    e.sample_ids.push_back(sample_id(f, phi, id));
+  e.sample_ids = stats::read_sample_ids(f, phi);
   const std::size_t rows = e.sample_ids.size(), m = e.phi_grid.size();
   e.pressure_at_phi = table(f, phi + "/pressure_samples", rows, m);
   read_constant_z(f, g, e);

@@ -7,26 +7,18 @@
 #include <stdexcept>
 
 #include "sim/io/hdf5_file.hpp"
-#include "sim/io/whole_number.hpp"
 #include "stats/campaign_stats.hpp"
+#include "stats/sample_ids.hpp"
 
 namespace jam::stats {
 namespace {
-
-/// A sample number stored as a double: an integer (converting anything else is undefined).
-std::int64_t sample_id(const h5::File& f, const std::string& group, double id) {
-  if (const auto whole = whole_number(id, -kMaxExactWhole, kMaxExactWhole)) return *whole;
-  throw std::runtime_error(fmt::format("{}: dataset '{}/sample_ids' holds {}, not a sample number",
-                                       f.path(), group, id));
-}
 
 /// One averaging of an ensemble: its grid, sample ids and per-sample tables.
 GridAverage read_average(const h5::File& f, const std::string& group, const std::string& grid) {
   GridAverage a;
   a.grid_name = grid;
   a.grid = f.read_dataset(group + "/" + grid);
-  for (double id : f.read_dataset(group + "/sample_ids"))
-    a.sample_ids.push_back(sample_id(f, group, id));
+  a.sample_ids = read_sample_ids(f, group);
   const std::size_t m = a.grid.size();
   for (const auto& name : f.list_group(group)) {
     const auto at = name.rfind("_samples");
@@ -88,8 +80,7 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
       if (f.has_dataset(g + "/jamming")) {
         // The runs' jamming points carry over as they were stored.
         const std::string jg = g + "/jamming";
-        std::vector<std::int64_t> ids;
-        for (double id : f.read_dataset(jg + "/sample_ids")) ids.push_back(sample_id(f, jg, id));
+        const std::vector<std::int64_t> ids = read_sample_ids(f, jg);
         e.jamming = jamming_stats(
             f.read_dataset(jg + "/packing_fraction_samples", h5::exactly(ids.size())), ids);
       }

@@ -226,6 +226,38 @@ BOOST_AUTO_TEST_CASE(stats_h5_tables_of_the_wrong_length_are_refused_not_indexed
          "pressure_samples' has 23 values, expected 20");
 }
 
+BOOST_AUTO_TEST_CASE(stats_h5_sample_ids_that_are_not_sample_numbers_are_refused) {
+  // A fraction would be truncated onto another sample's number, NaN converts to an undefined
+  // integer: both readers (the checks' and `jam stats --refit`'s) refuse the value by name.
+  const std::vector<std::pair<double, std::string>> cases = {{1.5, "1.5"}, {NAN, "nan"}};
+  for (const auto& [bad, shown] : cases) {
+    BOOST_TEST_CONTEXT(shown) {
+      const fs::path dir = kDir / ("ids-" + shown);
+      fs::create_directories(dir);
+      const fs::path file = dir / "stats.h5";
+      jam::test::write_template_stats(file.string(), 4, 5);
+      Editor(file).set_doubles("ensembles/n64_phi0.7000_r-2.00/constant_phi/sample_ids",
+                               {0.0, bad, 2.0, 3.0});
+      const std::string what =
+          "dataset 'ensembles/n64_phi0.7000_r-2.00/constant_phi/sample_ids'"
+          " holds " +
+          shown + ", not a sample number";
+      expect(isolated([&] {
+               jam::checks::read_stats(dir.string());
+               return std::string();
+             }),
+             what);
+      jam::stats::StatsOptions o;
+      o.fit = false;
+      expect(isolated([&] {
+               jam::stats::refit_campaign_stats(dir.string(), o);
+               return std::string();
+             }),
+             what);
+    }
+  }
+}
+
 BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_mismatched_points_lengths_is_refused) {
   const fs::path file = forged_checkpoint(
       "points.h5", [](Editor& e) { e.set_doubles("points_pressure", std::vector<double>(4000)); });
