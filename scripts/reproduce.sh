@@ -99,9 +99,7 @@ if [ -f "reference/campaigns/$name-phi-init.toml" ]; then
   stage phi_init_campaign $jam campaign run "reference/campaigns/$name-phi-init.toml" $quiet
   measure phi_init_campaign "runs/$name-phi-init"
   stage phi_init_stats $jam stats "runs/$name-phi-init" --no-fit >/dev/null
-  # The check fails where the start is remembered (fast rates): that is its finding.
-  stage phi_init_check verdicts "runs/$name-phi-init/checks-phi_init.json" \
-    $jam check phi_init "runs/$name-phi-init"
+  # Judged below, over the campaign's fit window.
 fi
 
 # A separate jamming-point campaign, for campaigns that look for none themselves (the search
@@ -134,6 +132,27 @@ scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-free.json" "jam stats --
 stage checks verdicts "runs/$name/checks.json" $jam check all "runs/$name"
 cp "runs/$name"/{checks.json,checks.h5} "$qfixed/"
 
+# fit_window STATS NAME: the representative scaling fit's phi_min or phi_max; nothing when the
+# fit failed (the checks then say that no window was given).
+fit_window() {
+  /usr/bin/python3 -c 'import h5py, sys
+f = h5py.File(sys.argv[1], "r")
+if "fit/representative" in f:
+    print(f["fit/representative"].attrs[sys.argv[2]])' "$1" "$2"
+}
+# The separate phi_init campaign is judged over the window the campaign's free fit uses, the
+# range whose phi_init independence the fit needs: its own stats hold no fit, and without a
+# window every pressure verdict would be inconclusive by construction. The check fails where
+# the start is remembered (fast rates): that is its finding.
+if [ -f "reference/campaigns/$name-phi-init.toml" ]; then
+  window=()
+  phi_min=$(fit_window "runs/$name/stats.h5" phi_min)
+  [ -n "$phi_min" ] &&
+    window=(--phi-min "$phi_min" --phi-max "$(fit_window "runs/$name/stats.h5" phi_max)")
+  stage phi_init_check verdicts "runs/$name-phi-init/checks-phi_init.json" \
+    $jam check phi_init "runs/$name-phi-init" "${window[@]}"
+fi
+
 chain_json=""
 # Chained starts justified: each chained rate against the same samples unchained. With
 # NAME-chain-test.toml (the campaign's chains on more samples of its smallest size) that set is
@@ -150,8 +169,8 @@ if [ -f "reference/campaigns/$name-chain-control.toml" ]; then
     measure chain_test_campaign "runs/$name-chain-test"
     $jam stats "runs/$name-chain-test" --no-fit >/dev/null
     chained="runs/$name-chain-test"
-    window=(--phi-min "$(/usr/bin/python3 -c 'import h5py, sys
-print(h5py.File(sys.argv[1], "r")["fit/representative"].attrs["phi_min"])' "runs/$name/stats.h5")")
+    phi_min=$(fit_window "runs/$name/stats.h5" phi_min)
+    [ -n "$phi_min" ] && window=(--phi-min "$phi_min")
   fi
   stage chain_check verdicts "$chained/checks-chain.json" \
     $jam check chain "$chained" --against "runs/$name-chain-control" "${window[@]}"
