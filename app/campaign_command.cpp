@@ -188,6 +188,7 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
   }
   Throughput speed;
   print_campaign_plan(c, &speed);
+  print_phi_init_findings(c);
   if (no_model.empty())
     print_decidability(c, model, speed);
   else

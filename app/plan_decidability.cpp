@@ -234,4 +234,27 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
   return warnings;
 }
 
+void print_phi_init_findings(const Campaign& c) {
+  const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
+  if (std::filesystem::exists(checks)) {
+    try {
+      check_input_file("checks", checks.string());
+      std::ifstream in(checks);
+      const auto verdicts = checks::verdict_array(nlohmann::json::parse(in));
+      for (const auto& v : verdicts) {
+        if (!v.contains("values") || !v["values"].contains("largest_consistent_phi_init")) continue;
+        const auto& x = v["values"];
+        fmt::print(
+            "  phi_init check (N {}, rate 1e{:g}): starting at phi_init {:g} instead of {:g} "
+            "gives the same pressures and saves {:.0f}% of the compression time\n",
+            x["n"].get<double>(), x["log10_rate"].get<double>(),
+            x["largest_consistent_phi_init"].get<double>(), x["lowest_phi_init"].get<double>(),
+            100 * x["compression_time_saved"].get<double>());
+      }
+    } catch (const std::exception& e) {
+      fmt::print("  ({}: {})\n", checks.string(), e.what());
+    }
+  }
+}
+
 }  // namespace jam

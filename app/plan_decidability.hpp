@@ -47,4 +47,9 @@ std::vector<std::string> default_scatter_sources(int dim);
 /// comparisons the design cannot decide (each printed as a warning line).
 int print_decidability(const Campaign& c, const ScatterModel& model, const Throughput& speed);
 
+/// What the phi_init check found in the campaign's directory (DIR/checks.json), if it ran
+/// there: per size and rate, the highest phi_init consistent with the lowest and the share of
+/// compression time starting there saves. Nothing when there is no checks.json.
+void print_phi_init_findings(const Campaign& c);
+
 }  // namespace jam

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // The default integrator and dt of `jam sim` and of campaigns: the "jam default" column.
-const SimConfig kDefaults;
+const SimConfig kJamDefaults;
 
 std::string label(const Method& m) {
   if (m.integrator == "verlet") return fmt::format("{} verlet Q={:g}", m.engine, m.q);
@@ -113,12 +113,12 @@ void write_accuracy_report(const AccuracyOptions& o, const AccuracyResult& r) {
             "| D | rate | target | jam default ({} at the rate's default tolerance, "
             "100 rate within [1e-4, 3e-3]) | jam best | LAMMPS best | LAMMPS best / jam best |\n"
             "|---|---|---|---|---|---|---|\n",
-            kDefaults.resolved_integrator());
+            kJamDefaults.resolved_integrator());
   for (const auto& ref : r.references) {
     if (ref.start != "relaxed") continue;
     for (double target : {0.01, 0.001}) {
       // The default at this rate: its integrator, at its default tolerance or dt.
-      SimConfig at_rate = kDefaults;
+      SimConfig at_rate = kJamDefaults;
       at_rate.compression_rate = ref.rate;
       auto is_default = [&](const Method& m) {
         if (m.engine != "jam" || m.integrator != at_rate.resolved_integrator()) return false;

@@ -23,7 +23,6 @@
 #include "campaign/run_plan.hpp"
 #include "campaign/run_queue.hpp"
 #include "campaign/throughput.hpp"
-#include "checks/verdict.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/compression_run.hpp"
@@ -468,27 +467,6 @@ int print_campaign_plan(const Campaign& c, Throughput* measured_speed) {
         100.0 * (1.0 - seconds / unchained_seconds), seconds / 3600.0, unchained_seconds / 3600.0);
   }
   print_measured_against_plan(plan, speed);
-  // What the phi_init check found for this campaign's directory, if it ran there.
-  const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
-  if (std::filesystem::exists(checks)) {
-    try {
-      check_input_file("checks", checks.string());
-      std::ifstream in(checks);
-      const auto verdicts = checks::verdict_array(nlohmann::json::parse(in));
-      for (const auto& v : verdicts) {
-        if (!v.contains("values") || !v["values"].contains("largest_consistent_phi_init")) continue;
-        const auto& x = v["values"];
-        fmt::print(
-            "  phi_init check (N {}, rate 1e{:g}): starting at phi_init {:g} instead of {:g} "
-            "gives the same pressures and saves {:.0f}% of the compression time\n",
-            x["n"].get<double>(), x["log10_rate"].get<double>(),
-            x["largest_consistent_phi_init"].get<double>(), x["lowest_phi_init"].get<double>(),
-            100 * x["compression_time_saved"].get<double>());
-      }
-    } catch (const std::exception& e) {
-      fmt::print("  ({}: {})\n", checks.string(), e.what());
-    }
-  }
   return 0;
 }
 

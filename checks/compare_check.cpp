@@ -47,10 +47,6 @@ bool same_ensemble(const EnsembleTables& a, const EnsembleTables& b) {
          std::abs(a.phi_init - b.phi_init) < kPhiInitTolerance;
 }
 
-std::string describe(const EnsembleTables& e) {
-  return fmt::format("n{} phi_init {:g} rate 1e{:g}", e.n, e.phi_init, e.log10_rate);
-}
-
 struct Pair {
   const EnsembleTables* dir;
   const EnsembleTables* ref;
@@ -88,7 +84,7 @@ Verdict pressure_verdict(const Pair& p, bool at_z, Levels levels, const StatsDat
                          const CheckOptions& o) {
   Verdict v;
   v.check = "compare";
-  v.case_name = fmt::format("{}: DIR vs REF, constant {}", describe(*p.ref), at_z ? "Z" : "phi");
+  v.case_name = fmt::format("{}: DIR vs REF, constant {}", case_label(*p.ref), at_z ? "Z" : "phi");
   v.values = {{"n", static_cast<double>(p.dir->n)},   {"n_a", static_cast<double>(p.dir->n)},
               {"n_b", static_cast<double>(p.ref->n)}, {"phi_init", p.ref->phi_init},
               {"log10_rate", p.ref->log10_rate},      {"constant_z", at_z ? 1.0 : 0.0}};
@@ -160,7 +156,7 @@ double spread(const std::vector<double>& x, std::size_t* count) {
 Verdict jamming_verdict(const Pair& p, Levels levels, const CheckOptions& o) {
   Verdict j;
   j.check = "compare_jamming";
-  j.case_name = fmt::format("{}: <phi_Ji> DIR vs REF", describe(*p.ref));
+  j.case_name = fmt::format("{}: <phi_Ji> DIR vs REF", case_label(*p.ref));
   j.statistic_name = "|<phi_Ji>_DIR - <phi_Ji>_REF| / sigma";
   j.values = {{"n", static_cast<double>(p.dir->n)},
               {"phi_init", p.ref->phi_init},
@@ -356,13 +352,13 @@ std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
     if (partner) {
       pairs.push_back({&e, partner});
     } else {
-      dir_only += (dir_only.empty() ? "" : ", ") + describe(e);
+      dir_only += (dir_only.empty() ? "" : ", ") + case_label(e);
       ++unmatched;
     }
   }
   for (std::size_t k = 0; k < ref.ensembles.size(); ++k) {
     if (ref_matched[k]) continue;
-    ref_only += (ref_only.empty() ? "" : ", ") + describe(ref.ensembles[k]);
+    ref_only += (ref_only.empty() ? "" : ", ") + case_label(ref.ensembles[k]);
     ++unmatched;
   }
   // Bonferroni over the comparisons made: constant phi for every pair, constant Z where both
@@ -396,7 +392,7 @@ std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
       out.push_back(jamming_verdict(p, jamming_levels, o));
     } else if (dir_j || ref_j) {
       out.push_back(inconclusive(
-          "compare_jamming", fmt::format("{}: <phi_Ji> DIR vs REF", describe(*p.ref)),
+          "compare_jamming", fmt::format("{}: <phi_Ji> DIR vs REF", case_label(*p.ref)),
           fmt::format("only {} carries jamming points (phi_Ji found in its runs): nothing to "
                       "compare them with",
                       dir_j ? "DIR" : "REF")));

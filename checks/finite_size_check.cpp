@@ -62,10 +62,6 @@ Verdict compare(const Comparison& c, Levels levels, const StatsData& d, const Ch
   return v;
 }
 
-std::string describe(const EnsembleTables& e) {
-  return fmt::format("n{} phi_init {:g} rate 1e{:g}", e.n, e.phi_init, e.log10_rate);
-}
-
 }  // namespace
 
 std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o) {
@@ -85,7 +81,7 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
     for (bool z : {false, true}) {
       comparisons.push_back(
           {a, b, z,
-           fmt::format("{} vs {}, constant {}", describe(*a), describe(*b), z ? "Z" : "phi")});
+           fmt::format("{} vs {}, constant {}", case_label(*a), case_label(*b), z ? "Z" : "phi")});
     }
   } else {
     if (d.pooled) {

@@ -29,7 +29,7 @@ namespace jam::checks {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kRate = 1e-3, kQ = 0.03;
+constexpr double kOverdampedRate = 1e-3, kOverdampedQ = 0.03;
 // The band of a sample mean of 4 chaotic trajectories: 3 standard errors.
 constexpr double kErrors = 3.0;
 constexpr int kSamples = 4;
@@ -41,14 +41,14 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
   const fs::path dir = fs::path(o.work_directory) / fmt::format("overdamped-{}d", D);
   fs::create_directories(dir);
   const std::string label =
-      fmt::format("{}D overdamped vs LAMMPS Q={:g}, {} samples", D, kQ, kSamples);
+      fmt::format("{}D overdamped vs LAMMPS Q={:g}, {} samples", D, kOverdampedQ, kSamples);
   const bool live = o.use_lmp && lmp_available();
   if (!live && !fs::exists(stored / "lammps_0.log")) {
     return inconclusive("lammps", label, "no lmp on the PATH and no stored LAMMPS result");
   }
   // LAMMPS's step: half its stability bound 2 m_s/gamma_s = 4 Q^2 / D.
-  const double dt_lammps = 0.5 * 4 * kQ * kQ / D;
-  const double t_stop = std::log(phi_stop / phi0) / (D * kRate);
+  const double dt_lammps = 0.5 * 4 * kOverdampedQ * kOverdampedQ / D;
+  const double t_stop = std::log(phi_stop / phi0) / (D * kOverdampedRate);
   const long steps = static_cast<long>(std::ceil(t_stop / dt_lammps));
   std::vector<std::vector<double>> deltas;                  // [sample][grid point]
   std::vector<std::vector<double>> p_jam_grid, p_lmp_grid;  // the same, for the report's overlay
@@ -61,13 +61,13 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
     if (o.regenerate || !fs::exists(stored / start)) {
       // Relaxed with jam's overdamped dynamics; masses of Q for LAMMPS.
       write_relaxed_start(
-          {D, phi0, kQ, 0.01, "overdamped", "1e-12", static_cast<std::uint64_t>(100 + k)},
+          {D, phi0, kOverdampedQ, 0.01, "overdamped", "1e-12", static_cast<std::uint64_t>(100 + k)},
           dir / start);
     } else {
       copy_file_atomically((stored / start).string(), (dir / start).string());
     }
     if (live)
-      run_lammps(dir, ref, D, kRate, dt_lammps, steps, steps / 60, start, log,
+      run_lammps(dir, ref, D, kOverdampedRate, dt_lammps, steps, steps / 60, start, log,
                  fmt::format("end_{}.data", k));
     const LammpsThermo lmp = read_lammps_thermo(((live ? dir : stored) / log).string());
     // jam, overdamped (the default integrator and dt), from the same start.
@@ -76,7 +76,7 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
     b.read_lammps_data = (dir / start).string();
     b.n_given = b.phi_init_given = false;
     b.relax = false;
-    b.compression_rate = kRate;
+    b.compression_rate = kOverdampedRate;
     b.phi_stop = phi_stop;
     b.phi_step = 0.001;
     b.quiet = true;
@@ -88,7 +88,7 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
     const auto p_jam = f.read_dataset("pressure", h5::exactly(phi_jam.size()));
     const double phi_start = f.read_attribute_double("phi_init");
     std::vector<double> phi_lmp;
-    for (double t : lmp.time) phi_lmp.push_back(phi_start * std::exp(D * kRate * t));
+    for (double t : lmp.time) phi_lmp.push_back(phi_start * std::exp(D * kOverdampedRate * t));
     std::vector<double> row, a_row, b_row;
     for (double phi : grid) {
       const double a = stats::interpolate(phi_jam, p_jam, phi),
@@ -112,8 +112,8 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
         << fmt::format(
                "# Stored LAMMPS results for `jam check lammps`, overdamped comparison ({}D)\n", D)
         << "lammps = \"" << lammps_version(dir / "lammps_0.log") << "\"\n"
-        << fmt::format("q = {:g}\ndt = {:.17g}\nrate = {:g}\nsteps = {}\nsamples = {}\n", kQ,
-                       dt_lammps, kRate, steps, kSamples)
+        << fmt::format("q = {:g}\ndt = {:.17g}\nrate = {:g}\nsteps = {}\nsamples = {}\n",
+                       kOverdampedQ, dt_lammps, kOverdampedRate, steps, kSamples)
         << "regenerate = \"jam check lammps DIR --regenerate-reference (needs lmp)\"\n";
   }
   // Mean and standard error over samples at each packing; the worst point decides.
@@ -153,7 +153,8 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
                           effect_text(v, worst), effect_text(v, worst_error), worst_phi,
                           live ? "LAMMPS run now" : "stored LAMMPS result");
   // The overlay and residuals the report draws: sample means on the packing grid.
-  v.values = {{"dim", static_cast<double>(D)}, {"compression_rate", kRate}, {"q", kQ}};
+  v.values = {
+      {"dim", static_cast<double>(D)}, {"compression_rate", kOverdampedRate}, {"q", kOverdampedQ}};
   v.curves = {{"grid", grid},
               {"pressure_jam", mean_p_jam},
               {"pressure_lammps", mean_p_lmp},

@@ -21,10 +21,6 @@ const EnsembleTables* find_match(const StatsData& d, const EnsembleTables& e) {
   return nullptr;
 }
 
-std::string describe(const EnsembleTables& e) {
-  return fmt::format("n{} phi_init {:g} rate 1e{:g}", e.n, e.phi_init, e.log10_rate);
-}
-
 // Largest relative difference between two curves of the same run on the common grid; a point
 // finite in one and not in the other counts as an infinite difference.
 double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
@@ -43,7 +39,7 @@ Verdict rerun_verdict(const EnsembleTables& now, const EnsembleTables& base, con
                       double tolerance) {
   Verdict v;
   v.check = "regression";
-  v.case_name = describe(now) + ": rerun samples identical to the baseline";
+  v.case_name = case_label(now) + ": rerun samples identical to the baseline";
   v.statistic_name = "max |p_now / p_baseline - 1|";
   v.values = {{"n", static_cast<double>(now.n)},
               {"phi_init", now.phi_init},
@@ -96,7 +92,7 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
     if (const auto* b = find_match(baseline, e))
       pairs.push_back({&e, b});
     else
-      out.push_back(inconclusive("regression", describe(e), "the baseline has no such ensemble"));
+      out.push_back(inconclusive("regression", case_label(e), "the baseline has no such ensemble"));
   }
   // The statistical comparisons share alpha (Bonferroni over the ensembles with new samples).
   auto is_new = [](const EnsembleTables& base, std::int64_t id) {
@@ -122,7 +118,7 @@ std::vector<Verdict> regression_check(const StatsData& now, const StatsData& bas
       if (is_new(*p.base, p.now->sample_ids[i])) fresh.push_back(al.a[i]);
     Verdict v;
     v.check = "regression";
-    v.case_name = describe(*p.now) + ": new samples against the baseline";
+    v.case_name = case_label(*p.now) + ": new samples against the baseline";
     v.statistic_name = "max |Delta p/p| / sigma";
     v.values = out.back().values;
     if (fresh.size() < 2 || al.b.size() < 2 || al.grid.empty()) {

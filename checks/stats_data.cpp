@@ -169,4 +169,8 @@ Aligned align(const std::vector<double>& ga, const std::vector<std::vector<doubl
   return r;
 }
 
+std::string case_label(const EnsembleTables& e) {
+  return fmt::format("n{} phi_init {:g} rate 1e{:g}", e.n, e.phi_init, e.log10_rate);
+}
+
 }  // namespace jam::checks

@@ -27,6 +27,9 @@ struct EnsembleTables {
   double chain_phi_init = 0;
 };
 
+/// The ensemble as verdicts name it: "n<N> phi_init <phi> rate 1e<log10 rate>".
+std::string case_label(const EnsembleTables& e);
+
 /// The scaling fit of one (N, phi_init) at the representative fit's window (stats.h5
 /// fit/families): jackknife estimates and errors, or why there is none.
 struct FamilyParameters {

@@ -25,7 +25,7 @@ namespace {
 /// collapses there); 0.05 keeps the range within the stored campaigns' compressed range.
 constexpr double kNearest = 0.01, kFarthest = 0.05;
 
-struct Comparison {
+struct RatePair {
   const EnsembleTables* slow;    // the slowest rate
   const EnsembleTables* faster;  // the next one
 };
@@ -38,7 +38,7 @@ std::vector<std::vector<double>> zeta_of(std::vector<std::vector<double>> p, dou
   return p;
 }
 
-Verdict compare(const Comparison& c, double phi_j, Levels levels, const CheckOptions& o) {
+Verdict compare(const RatePair& c, double phi_j, Levels levels, const CheckOptions& o) {
   Verdict v;
   v.check = "zeta";
   PoolRange range;
@@ -86,7 +86,7 @@ std::vector<Verdict> zeta_check(const StatsData& d, const CheckOptions& o) {
   }
   std::map<std::pair<std::int64_t, double>, std::map<double, const EnsembleTables*>> by;
   for (const auto& e : d.ensembles) by[{e.n, e.phi_init}][e.log10_rate] = &e;
-  std::vector<Comparison> comparisons;
+  std::vector<RatePair> comparisons;
   for (const auto& [key, rates] : by) {
     if (rates.size() < 2) continue;
     const auto slow = rates.begin(), faster = std::next(slow);

@@ -2,7 +2,8 @@
 // executable: the stored 2D variance model says that two samples of N = 256 against N = 1024
 // cannot decide the pressure at constant phi, and warns with the samples needed; with 400
 // samples every comparison decides; a --scatter-from that is missing is one line and no plan;
-// --pilot K runs the campaign's first K samples in <output>-pilot-K and plans from them.
+// --pilot K runs the campaign's first K samples in <output>-pilot-K and plans from them; the
+// phi_init findings of a judged directory are printed.
 #include <boost/test/unit_test.hpp>
 #include <filesystem>
 #include <fstream>
@@ -111,4 +112,25 @@ BOOST_AUTO_TEST_CASE(the_plan_measures_itself_on_finished_runs) {
                  "1e-2.5 [0-9.]+\\)"));
   BOOST_TEST_REQUIRE(found, o.output);
   BOOST_TEST(std::stod(m[1]) > 0.0);
+}
+
+BOOST_AUTO_TEST_CASE(the_phi_init_findings_in_the_directory_are_printed) {
+  // A phi_init verdict in DIR/checks.json that found a higher start consistent with the lowest:
+  // the plan says which start, at which size and rate, and the compression time it saves.
+  const fs::path file = write_campaign("found", kSizes + "samples = 2\n");
+  fs::create_directories(kDir / "found");
+  std::ofstream(kDir / "found" / "checks.json")
+      << R"({"verdicts": [{"check": "phi_init", "case": "n256 rate 1e-4", "status": "pass",)"
+      << R"( "values": {"n": 256, "log10_rate": -4, "largest_consistent_phi_init": 0.6,)"
+      << R"( "lowest_phi_init": 0.4, "compression_time_saved": 0.37}}]})";
+  const auto o = run_jam("campaign plan " + file.string());
+  BOOST_TEST(o.status == 0, o.output);
+  BOOST_TEST(o.output.find("phi_init check (N 256, rate 1e-4): starting at phi_init 0.6 instead "
+                           "of 0.4 gives the same pressures and saves 37% of the compression "
+                           "time") != std::string::npos,
+             o.output);
+  // Nothing is said of a directory without verdicts.
+  const auto none =
+      run_jam("campaign plan " + write_campaign("none", kSizes + "samples = 2\n").string());
+  BOOST_TEST(none.output.find("phi_init check (") == std::string::npos, none.output);
 }
