@@ -146,6 +146,23 @@ fs::path forged_checkpoint(const std::string& name, const std::function<void(Edi
   return file;
 }
 
+/// Both readers of a stats.h5, the checks' and `jam stats --refit`'s, refuse the one in dir
+/// and say `what`.
+void expect_both_stats_readers(const fs::path& dir, const std::string& what) {
+  expect(isolated([&] {
+           jam::checks::read_stats(dir.string());
+           return std::string();
+         }),
+         what);
+  jam::stats::StatsOptions o;
+  o.fit = false;
+  expect(isolated([&] {
+           jam::stats::refit_campaign_stats(dir.string(), o);
+           return std::string();
+         }),
+         what);
+}
+
 }  // namespace
 
 BOOST_FIXTURE_TEST_SUITE(hdf5_shapes, Fixture)
@@ -195,18 +212,7 @@ BOOST_AUTO_TEST_CASE(array_dim_campaign_and_phi_init_in_stats_h5_are_refused_not
       const std::string words = "attribute '" + name + "'";
       const std::string what = (object == "." ? words : words + " of '" + object + "'") +
                                " is an array of 4000, expected a scalar";
-      expect(isolated([&] {
-               jam::checks::read_stats(dir.string());
-               return std::string();
-             }),
-             what);
-      jam::stats::StatsOptions o;
-      o.fit = false;
-      expect(isolated([&] {
-               jam::stats::refit_campaign_stats(dir.string(), o);
-               return std::string();
-             }),
-             what);
+      expect_both_stats_readers(dir, what);
     }
   }
 }
@@ -242,18 +248,7 @@ BOOST_AUTO_TEST_CASE(stats_h5_sample_ids_that_are_not_sample_numbers_are_refused
           "dataset 'ensembles/n64_phi0.7000_r-2.00/constant_phi/sample_ids'"
           " holds " +
           shown + ", not a sample number";
-      expect(isolated([&] {
-               jam::checks::read_stats(dir.string());
-               return std::string();
-             }),
-             what);
-      jam::stats::StatsOptions o;
-      o.fit = false;
-      expect(isolated([&] {
-               jam::stats::refit_campaign_stats(dir.string(), o);
-               return std::string();
-             }),
-             what);
+      expect_both_stats_readers(dir, what);
     }
   }
 }
