@@ -3,6 +3,8 @@
 #
 #   scripts/reproduce.sh reduced-2d     # about 30 minutes on 2 cores
 #   scripts/reproduce.sh reduced-3d     # about 15 minutes
+#   scripts/reproduce.sh paper-2d       # the paper's 2D study: about 50 core-hours in all, its
+#                                       # campaigns run in stretches first (docs/reproduction.md)
 #
 # 1. the phi_init check campaign (reference/campaigns/NAME-phi-init.toml), when there is one,
 #    and the jamming-point campaign (NAME-jamming.toml: stats and report), when there is one,
@@ -25,7 +27,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-name=${1:?usage: scripts/reproduce.sh reduced-2d|reduced-3d}
+name=${1:?usage: scripts/reproduce.sh reduced-2d|reduced-3d|paper-2d}
 campaign=reference/campaigns/$name.toml
 [ -f "$campaign" ] || { echo "reproduce: name: no campaign file $campaign" >&2; exit 2; }
 jam=build/jam
@@ -181,6 +183,8 @@ $jam report "$qfixed" --out "reports/$name-q-fixed" --quiet
 
 out=reference/results/$name
 tmp=$(mktemp -d "reference/results/.$name.XXXXXX")
+# mktemp makes it private (0700); the stored result is as readable as any directory made here.
+chmod "$(umask -S)" "$tmp"
 trap 'rm -rf "$tmp" "$costs"' EXIT
 cp "runs/$name/stats.h5" "runs/$name/checks.json" "$fits"/fit-*.json "$tmp/"
 rm -rf "$fits"
