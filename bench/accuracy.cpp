@@ -20,6 +20,7 @@
 #include "bench/process_runs.hpp"
 #include "bench/report_files.hpp"
 #include "sim/dynamics/integrator_list.hpp"
+#include "sim/io/process.hpp"
 #include "sim/model/paper_values.hpp"
 #include "sim/run/sim_config.hpp"
 
@@ -179,7 +180,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
   for (int d : o.dims) require_on_grid(accuracy_packings(d));
   const bool lammps = o.lammps && lmp_available();
   if (o.lammps && !lammps) fmt::print(stderr, "jam bench: no lmp on the PATH, jam only\n");
-  const fs::path work = make_work_directory("jam-bench-accuracy");
+  const fs::path work = make_temp_directory("jam-bench-accuracy");
 
   // Relaxed starts, one per (dimension, seed), shared by every rate and method.
   std::map<std::pair<int, int>, Start> starts;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/lammps_log.hpp"
 #include "sim/io/lammps_table.hpp"
 #include "sim/io/process.hpp"
 #include "sim/model/species.hpp"
@@ -54,10 +55,13 @@ LammpsResult run_lammps(const LammpsRequest& r) {
   fs::rename(table_copy, r.directory / table.file);
   ProcessOptions where;
   where.working_directory = r.directory;
-  where.stdout_file = where.stderr_file = "/dev/null";
+  where.stdout_file = "/dev/null";
+  where.stderr_file = (r.directory / (r.log + ".stderr")).string();
+  where.mpi_program = true;
   if (const int status = run_program(lammps_command(r), where); status != 0) {
     throw std::runtime_error(
-        fmt::format("lmp failed (exit status {}); see {}", status, (r.directory / r.log).string()));
+        fmt::format("lmp failed (exit status {}): {}", status,
+                    lammps_failure_reason((r.directory / r.log).string(), where.stderr_file)));
   }
   return read_lammps_log(r.directory / r.log);
 }

@@ -2,9 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -33,14 +31,6 @@ std::string utc_now() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
   return buf;
-}
-
-std::string make_work_directory(const std::string& prefix) {
-  std::string name = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
-  if (!::mkdtemp(name.data())) {
-    throw WriteError(fmt::format("cannot create a directory '{}': {}", name, std::strerror(errno)));
-  }
-  return name;
 }
 
 void write_text_file(const std::string& path, const std::string& text) {

@@ -11,10 +11,6 @@ std::string machine_description();
 /// Current UTC date and time, ISO 8601.
 std::string utc_now();
 
-/// A new, empty directory of its own under the temporary directory ("<prefix>-XXXXXX", mkdtemp):
-/// the benchmark removes it whole when done, so it must never be one that existed before.
-std::string make_work_directory(const std::string& prefix);
-
 /// Writes text to path atomically (temporary name, then rename).
 void write_text_file(const std::string& path, const std::string& text);
 

@@ -17,6 +17,7 @@
 #include "sim/dynamics/overdamped_euler.hpp"
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/process.hpp"
 #include "sim/parallel.hpp"
 
 namespace jam::bench {
@@ -191,7 +192,7 @@ std::vector<ThroughputRow> run_throughput(const ThroughputOptions& o) {
   if (o.lammps && !lammps) fmt::print(stderr, "jam bench: no lmp on the PATH, jam only\n");
   ThroughputOptions opts = o;
   opts.lammps = lammps;
-  const fs::path work = make_work_directory("jam-bench-throughput");
+  const fs::path work = make_temp_directory("jam-bench-throughput");
   std::vector<ThroughputRow> rows;
   try {
     for (int d : o.dims) {

@@ -10,6 +10,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/lammps_log.hpp"
 #include "sim/io/lammps_table.hpp"
 #include "sim/io/process.hpp"
 #include "sim/model/species.hpp"
@@ -51,9 +52,12 @@ void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double 
   ProcessOptions where;
   where.working_directory = dir;
   where.stdout_file = "/dev/null";
+  where.stderr_file = (dir / (log + ".stderr")).string();
+  where.mpi_program = true;
   if (const int status = run_program(argv, where); status != 0) {
-    throw std::runtime_error(
-        fmt::format("lmp failed (exit status {}); see {}", status, (dir / log).string()));
+    throw std::runtime_error(fmt::format(
+        "lmp failed (exit status {}): {}; see {}", status,
+        lammps_failure_reason((dir / log).string(), where.stderr_file), (dir / log).string()));
   }
 }
 

@@ -16,6 +16,7 @@
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_import.hpp"
 #include "sim/io/lammps_log.hpp"
+#include "sim/io/process.hpp"
 #include "sim/io/whole_number.hpp"
 
 using namespace jam::checks;
@@ -217,5 +218,40 @@ BOOST_AUTO_TEST_CASE(counts_in_a_log_are_whole_numbers_in_range) {
                                  std::string::npos;
                         });
   BOOST_TEST(!fs::exists(kDir / "step.h5"));
+  fs::remove_all(kDir);
+}
+
+// Why lmp failed, in the error jam raises: the log's first ERROR line, else the error output's
+// (Open MPI's start-up failures), shown safely; a real lmp failure names LAMMPS's own error.
+BOOST_AUTO_TEST_CASE(a_failed_lmp_is_named_by_its_first_error_line) {
+  fs::create_directories(kDir);
+  const std::string log = (kDir / "failed.log").string(), err = (kDir / "failed.err").string();
+  std::ofstream(log) << "LAMMPS (7 Jan 2022)\nunits bogus\nERROR: Illegal units command "
+                        "(src/update.cpp:410)\nLast command: units bogus\nERROR: a later one\n";
+  std::ofstream(err) << "[vm:1] ORTE_ERROR_LOG: Error in file util/session_dir.c at line 107\n";
+  BOOST_TEST(jam::lammps_failure_reason(log, err) ==
+             "ERROR: Illegal units command (src/update.cpp:410)");
+  std::ofstream(log) << "LAMMPS (7 Jan 2022)\n";  // no error in the log: the error output's
+  BOOST_TEST(jam::lammps_failure_reason(log, err) ==
+             "[vm:1] ORTE_ERROR_LOG: Error in file util/session_dir.c at line 107");
+  const std::string missing = (kDir / "no-such.log").string();
+  BOOST_TEST(jam::lammps_failure_reason(missing, missing) ==
+             "neither its log nor its error output names an error");
+  std::ofstream(err) << "ERROR: \x1b[31mred\x07 " << std::string(400, 'x') << "\n";
+  const std::string shown = jam::lammps_failure_reason(log, err);
+  BOOST_TEST(shown.rfind("ERROR: ?[31mred? xxx", 0) == 0, shown);
+  BOOST_TEST(shown.size() == 243u, shown);  // 240 characters and "..."
+  if (!jam::find_program("lmp").empty()) {
+    std::ofstream(kDir / "bad.in") << "units bogus\n";
+    jam::ProcessOptions o;
+    o.working_directory = kDir;
+    o.stdout_file = "/dev/null";
+    o.stderr_file = err;
+    o.mpi_program = true;
+    BOOST_TEST(jam::run_program({"lmp", "-log", log, "-screen", "none", "-in", "bad.in"}, o) != 0);
+    const std::string reason = jam::lammps_failure_reason(log, err);
+    BOOST_TEST(reason.rfind("ERROR", 0) == 0, reason);
+    BOOST_TEST(reason.find("units") != std::string::npos, reason);
+  }
   fs::remove_all(kDir);
 }

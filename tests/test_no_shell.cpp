@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -74,6 +75,46 @@ BOOST_AUTO_TEST_CASE(exit_status_and_missing_program) {
   BOOST_CHECK_THROW(jam::run_program({"no-such-program-jam"}), std::runtime_error);
   BOOST_TEST(jam::find_program("no-such-program-jam").empty());
   BOOST_TEST(!jam::find_program("true").empty());
+}
+
+// An Open MPI program gets a session directory of its own (OMPI_MCA_orte_tmpdir_base): new and
+// empty when it starts, a different one for each, gone when it has ended; other programs get
+// none, and a base the caller's environment names is the caller's and is passed on as it is.
+BOOST_AUTO_TEST_CASE(an_mpi_program_gets_a_session_directory_of_its_own) {
+  const char* kBase = "OMPI_MCA_orte_tmpdir_base";
+  const char* before = std::getenv(kBase);
+  const std::string saved = before ? before : "";
+  ::unsetenv(kBase);
+  const fs::path out = kDir / "session.txt";
+  auto session = [&](bool mpi) {
+    jam::ProcessOptions o;
+    o.stdout_file = out.string();
+    o.mpi_program = mpi;
+    const std::string probe =
+        "import os; b = os.environ.get('OMPI_MCA_orte_tmpdir_base', ''); "
+        "print(b + ('|empty' if b and os.path.isdir(b) and not os.listdir(b) else '|none'))";
+    BOOST_TEST(jam::run_program({"/usr/bin/python3", "-c", probe}, o) == 0);
+    std::string line = slurp(out);
+    return line.substr(0, line.find('\n'));
+  };
+  const std::string first = session(true), second = session(true);
+  const fs::path temp = fs::temp_directory_path();
+  for (const std::string& s : {first, second}) {
+    const fs::path dir = s.substr(0, s.find('|'));
+    BOOST_TEST(dir.parent_path() == temp, s);
+    BOOST_TEST(dir.filename().string().rfind("jam-mpi-", 0) == 0, s);
+    BOOST_TEST(s.substr(s.find('|')) == "|empty", s);
+    BOOST_TEST(!fs::exists(dir), s);
+  }
+  BOOST_TEST(first != second);
+  BOOST_TEST(session(false) == "|none");
+  ::setenv(kBase, kDir.c_str(), 1);
+  BOOST_TEST(session(true) == kDir.string() + "|none");  // kDir holds session.txt: not empty
+  if (before) {
+    ::setenv(kBase, saved.c_str(), 1);
+  } else {
+    ::unsetenv(kBase);
+  }
 }
 
 // The LAMMPS check starts lmp in DIR/lammps-check/...: with DIR named to break a shell command

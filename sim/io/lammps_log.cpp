@@ -63,7 +63,28 @@ bool has_all(const std::vector<std::string>& header, const std::vector<std::stri
   });
 }
 
+/// The first line of `path` holding "ERROR", shown safely; "" when there is none (or no file).
+std::string first_error_line(const std::string& path) {
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("ERROR") == std::string::npos) continue;
+    constexpr std::size_t kLongest = 240;
+    if (line.size() > kLongest) line = line.substr(0, kLongest) + "...";
+    for (char& c : line)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    return line;
+  }
+  return "";
+}
+
 }  // namespace
+
+std::string lammps_failure_reason(const std::string& log, const std::string& error_output) {
+  for (const std::string& file : {log, error_output}) {
+    if (std::string line = first_error_line(file); !line.empty()) return line;
+  }
+  return "neither its log nor its error output names an error";
+}
 
 std::vector<std::string> lammps_words(const std::string& line) {
   std::istringstream in(line);

@@ -44,4 +44,10 @@ LammpsLog read_lammps_log(const std::string& path, const std::vector<std::string
 LammpsLog read_lammps_log(std::istream& in, const std::string& name,
                           const std::vector<std::string>& columns);
 
+/// Why a LAMMPS process failed, in one line for a message: the first line naming an error
+/// ("ERROR: ...", "ERROR on proc 0: ...", Open MPI's "ORTE_ERROR_LOG: ...") in its log, else in
+/// its error output (where Open MPI's start-up failures go), with control characters shown as
+/// '?' and at most 240 characters; else a sentence saying that neither names one.
+std::string lammps_failure_reason(const std::string& log, const std::string& error_output);
+
 }  // namespace jam

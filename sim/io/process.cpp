@@ -7,10 +7,15 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
+
+#include "sim/io/atomic_file.hpp"
 
 extern char** environ;
 
@@ -26,7 +31,48 @@ struct FileActions {
   FileActions& operator=(const FileActions&) = delete;
 };
 
+constexpr const char* kMpiSessionBase = "OMPI_MCA_orte_tmpdir_base";
+
+/// The session directory of one Open MPI program and the environment that names it; the
+/// directory and whatever the program left in it go when this does.
+class MpiSession {
+ public:
+  MpiSession() : dir_(make_temp_directory("jam-mpi")) {
+    for (char** e = environ; *e; ++e) text_.emplace_back(*e);  // which does not name one
+    text_.push_back(std::string(kMpiSessionBase) + "=" + dir_.string());
+    for (auto& t : text_) env_.push_back(t.data());
+    env_.push_back(nullptr);
+  }
+  ~MpiSession() {
+    // A singleton's daemon (orted) outlives the program by a few milliseconds, still removing
+    // its own files: try again until it is done, for a second at most (then the directory
+    // stays in the temporary directory, which loses nothing).
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir_, ignored);
+      if (!std::filesystem::exists(dir_, ignored)) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  char** environment() { return env_.data(); }
+
+ private:
+  std::filesystem::path dir_;
+  std::vector<std::string> text_;
+  std::vector<char*> env_;
+};
+
 }  // namespace
+
+std::filesystem::path make_temp_directory(const std::string& prefix) {
+  std::string name = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
+  if (!::mkdtemp(name.data())) {
+    throw WriteError(fmt::format("cannot create a directory '{}': {}", name, std::strerror(errno)));
+  }
+  return name;
+}
 
 int run_program(const std::vector<std::string>& argv, const ProcessOptions& o) {
   if (argv.empty()) throw std::runtime_error("run_program: no program given");
@@ -52,8 +98,11 @@ int run_program(const std::vector<std::string>& argv, const ProcessOptions& o) {
   std::vector<std::string> copy = argv;
   for (auto& a : copy) args.push_back(a.data());
   args.push_back(nullptr);
+  std::optional<MpiSession> session;
+  if (o.mpi_program && !std::getenv(kMpiSessionBase)) session.emplace();
   pid_t pid = -1;
-  const int error = posix_spawnp(&pid, args[0], &fa.actions, nullptr, args.data(), environ);
+  const int error = posix_spawnp(&pid, args[0], &fa.actions, nullptr, args.data(),
+                                 session ? session->environment() : environ);
   if (error != 0) {
     throw std::runtime_error(fmt::format("cannot start {}: {}", argv[0], std::strerror(error)));
   }
