@@ -28,30 +28,48 @@ struct ScatterPoint {
   double ln_n, log10_rate, ln_s2, dof;
 };
 
+/// Self-averaging: a window mean over N particles has a variance ~ 1/N, the exponent the fit
+/// holds when its data have one size (reduced-2d's own fit finds -0.92).
+constexpr double kHeldNExponent = -1.0;
+
 ScatterFit fit(const std::vector<ScatterPoint>& p) {
   ScatterFit f;
   f.points = static_cast<int>(p.size());
-  if (p.size() < 3) return f;
-  Eigen::MatrixXd x(p.size(), 3);
-  Eigen::VectorXd y(p.size()), w(p.size());
+  if (p.empty()) return f;
   f.n_min = f.rate_min = HUGE_VAL, f.n_max = f.rate_max = -HUGE_VAL;
+  for (const auto& q : p) {
+    f.n_min = std::min(f.n_min, std::exp(q.ln_n)), f.n_max = std::max(f.n_max, std::exp(q.ln_n));
+    f.rate_min = std::min(f.rate_min, q.log10_rate);
+    f.rate_max = std::max(f.rate_max, q.log10_rate);
+  }
+  // A coefficient the data cannot determine is held, not left to the solver: one size leaves
+  // c1 free (held at kHeldNExponent), one rate c2 (held at 0, no rate dependence).
+  f.n_exponent_held = f.n_max <= f.n_min * (1 + 1e-9);
+  f.rate_slope_held = f.rate_max <= f.rate_min + 1e-9;
+  const Eigen::Index free = 1 + !f.n_exponent_held + !f.rate_slope_held;
+  if (static_cast<Eigen::Index>(p.size()) <= free) return f;
+  Eigen::MatrixXd x(p.size(), free);
+  Eigen::VectorXd y(p.size()), w(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
-    x.row(static_cast<Eigen::Index>(i)) << 1.0, p[i].ln_n, p[i].log10_rate;
-    y(static_cast<Eigen::Index>(i)) = p[i].ln_s2;
-    w(static_cast<Eigen::Index>(i)) = std::sqrt(p[i].dof);
-    f.n_min = std::min(f.n_min, std::exp(p[i].ln_n)),
-    f.n_max = std::max(f.n_max, std::exp(p[i].ln_n));
-    f.rate_min = std::min(f.rate_min, p[i].log10_rate);
-    f.rate_max = std::max(f.rate_max, p[i].log10_rate);
+    const auto k = static_cast<Eigen::Index>(i);
+    Eigen::Index col = 0;
+    x(k, col++) = 1.0;
+    if (!f.n_exponent_held) x(k, col++) = p[i].ln_n;
+    if (!f.rate_slope_held) x(k, col++) = p[i].log10_rate;
+    y(k) = p[i].ln_s2 - (f.n_exponent_held ? kHeldNExponent * p[i].ln_n : 0.0);
+    w(k) = std::sqrt(p[i].dof);
   }
   const Eigen::MatrixXd xw = w.asDiagonal() * x;
   const Eigen::VectorXd c = xw.colPivHouseholderQr().solve(w.asDiagonal() * y);
-  f.c0 = c(0), f.c1 = c(1), f.c2 = c(2);
+  Eigen::Index col = 0;
+  f.c0 = c(col++);
+  f.c1 = f.n_exponent_held ? kHeldNExponent : c(col++);
+  f.c2 = f.rate_slope_held ? 0.0 : c(col++);
   const Eigen::VectorXd r = y - x * c;
   double ss = 0, sw = 0;
   for (Eigen::Index i = 0; i < r.size(); ++i) ss += w(i) * w(i) * r(i) * r(i), sw += w(i) * w(i);
-  f.residual =
-      std::sqrt(ss / sw * static_cast<double>(p.size()) / static_cast<double>(p.size() - 3));
+  f.residual = std::sqrt(ss / sw * static_cast<double>(p.size()) /
+                         static_cast<double>(static_cast<Eigen::Index>(p.size()) - free));
   return f;
 }
 
@@ -152,10 +170,12 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
     fmt::print("  what it can decide: no size or phi_init comparison (one size, one phi_init)\n");
     return 0;
   }
+  const ScatterFit& shown = model.at_phi;
   fmt::print(
-      "  what it can decide (window scatter ln s^2 = {:.2f} {:+.2f} ln N {:+.2f} log10 rate at "
+      "  what it can decide (window scatter ln s^2 = {:.2f} {:+.2f} ln N{} {:+.2f} log10 rate{} at "
       "constant phi, residual factor {:.2f} on s, from {}):\n",
-      model.at_phi.c0, model.at_phi.c1, model.at_phi.c2, std::exp(model.at_phi.residual / 2),
+      shown.c0, shown.c1, shown.n_exponent_held ? " (held: one size in the data)" : "", shown.c2,
+      shown.rate_slope_held ? " (held: one rate in the data)" : "", std::exp(shown.residual / 2),
       fmt::join(model.sources, ", "));
   // Per-sample core-seconds of every ensemble (the cost of one more sample there).
   std::map<EnsembleKey, double> cost, runs;

@@ -10,7 +10,9 @@
 // by least squares weighted by degrees of freedom, one fit at constant phi and one at constant
 // Z, over the verdicts of judged campaigns (their checks.json): by default the stored result
 // of the campaign's dimension (reference/results/reduced-2d or -3d), or a pilot's
-// (`--scatter-from DIR`). Its residual scatter is printed as the model's uncertainty.
+// (`--scatter-from DIR`). Its residual scatter is printed as the model's uncertainty. Data of
+// one size (a pilot of a one-size design) hold c1 at -1, the self-averaging of a window mean
+// over N particles; data of one rate hold c2 at 0; the printed model says which is held.
 //
 // A verdict is expected to decide when, with no effect present, it passes with probability
 // at least 0.8 (checks::kEstimatePower): sigma_D <= M / (z_pass + 1.28).
@@ -27,6 +29,8 @@ struct ScatterFit {
   double residual = 0;            // weighted residual standard deviation of ln s^2
   int points = 0;
   double n_min = 0, n_max = 0, rate_min = 0, rate_max = 0;  // the data's span
+  bool n_exponent_held = false;  // one size in the data: c1 = -1 (self-averaging, s^2 ~ 1/N)
+  bool rate_slope_held = false;  // one rate in the data: c2 = 0
   double scatter(double n, double log10_rate) const;
 };
 

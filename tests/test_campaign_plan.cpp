@@ -3,11 +3,14 @@
 // cannot decide the pressure at constant phi, and warns with the samples needed; with 400
 // samples every comparison decides; a --scatter-from that is missing is one line and no plan;
 // --pilot K runs the campaign's first K samples in <output>-pilot-K and plans from them; the
-// phi_init findings of a judged directory are printed.
+// phi_init findings of a judged directory are printed; data of one size hold the N exponent.
 #include <boost/test/unit_test.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <utility>
+#include <vector>
 
 #include "process.hpp"
 
@@ -133,4 +136,45 @@ BOOST_AUTO_TEST_CASE(the_phi_init_findings_in_the_directory_are_printed) {
   const auto none =
       run_jam("campaign plan " + write_campaign("none", kSizes + "samples = 2\n").string());
   BOOST_TEST(none.output.find("phi_init check (") == std::string::npos, none.output);
+}
+
+// A pilot of one size cannot tell how the scatter scales with N: the model holds the
+// self-averaging exponent (s^2 ~ 1/N) and says so, so that N = 4096 and 8192 are planned from
+// N = 256's scatter divided by 4 and 5.7 (they decide with 10 samples), not from N = 256's own
+// (they would not); data of two sizes fit the exponent (planted at -0.5 here).
+BOOST_AUTO_TEST_CASE(one_size_in_the_data_holds_the_n_exponent) {
+  auto pilot = [](const std::string& name, const std::vector<std::pair<int, double>>& scatter) {
+    const fs::path dir = kDir / name;
+    fs::create_directories(dir);
+    std::ofstream out(dir / "checks.json");
+    const char* sep = "[";
+    for (const auto& [n, s] : scatter) {
+      for (const char* rate : {"-4", "-5"}) {
+        out << sep << "{\"values\": {\"log10_rate\": " << rate << ", \"n\": " << n
+            << ", \"scatter_a\": " << s << ", \"scatter_b\": " << s
+            << ", \"samples_a\": 10, \"samples_b\": 10}}";
+        sep = ", ";
+      }
+    }
+    out << "]\n";
+    return dir.string();
+  };
+  const std::string design = write_campaign("large",
+                                            "dim = 2\nsizes = [4096, 8192]\nphi_init = [0.4]\n"
+                                            "log10_rates = [-4.0, -5.0]\nphi_stop = 0.86\n"
+                                            "seed = 1\nsamples = 10\n")
+                                 .string();
+  const auto one =
+      run_jam("campaign plan " + design + " --scatter-from " + pilot("one-size", {{256, 0.2}}));
+  BOOST_TEST(one.status == 0, one.output);
+  BOOST_TEST(one.output.find("-1.00 ln N (held: one size in the data)") != std::string::npos,
+             one.output);
+  BOOST_TEST(one.output.find("finite_size, constant phi: all 2 comparisons decide with 10") !=
+                 std::string::npos,
+             one.output);
+  const auto two = run_jam("campaign plan " + design + " --scatter-from " +
+                           pilot("two-sizes", {{256, 0.2}, {1024, 0.2 / std::sqrt(2.0)}}));
+  BOOST_TEST(two.status == 0, two.output);
+  BOOST_TEST(two.output.find("-0.50 ln N ") != std::string::npos, two.output);
+  BOOST_TEST(two.output.find("held") == std::string::npos, two.output);
 }
