@@ -134,13 +134,14 @@ scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-free.json" "jam stats --
 stage checks verdicts "runs/$name/checks.json" $jam check all "runs/$name"
 cp "runs/$name"/{checks.json,checks.h5} "$qfixed/"
 
-# fit_window STATS NAME: the representative scaling fit's phi_min or phi_max; nothing when the
-# fit failed (the checks then say that no window was given).
+# fit_window STATS: the representative scaling fit's "phi_min phi_max"; nothing when the fit
+# failed (the checks then say that no window was given).
 fit_window() {
   /usr/bin/python3 -c 'import h5py, sys
 f = h5py.File(sys.argv[1], "r")
 if "fit/representative" in f:
-    print(f["fit/representative"].attrs[sys.argv[2]])' "$1" "$2"
+    a = f["fit/representative"].attrs
+    print(a["phi_min"], a["phi_max"])' "$1"
 }
 # The separate phi_init campaign is judged over the window the campaign's free fit uses, the
 # range whose phi_init independence the fit needs: its own stats hold no fit, and without a
@@ -148,9 +149,8 @@ if "fit/representative" in f:
 # the start is remembered (fast rates): that is its finding.
 if [ -f "reference/campaigns/$name-phi-init.toml" ]; then
   window=()
-  phi_min=$(fit_window "runs/$name/stats.h5" phi_min)
-  [ -n "$phi_min" ] &&
-    window=(--phi-min "$phi_min" --phi-max "$(fit_window "runs/$name/stats.h5" phi_max)")
+  bounds=$(fit_window "runs/$name/stats.h5")
+  [ -n "$bounds" ] && window=(--phi-min "${bounds% *}" --phi-max "${bounds#* }")
   stage phi_init_check verdicts "runs/$name-phi-init/checks-phi_init.json" \
     $jam check phi_init "runs/$name-phi-init" "${window[@]}"
 fi
@@ -171,8 +171,8 @@ if [ -f "reference/campaigns/$name-chain-control.toml" ]; then
     measure chain_test_campaign "runs/$name-chain-test"
     $jam stats "runs/$name-chain-test" --no-fit >/dev/null
     chained="runs/$name-chain-test"
-    phi_min=$(fit_window "runs/$name/stats.h5" phi_min)
-    [ -n "$phi_min" ] && window=(--phi-min "$phi_min")
+    bounds=$(fit_window "runs/$name/stats.h5")
+    [ -n "$bounds" ] && window=(--phi-min "${bounds% *}")
   fi
   stage chain_check verdicts "$chained/checks-chain.json" \
     $jam check chain "$chained" --against "runs/$name-chain-control" "${window[@]}"
