@@ -28,10 +28,6 @@ std::vector<std::vector<double>> table(const h5::File& f, const std::string& nam
 }
 
 /// The rows of a table whose row count is its own (constant Z keeps its own sample list).
-std::size_t rows_of(const h5::File& f, const std::string& group) {
-  return f.read_dataset(group + "/sample_ids").size();
-}
-
 int read_dim(const h5::File& f) {
   const std::int64_t dim = f.read_attribute_int("dim");
   if (dim != 2 && dim != 3) {
@@ -51,7 +47,15 @@ void read_constant_z(const h5::File& f, const std::string& g, EnsembleTables& e)
           ? "contacts_per_particle"
           : "contacts_per_particle_no_rattlers";
   e.z_grid = f.read_dataset(z + "/" + grid_name);
-  e.pressure_at_z = table(f, z + "/pressure_samples", rows_of(f, z), e.z_grid.size());
+  // The checks take a run's rows of both tables as one sample (e.sample_ids, constant phi's):
+  // a table of other samples, or of the same in another order, would pair the wrong runs.
+  if (stats::read_sample_ids(f, z) != e.sample_ids) {
+    throw std::runtime_error(fmt::format(
+        "{}: dataset '{}/sample_ids' does not list the samples of '{}/constant_phi/sample_ids' "
+        "in their order",
+        f.path(), z, g));
+  }
+  e.pressure_at_z = table(f, z + "/pressure_samples", e.sample_ids.size(), e.z_grid.size());
   if (f.has_dataset(z + "/packing_fraction_mean"))
     e.phi_at_z = f.read_dataset(z + "/packing_fraction_mean", h5::exactly(e.z_grid.size()));
 }

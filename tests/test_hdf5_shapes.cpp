@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "checks/stats_data.hpp"
 #include "hostile_hdf5.hpp"
@@ -250,6 +251,24 @@ BOOST_AUTO_TEST_CASE(stats_h5_sample_ids_that_are_not_sample_numbers_are_refused
           shown + ", not a sample number";
       expect_both_stats_readers(dir, what);
     }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(stats_h5_constant_z_rows_of_other_samples_are_refused) {
+  // The checks read a run's constant-phi and constant-Z rows as one sample: a constant-Z table
+  // in another order (or of other samples) is refused, not paired with the wrong runs.
+  for (const std::vector<double>& ids : {std::vector<double>{1, 0, 2, 3}, {0, 1, 2, 7}}) {
+    const fs::path dir = kDir / ("z-ids-" + std::to_string(static_cast<int>(ids[0] + ids[3])));
+    fs::create_directories(dir);
+    const fs::path file = dir / "stats.h5";
+    jam::test::write_template_stats(file.string(), 4, 5);
+    Editor(file).set_doubles("ensembles/n64_phi0.7000_r-2.00/constant_z/sample_ids", ids);
+    expect(isolated([&] {
+             jam::checks::read_stats(dir.string());
+             return std::string();
+           }),
+           "dataset 'ensembles/n64_phi0.7000_r-2.00/constant_z/sample_ids' does not list the "
+           "samples of 'ensembles/n64_phi0.7000_r-2.00/constant_phi/sample_ids' in their order");
   }
 }
 
