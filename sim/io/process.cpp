@@ -38,7 +38,8 @@ constexpr const char* kMpiSessionBase = "OMPI_MCA_orte_tmpdir_base";
 class MpiSession {
  public:
   MpiSession() : dir_(make_temp_directory("jam-mpi")) {
-    for (char** e = environ; *e; ++e) text_.emplace_back(*e);  // which does not name one
+    // environ names no session base: the caller made one only then.
+    for (char** e = environ; *e; ++e) text_.emplace_back(*e);
     text_.push_back(std::string(kMpiSessionBase) + "=" + dir_.string());
     for (auto& t : text_) env_.push_back(t.data());
     env_.push_back(nullptr);
