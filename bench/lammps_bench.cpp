@@ -53,16 +53,7 @@ LammpsResult run_lammps(const LammpsRequest& r) {
   const fs::path table_copy = r.directory / (table.file + "." + r.log + ".partial");
   std::ofstream(table_copy) << table.text;
   fs::rename(table_copy, r.directory / table.file);
-  ProcessOptions where;
-  where.working_directory = r.directory;
-  where.stdout_file = "/dev/null";
-  where.stderr_file = (r.directory / (r.log + ".stderr")).string();
-  where.mpi_program = true;
-  if (const int status = run_program(lammps_command(r), where); status != 0) {
-    throw std::runtime_error(
-        fmt::format("lmp failed (exit status {}): {}", status,
-                    lammps_failure_reason((r.directory / r.log).string(), where.stderr_file)));
-  }
+  run_lammps_process(lammps_command(r), r.directory, r.log);
   return read_lammps_log(r.directory / r.log);
 }
 

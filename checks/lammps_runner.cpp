@@ -48,17 +48,7 @@ void run_lammps(const fs::path& dir, const fs::path& reference, int dim, double 
                                        {"dt", g(dt)},
                                        {"steps", std::to_string(steps)},
                                        {"every", std::to_string(every)}});
-  const auto argv = lammps_command_line(log, "compress_inertial.in", variables);
-  ProcessOptions where;
-  where.working_directory = dir;
-  where.stdout_file = "/dev/null";
-  where.stderr_file = (dir / (log + ".stderr")).string();
-  where.mpi_program = true;
-  if (const int status = run_program(argv, where); status != 0) {
-    throw std::runtime_error(fmt::format(
-        "lmp failed (exit status {}): {}; see {}", status,
-        lammps_failure_reason((dir / log).string(), where.stderr_file), (dir / log).string()));
-  }
+  run_lammps_process(lammps_command_line(log, "compress_inertial.in", variables), dir, log);
 }
 
 void write_relaxed_start(const StartSpec& spec, const fs::path& data) {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sim/io/output_path.hpp"
+#include "sim/io/process.hpp"
 #include "sim/io/whole_number.hpp"
 
 namespace jam {
@@ -84,6 +85,20 @@ std::string lammps_failure_reason(const std::string& log, const std::string& err
     if (std::string line = first_error_line(file); !line.empty()) return line;
   }
   return "neither its log nor its error output names an error";
+}
+
+void run_lammps_process(const std::vector<std::string>& argv, const std::filesystem::path& dir,
+                        const std::string& log) {
+  ProcessOptions where;
+  where.working_directory = dir;
+  where.stdout_file = "/dev/null";
+  where.stderr_file = (dir / (log + ".stderr")).string();
+  where.mpi_program = true;
+  if (const int status = run_program(argv, where); status != 0) {
+    throw std::runtime_error(fmt::format(
+        "lmp failed (exit status {}): {}; see {}", status,
+        lammps_failure_reason((dir / log).string(), where.stderr_file), (dir / log).string()));
+  }
 }
 
 std::vector<std::string> lammps_words(const std::string& line) {

@@ -5,6 +5,7 @@
 // `timestep`, the `trate` of `fix deform` and the atoms created or read. Values must be whole
 // finite numbers; anything else is one line naming the file, line, column and value.
 #include <cstdint>
+#include <filesystem>
 #include <istream>
 #include <map>
 #include <optional>
@@ -49,5 +50,11 @@ LammpsLog read_lammps_log(std::istream& in, const std::string& name,
 /// its error output (where Open MPI's start-up failures go), with control characters shown as
 /// '?' and at most 240 characters; else a sentence saying that neither names one.
 std::string lammps_failure_reason(const std::string& log, const std::string& error_output);
+
+/// Runs an lmp (or mpirun lmp) argument vector in `dir` whose log is dir/`log`: its screen
+/// discarded, its error output kept in dir/`log`.stderr, an Open MPI session directory of its
+/// own (sim/io/process.hpp). Throws std::runtime_error with lammps_failure_reason when it fails.
+void run_lammps_process(const std::vector<std::string>& argv, const std::filesystem::path& dir,
+                        const std::string& log);
 
 }  // namespace jam
