@@ -138,7 +138,9 @@ FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
       ++compared;
       stable = stable && agree(*candidate.result, *slower.result);
     }
-    if (!stable) continue;
+    // A plateau needs a slower fit that confirms it: the slowest row alone agrees with
+    // nothing, and taking it as "stable" would call any scan stable.
+    if (!stable || compared == 0) continue;
     scan.chosen = rows[i];
     scan.reason = fmt::format(
         "narrowest window (+-{:g}); rate_max {:.3g}: the largest from which phi_J, q and 1/(z nu) "
@@ -146,14 +148,21 @@ FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
         narrowest, candidate.rate_max, kAgreement, compared, clearance.note);
     return scan;
   }
-  // No plateau: the slowest rate_max with a result, said so.
+  // No plateau: the slowest rate_max with a result, said so, and flagged poor: the paper takes
+  // its parameters from where the scan is flat (Fig. 2), and a fit no slower rate_max confirms
+  // is no such estimate, whatever its own chi^2 (its errors do not cover how the scan moves).
   for (std::size_t i = rows.size(); i-- > 0;) {
     if (!scan.rows[rows[i]].result) continue;
     scan.chosen = rows[i];
     scan.reason = fmt::format(
         "narrowest window (+-{:g}); no rate_max from which the fits agree within {:g} sigma with "
-        "every slower one (or none of quality ok): the slowest rate_max {:.3g} taken; {}",
+        "a slower one and every slower one (or none of quality ok): the slowest rate_max {:.3g} "
+        "taken; {}",
         narrowest, kAgreement, scan.rows[rows[i]].rate_max, clearance.note);
+    ScalingFitResult& r = *scan.rows[rows[i]].result;
+    r.quality = "poor";
+    r.quality_reason += std::string(r.quality_reason.empty() ? "" : "; ") +
+                        "no plateau: no slower rate_max confirms this fit (the scan)";
     return scan;
   }
   scan.failure = scan.rows[rows.back()].failure;

@@ -2,7 +2,8 @@
 // The scan of scaling fits over phi windows and rate_max (the paper's Fig. 2), and the choice
 // of the representative fit as the paper makes it: the narrowest window, and the largest
 // rate_max (most rates, most decades) from which phi_J, q and 1/(z nu) agree within 2 sigma
-// with the fit at every slower rate_max, using only rates that the phi_init check clears.
+// with the fit at every slower rate_max (at least one), using only rates that the phi_init
+// check clears; without such a plateau the slowest rate_max's fit, flagged poor.
 #include <string>
 #include <vector>
 

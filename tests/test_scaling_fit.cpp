@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "stats/fit_scan.hpp"
 #include "stats/scaling_fit.hpp"
 
 using namespace jam::stats;
@@ -226,4 +227,60 @@ BOOST_AUTO_TEST_CASE(too_few_points_per_rate_is_flagged) {
   BOOST_TEST(r.min_points_per_rate < kMinPointsPerRate);
   BOOST_TEST(r.quality == "poor");
   BOOST_TEST(r.quality_reason.find("points in the window") != std::string::npos, r.quality_reason);
+}
+
+// The representative fit of the scan (stats/fit_scan.cpp): the largest rate_max whose fit a
+// slower rate_max confirms. On data that follow the scaling form at every rate that is the
+// fastest rate_max, quality ok. With a planted correction to scaling at the fastest rate the
+// fastest fit is not confirmed, and the next one has no slower fit to confirm it: no plateau,
+// the slowest fit taken and flagged poor, where the slowest row used to count as its own
+// plateau ("0 compared", quality ok). With one rate_max (three rates) there is no scan at all.
+namespace {
+
+StatsOptions scan_options() {
+  StatsOptions o;
+  o.order = 3;
+  o.half_windows = {0.04};
+  return o;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_scan_takes_a_confirmed_plateau_and_flags_a_fit_without_one) {
+  const Truth t;
+  const RateClearance all{std::nullopt, "all rates"};
+  const FitScan good = scan_fits(synthetic(t, 7), scan_options(), all, "phi");
+  BOOST_TEST_REQUIRE(good.rows.size() == 2u);  // rate_max 1e-5 and 10^-5.5 (>= 3 rates each)
+  BOOST_TEST_REQUIRE(good.representative() != nullptr, good.failure);
+  BOOST_TEST(good.rows[*good.chosen].rate_max == 1e-5);
+  BOOST_TEST(good.representative()->quality == "ok", good.representative()->quality_reason);
+  BOOST_TEST(good.reason.find("(1 compared)") != std::string::npos, good.reason);
+
+  // The fastest rate's pressure grows with phi - phi_J beyond the scaling form (a correction
+  // to scaling): its fit moves phi_J and the exponents away from the slower rates' fit.
+  auto corrected = synthetic(t, 7);
+  for (auto& row : corrected.front().pressure)
+    for (std::size_t k = 0; k < row.size(); ++k)
+      row[k] *= std::exp(3.0 * (corrected.front().phi[k] - t.phi_j));
+  const FitScan bad = scan_fits(corrected, scan_options(), all, "phi");
+  BOOST_TEST_REQUIRE(bad.rows.size() == 2u);
+  BOOST_TEST_REQUIRE(bad.rows[0].result.has_value(), bad.rows[0].failure);
+  BOOST_TEST_REQUIRE(bad.representative() != nullptr, bad.failure);
+  BOOST_TEST_MESSAGE("fastest rate_max: phi_J "
+                     << bad.rows[0].result->phi_j << " +- " << bad.rows[0].result->phi_j_err
+                     << ", slower: " << bad.representative()->phi_j << " +- "
+                     << bad.representative()->phi_j_err);
+  BOOST_TEST(bad.rows[*bad.chosen].rate_max == std::pow(10.0, -5.5));
+  BOOST_TEST(bad.representative()->quality == "poor");
+  BOOST_TEST(bad.representative()->quality_reason.find("no plateau") != std::string::npos,
+             bad.representative()->quality_reason);
+  BOOST_TEST(bad.reason.find("no rate_max from which") != std::string::npos, bad.reason);
+
+  // Three rates: one rate_max, nothing to confirm it.
+  auto three = synthetic(t, 7);
+  three.erase(three.begin());
+  const FitScan single = scan_fits(three, scan_options(), all, "phi");
+  BOOST_TEST_REQUIRE(single.rows.size() == 1u);
+  BOOST_TEST_REQUIRE(single.representative() != nullptr, single.failure);
+  BOOST_TEST(single.representative()->quality == "poor");
 }
