@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A campaign directory's products, kept where a lost machine cannot take them, and put back.
 
-    scripts/campaign_snapshot.py save RUN_DIR DEST [--jam build/jam]
+    scripts/campaign_snapshot.py save RUN_DIR DEST [--jam build/jam] [--max-partial-mb MB]
     scripts/campaign_snapshot.py restore DEST RUN_DIR
 
 save copies into DEST (a directory that can be committed or copied off the machine):
@@ -15,6 +15,10 @@ save copies into DEST (a directory that can be committed or copied off the machi
                  status.json), and replaces partial/ only when it holds nothing but
                  checkpoints and chained starts, so that it never deletes a file it did not
                  write.
+--max-partial-mb leaves out of partial/ any product larger than MB megabytes (a jamming-point
+search's checkpoint holds every configuration the search may bisect over: about 500 MB at N =
+32768 in 2D, too large to commit), and says which; its run then starts again from its
+beginning (or its chained start) after a restore.
 restore copies them back into RUN_DIR (runs/, runs/<name>.h5.checkpoint, chain/) and never
 overwrites a file there; it refuses while a campaign runs in RUN_DIR (its lock, .lock).
 `jam campaign run` then continues: done runs are not redone, partial ones resume from their
@@ -102,7 +106,7 @@ def check_dest(dest):
                  f"refusing to replace it")
 
 
-def save(run_dir, dest, jam):
+def save(run_dir, dest, jam, max_partial_bytes=None):
     check_dest(dest)
     text, status = campaign_status(jam, run_dir)
     runs = status["run"]
@@ -122,13 +126,17 @@ def save(run_dir, dest, jam):
                 copied += 1
     # The partial products: a new set in a temporary directory, then swapped in whole.
     staging = tempfile.mkdtemp(prefix=".partial-", dir=dest)
-    partial = []
+    partial, left_out = [], []
     for name, run in sorted(runs.items()):
         if run["status"] == "done":
             continue
         for source in (os.path.join(run_dir, "runs", name + ".h5.checkpoint"),
                        os.path.join(run_dir, "chain", name + ".start.h5")):
             try:
+                size = os.stat(source).st_size
+                if max_partial_bytes is not None and size > max_partial_bytes:
+                    left_out.append(f"{os.path.basename(source)} ({size / 1e6:.0f} MB)")
+                    continue
                 copy_atomic(source, os.path.join(staging, os.path.basename(source)))
                 partial.append(os.path.basename(source))
             except FileNotFoundError:
@@ -152,6 +160,9 @@ def save(run_dir, dest, jam):
     done = sum(1 for r in runs.values() if r["status"] == "done")
     print(f"campaign_snapshot: {dest}: {done}/{len(runs)} runs done ({copied} files copied, "
           f"{kept} kept), {len(partial)} partial products")
+    if left_out:
+        print(f"campaign_snapshot: left out, larger than --max-partial-mb (their runs start "
+              f"again after a restore): {', '.join(left_out)}")
 
 
 def restore(dest, run_dir):
@@ -208,6 +219,8 @@ def main():
     s.add_argument("dest")
     s.add_argument("--jam", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                  "..", "build", "jam"))
+    s.add_argument("--max-partial-mb", type=float, default=None,
+                   help="leave out of partial/ any product larger than this (megabytes)")
     r = sub.add_parser("restore", help="put a snapshot back into a campaign directory")
     r.add_argument("dest")
     r.add_argument("run_dir")
@@ -216,7 +229,10 @@ def main():
         if not os.path.isdir(a.run_dir):
             fail(f"RUN_DIR {a.run_dir}: no such directory")
         os.makedirs(a.dest, exist_ok=True)
-        save(a.run_dir, a.dest, a.jam)
+        limit = a.max_partial_mb
+        if limit is not None and not (limit >= 0 and limit != float("inf")):
+            fail(f"--max-partial-mb {limit}: must be a size in megabytes, 0 or more")
+        save(a.run_dir, a.dest, a.jam, None if limit is None else limit * 1e6)
     else:
         restore(a.dest, a.run_dir)
 

@@ -43,6 +43,17 @@ relax_energy = "1e-14"
 seed = 3
 output = "{output}"
 """
+def process_cpu_seconds(pid):
+    """User and system CPU seconds of a running process, all its threads (/proc/PID/stat);
+    0 once it is gone."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+    except FileNotFoundError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def record_cpu_seconds(run_dir, name):
     with open(os.path.join(run_dir, "runs", name + ".record"), "rb") as f:
         return float(tomllib.load(f)["cpu_seconds"])
@@ -88,7 +99,8 @@ class Snapshot(unittest.TestCase):
 
     def stopped_campaign(self, toml, run_dir, delay=0.5):
         """Runs the campaign and stops it with SIGTERM while its slow run is under way (delay
-        seconds after the fast run is done)."""
+        CPU seconds of the campaign's process after the fast run is done: on a loaded machine
+        wall seconds would stop it before the run has computed anything)."""
         process = subprocess.Popen([ARGS.jam, "campaign", "run", "--quiet", "--jobs", "1", toml],
                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         fast = os.path.join(run_dir, "runs", FAST + ".h5")
@@ -96,7 +108,10 @@ class Snapshot(unittest.TestCase):
         while not os.path.exists(fast) and process.poll() is None:
             self.assertLess(time.monotonic(), deadline, "the fast run never finished")
             time.sleep(0.02)
-        time.sleep(delay)
+        start = process_cpu_seconds(process.pid)
+        while process_cpu_seconds(process.pid) - start < delay and process.poll() is None:
+            self.assertLess(time.monotonic(), deadline, "the slow run never got the CPU")
+            time.sleep(0.02)
         process.send_signal(signal.SIGTERM)
         _, err = process.communicate(timeout=120)
         checkpoint = os.path.join(run_dir, "runs", SLOW + ".h5.checkpoint")
@@ -133,6 +148,24 @@ class Snapshot(unittest.TestCase):
         result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertTrue(os.path.isfile(os.path.join(dest, ".jam-snapshot")))
+        # A checkpoint over --max-partial-mb is left out and named; the start (smaller) is kept.
+        checkpoint = os.path.join(run_dir, "runs", SLOW + ".h5.checkpoint")
+        start = os.path.join(run_dir, "chain", SLOW + ".start.h5")
+        limit = (os.path.getsize(checkpoint) + os.path.getsize(start)) / 2e6
+        self.assertLess(os.path.getsize(start), os.path.getsize(checkpoint))
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam, "--max-partial-mb",
+                               str(limit))
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("left out", result.stdout)
+        self.assertIn(SLOW + ".h5.checkpoint", result.stdout)
+        self.assertEqual(os.listdir(os.path.join(dest, "partial")), [SLOW + ".start.h5"])
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam, "--max-partial-mb",
+                               "-1")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("--max-partial-mb", result.stderr)
+        result = self.snapshot("save", run_dir, dest, "--jam", ARGS.jam)  # no limit: all again
+        self.assertEqual(sorted(os.listdir(os.path.join(dest, "partial"))),
+                         [SLOW + ".h5.checkpoint", SLOW + ".start.h5"])
 
         shutil.rmtree(run_dir)  # the machine is lost
         result = self.snapshot("restore", dest, run_dir)
