@@ -43,6 +43,8 @@ relax_energy = "1e-14"
 seed = 3
 output = "{output}"
 """
+
+
 def process_cpu_seconds(pid):
     """User and system CPU seconds of a running process, all its threads (/proc/PID/stat);
     0 once it is gone."""
