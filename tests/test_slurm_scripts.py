@@ -166,6 +166,7 @@ class Chain:
         log = open(os.path.join(self.dir, f"job-{slurm['SLURM_JOB_ID']}.log"), "w+")
         p = subprocess.Popen([script or argv[at], *argv[at + 1:]], cwd=call["cwd"], env=full,
                              stdout=log, stderr=subprocess.STDOUT)
+        self.test.addCleanup(log.close)  # finish() closes it; this, when a test fails first
         p.log = log
         p.term_after = term_after
         return p
@@ -201,7 +202,16 @@ class Chain:
         for p in procs:
             if p.term_after is not None:
                 self.wait_for_a_run(p, p.term_after)
+                # jam is held (SIGSTOP) until the script has passed the SIGTERM on, so the
+                # signal cannot come after jam finished its last run on a fast machine.
+                jam, = children(p.pid)
+                os.kill(jam, signal.SIGSTOP)
                 p.send_signal(signal.SIGTERM)
+                deadline = time.time() + 30
+                while not signal_pending(jam, signal.SIGTERM):
+                    self.test.assertLess(time.time(), deadline, "SIGTERM not passed on")
+                    time.sleep(0.01)
+                os.kill(jam, signal.SIGCONT)
         out = []
         for p in procs:
             rc = p.wait(timeout=300)
@@ -221,6 +231,14 @@ class Chain:
         os.makedirs(os.path.join(self.campaign_dir, "slurm"), exist_ok=True)
         with open(os.path.join(self.campaign_dir, "slurm", name), "w") as f:
             f.write(text)
+
+
+def signal_pending(pid, sig):
+    """Whether signal sig waits for process pid (its shared or its thread's pending set)."""
+    with open(f"/proc/{pid}/status") as f:
+        masks = [int(line.split()[1], 16) for line in f
+                 if line.startswith(("ShdPnd:", "SigPnd:"))]
+    return any(m >> (sig - 1) & 1 for m in masks)
 
 
 def children(pid):
@@ -328,7 +346,7 @@ class SlurmScripts(unittest.TestCase):
                      "--", "--log-every", "5")
         work, finish, step = self.submitted(chain, 0)
         self.assertEqual(work["argv"][-3:], [chain.file, "--log-every", "5"])
-        ids, procs = chain.array_tasks(work, {3: {"term_after": 1.0}})
+        ids, procs = chain.array_tasks(work, {3: {"term_after": 0.2}})
         self.assertEqual(ids, [1, 3])
         (rc1, log1), (rc3, log3) = chain.finish(procs)
         self.assertEqual(rc1, 0, log1)
@@ -378,15 +396,18 @@ class SlurmScripts(unittest.TestCase):
         self.assertEqual(script_of(work["argv"]), "campaign-mpi.sbatch")
         self.assertIsNone(option(work["argv"], "array"))
         p = chain.job(work, {"SLURM_JOB_ID": work["job"], "SLURM_CPUS_PER_TASK": 2})
-        chain.wait_for_a_run(p, 1.0)
+        chain.wait_for_a_run(p, 0.2)
         jam, = children(p.pid)  # the fake srun is jam (exec)
+        # Held (SIGSTOP) so that it cannot finish the campaign while the test looks.
+        os.kill(jam, signal.SIGSTOP)
         # A SIGTERM to the batch shell is not passed on: srun would SIGKILL the ranks.
         p.send_signal(signal.SIGTERM)
         time.sleep(0.5)
         self.assertIsNone(p.poll())
-        os.kill(jam, 0)
+        self.assertFalse(signal_pending(jam, signal.SIGTERM))
         # --signal=TERM@300 (no B:): Slurm signals the job step's tasks, here jam.
         os.kill(jam, signal.SIGTERM)
+        os.kill(jam, signal.SIGCONT)
         (rc, log), = chain.finish([p])
         self.assertEqual(rc, 130, log)
         self.assertIn("waiting for the job step", log)
