@@ -52,13 +52,14 @@ struct ScanRow {
 /// The paper's scan (its Fig. 2): the fit for every phi window and rate_max, and the row taken
 /// as representative, with the reason.
 struct FitScan {
-  std::vector<ScanRow> rows;
+  std::vector<ScanRow> rows;          // each fit with its own quality test
   std::optional<std::size_t> chosen;  // the representative row
   std::string reason;                 // why that row
   std::string failure;                // why there is none
-  const ScalingFitResult* representative() const {
-    return chosen && rows[*chosen].result ? &*rows[*chosen].result : nullptr;
-  }
+  // The chosen row's fit as the representative: flagged poor when no plateau confirms it,
+  // while its row in `rows` keeps the verdict of its own quality test.
+  std::optional<ScalingFitResult> chosen_fit;
+  const ScalingFitResult* representative() const { return chosen_fit ? &*chosen_fit : nullptr; }
 };
 
 /// Rates of the fitted ensembles that the phi_init check clears (no memory of the start within

@@ -142,9 +142,10 @@ FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
     // nothing, and taking it as "stable" would call any scan stable.
     if (!stable || compared == 0) continue;
     scan.chosen = rows[i];
+    scan.chosen_fit = candidate.result;
     scan.reason = fmt::format(
-        "narrowest window (+-{:g}); rate_max {:.3g}: the largest from which phi_J, q and 1/(z nu) "
-        "agree within {:g} sigma with the fit at every slower rate_max ({} compared); {}",
+        "narrowest window (+-{:g}); rate_max {:.3g}: the largest whose phi_J, q and 1/(z nu) "
+        "agree within {:g} sigma with every slower rate_max's fit ({} compared); {}",
         narrowest, candidate.rate_max, kAgreement, compared, clearance.note);
     return scan;
   }
@@ -154,12 +155,13 @@ FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
   for (std::size_t i = rows.size(); i-- > 0;) {
     if (!scan.rows[rows[i]].result) continue;
     scan.chosen = rows[i];
+    scan.chosen_fit = scan.rows[rows[i]].result;
     scan.reason = fmt::format(
-        "narrowest window (+-{:g}); no rate_max from which the fits agree within {:g} sigma with "
-        "a slower one and every slower one (or none of quality ok): the slowest rate_max {:.3g} "
-        "taken; {}",
+        "narrowest window (+-{:g}); no plateau (no fit of quality ok agrees within {:g} sigma "
+        "with every slower rate_max's fit, at least one): the slowest rate_max, {:.3g}, taken "
+        "and flagged poor; {}",
         narrowest, kAgreement, scan.rows[rows[i]].rate_max, clearance.note);
-    ScalingFitResult& r = *scan.rows[rows[i]].result;
+    ScalingFitResult& r = *scan.chosen_fit;
     r.quality = "poor";
     r.quality_reason += std::string(r.quality_reason.empty() ? "" : "; ") +
                         "no plateau: no slower rate_max confirms this fit (the scan)";
