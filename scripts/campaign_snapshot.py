@@ -37,35 +37,27 @@ import os
 import shutil
 import stat
 import subprocess
-import sys
 import tempfile
 
+from script_files import Staged, fail  # noqa: E402 (beside this script)
+from jamio.errors import JamioError  # noqa: E402 (script_files puts python/ on the path)
 
 MARK = ".jam-snapshot"
 PARTIAL = (".h5.checkpoint", ".start.h5")  # what save puts in partial/
 
 
-def fail(message):
-    print(f"campaign_snapshot: {message}", file=sys.stderr)
-    sys.exit(2)
-
-
 def copy_atomic(source, target):
     """Copies the regular file source to target through a temporary file in target's
     directory (FileNotFoundError when source is gone)."""
-    if not stat.S_ISREG(os.stat(source).st_mode):
-        fail(f"{source}: not a regular file")
     os.makedirs(os.path.dirname(target), exist_ok=True)
-    fd, temporary = tempfile.mkstemp(prefix=".snapshot-", dir=os.path.dirname(target))
-    try:
-        with os.fdopen(fd, "wb") as out, open(source, "rb") as inp:
-            shutil.copyfileobj(inp, out)
-        shutil.copystat(source, temporary)
-        os.replace(temporary, target)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
+    with Staged() as staged:
+        try:
+            staged.copy(source, target)
+        except JamioError as e:
+            if e.missing:
+                raise FileNotFoundError(source) from None
+            fail(str(e))
+        staged.commit()
 
 
 def campaign_status(jam, run_dir):

@@ -6,7 +6,8 @@
     open_input(path, field)            the same, opened for reading (binary)
     refuse_same(output, field, input, input_field)
                                        fail when the output path is the input file
-    Staged, write_text                 outputs written whole or not at all
+    Staged, write_text                 outputs written whole or not at all (Staged.copy:
+                                       a regular file's copy)
 
 An output is written under a temporary name in its own directory (the same file system, so the
 rename is atomic) and renamed into place when complete: a failure part-way leaves the old file
@@ -88,10 +89,15 @@ class Staged:
             out.write(text.encode())
 
     def copy(self, source, target):
-        temporary, out = self._open(target)
-        with out, open(source, "rb") as inp:
-            shutil.copyfileobj(inp, out)
-        shutil.copystat(source, temporary)
+        """Copies the regular file `source` (jamio's open_regular: JamioError, with `missing`
+        when it does not exist; a FIFO, which would block the copy, refused) with its mode and
+        times."""
+        from jamio.errors import open_regular
+        with open_regular(source, "file") as inp:
+            temporary, out = self._open(target)
+            with out:
+                shutil.copyfileobj(inp, out)
+            shutil.copystat(source, temporary)
 
     def commit(self):
         while self.pending:

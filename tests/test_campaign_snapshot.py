@@ -259,7 +259,8 @@ class Snapshot(unittest.TestCase):
                                  os.path.join(self.dir, "a")], capture_output=True, text=True,
                                 timeout=60)
         self.assertEqual(result.returncode, 2)
-        self.assertIn("not a regular file", result.stderr)
+        self.assertIn("is a FIFO", result.stderr)
+        self.assertEqual(os.listdir(os.path.join(self.dir, "a", "runs")), [])  # no temporary
         run_dir = os.path.join(self.dir, "b")
         os.makedirs(run_dir)
         os.mkfifo(os.path.join(run_dir, ".lock"))

@@ -131,6 +131,24 @@ class Scripts(unittest.TestCase):
         r = self.script("fit_to_json.py", self.fifo(), os.path.join(self.dir, "fit.json"))
         self.assertRefused(r, "STATS_H5", "FIFO")
 
+    # script_files.py
+
+    def test_staged_copy_refuses_a_fifo_and_leaves_nothing(self):
+        sys.path.insert(0, os.path.join(os.path.abspath(ARGS.source), "scripts"))
+        import script_files
+        from jamio.errors import JamioError
+        fifo, target = self.fifo(), os.path.join(self.dir, "copy.h5")
+        with script_files.Staged() as staged:
+            with self.assertRaises(JamioError) as refused:
+                staged.copy(fifo, target)  # a plain open would wait for a writer for ever
+            staged.commit()
+        self.assertIn("FIFO", str(refused.exception))
+        with script_files.Staged() as staged:
+            with self.assertRaises(JamioError) as refused:
+                staged.copy(os.path.join(self.dir, "gone.h5"), target)
+        self.assertTrue(refused.exception.missing)
+        self.assertEqual(os.listdir(self.dir), ["fifo.h5"])
+
     # variance_reduction.py
 
     def test_variance_reduction_refuses_a_fifo(self):
