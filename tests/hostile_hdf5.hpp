@@ -275,7 +275,9 @@ inline void write_template_checkpoint(const std::string& path, const std::string
     o.time = static_cast<double>(k);
     st.points.push_back(o);
   }
-  for (int k = 0; k < 2; ++k) st.saved.push_back({0.7 + 0.01 * k, std::vector<double>(2 * n, 0.5)});
+  // A jamming-point search under way: the first configuration released, three kept.
+  st.saved.push_back({0.70, {}});
+  for (int k = 1; k < 4; ++k) st.saved.push_back({0.7 + 0.01 * k, std::vector<double>(2 * n, 0.5)});
   st.jamming_answers = {0, 1, 1};
   st.cpu_seconds = 12.5;
   const StepperState stepper = {{"velocity_0", std::vector<double>(n, 0.0)},

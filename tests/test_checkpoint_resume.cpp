@@ -4,6 +4,7 @@
 // search killed or stopped resumes from its last checkpointed decision.
 #include <signal.h>
 
+#include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <chrono>
 #include <filesystem>
@@ -196,6 +197,17 @@ BOOST_AUTO_TEST_CASE(jamming_search_killed_and_stopped_resumes_from_its_decision
   const std::size_t stopped_at = decisions_in(checkpoint);
   BOOST_TEST(stopped_at > killed_at);
   BOOST_TEST(stopped_at < minimizations);
+  {
+    // After the two ends and at least one bisection the checkpoint keeps one bracket of at
+    // most half the configurations (their positions only: every packing stays listed).
+    const auto f = jam::h5::File::open_read(checkpoint.string());
+    const auto kept = f.read_dataset_u32("saved_kept");
+    const std::size_t count = std::count(kept.begin(), kept.end(), 1u);
+    BOOST_TEST(f.read_dataset("saved_packing_fraction").size() == kept.size());
+    BOOST_TEST(count >= 2u);
+    BOOST_TEST(count <= kept.size() / 2 + 1);
+    BOOST_TEST(f.read_dataset("saved_s").size() == count * 2 * 1024);
+  }
 
   BOOST_TEST_REQUIRE(wait_for(spawn_jam(interrupted)) == 0);
   BOOST_TEST(!fs::exists(checkpoint));

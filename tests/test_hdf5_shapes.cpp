@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <csignal>
@@ -301,7 +302,7 @@ BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_short_per_particle_fields_is_refused
   const fs::path saved =
       forged_checkpoint("saved.h5", [](Editor& e) { e.set_doubles("saved_s", {0.5}); });
   expect(isolated([&] { return read_checkpoint(saved); }),
-         "dataset 'saved_s' has 1 values, expected 32");
+         "dataset 'saved_s' has 1 values, expected 48");
   const fs::path type = forged_checkpoint(
       "type.h5", [](Editor& e) { e.set_dataset("type", ValueClass::kInteger, {3}); });
   expect(isolated([&] { return read_checkpoint(type); }),
@@ -323,6 +324,28 @@ BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_forged_jamming_answers_is_refused) {
   });
   expect(isolated([&] { return read_checkpoint(two); }),
          "dataset 'jamming_answers' holds 2, not 0 or 1");
+}
+
+BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_forged_kept_configurations_is_refused) {
+  // The search keeps one bracket of saved configurations (at least its two ends) and releases
+  // the rest; saved_s holds the kept ones only, so the flags decide where each one starts.
+  const std::pair<std::array<std::int64_t, 4>, const char*> cases[] = {
+      {{0, 2, 1, 1}, "dataset 'saved_kept' holds 2, not 0 or 1"},
+      {{1, 0, 1, 1},
+       "dataset 'saved_kept' keeps 3 of 4 configurations, not one bracket of at least 2"},
+      {{0, 0, 0, 1},
+       "dataset 'saved_kept' keeps 1 of 4 configurations, not one bracket of at least 2"}};
+  for (const auto& [values, message] : cases) {
+    const std::string bytes(reinterpret_cast<const char*>(values.data()), sizeof values);
+    const fs::path file = forged_checkpoint("kept.h5", [&](Editor& e) {
+      e.set_dataset("saved_kept", ValueClass::kInteger, {4}, bytes);
+    });
+    expect(isolated([&] { return read_checkpoint(file); }), message);
+  }
+  const fs::path longer = forged_checkpoint(
+      "kept-long.h5", [](Editor& e) { e.set_dataset("saved_kept", ValueClass::kInteger, {5}); });
+  expect(isolated([&] { return read_checkpoint(longer); }),
+         "dataset 'saved_kept' has 5 values, expected 4");
 }
 
 BOOST_AUTO_TEST_CASE(sealed_checkpoint_with_negative_cpu_seconds_is_refused) {
@@ -465,7 +488,10 @@ BOOST_AUTO_TEST_CASE(valid_files_still_read_and_verify) {
   const auto c = jam::read_checkpoint<2>(checkpoint.string(), kFingerprint);
   BOOST_REQUIRE(c.has_value());
   BOOST_TEST(c->state.points.size() == 3u);
-  BOOST_TEST(c->state.saved.size() == 2u);
+  BOOST_TEST_REQUIRE(c->state.saved.size() == 4u);
+  BOOST_TEST(c->state.saved[0].s.empty());  // released by the search
+  BOOST_TEST(c->state.saved[1].s.size() == 16u);
+  BOOST_TEST(c->state.saved[3].packing_fraction == 0.73);
   BOOST_TEST((c->state.jamming_answers == jam::JammingAnswers{0, 1, 1}));
   BOOST_TEST(c->state.cpu_seconds == 12.5);
   BOOST_TEST(c->stepper.size() == 3u);

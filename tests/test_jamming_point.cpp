@@ -96,18 +96,38 @@ BOOST_AUTO_TEST_CASE(a_resumed_search_replays_its_decisions) {
   std::vector<SavedConfiguration> saved;
   for (int k = 0; k <= 12; ++k) saved.push_back({0.78 + 0.01 * k, s});
 
+  // The search releases the configurations its bracket leaves: the checkpoint taken after
+  // each decision (here: a copy of what the search still holds) shrinks with it.
+  const std::size_t half_way = 6;  // 2 ends, then 3-4 bisections bring 13 down to 2
   JammingAnswers answers;
-  const JammingPoint full = find_jamming_point(sys, saved, nullptr, &answers);
+  std::vector<SavedConfiguration> work = saved, checkpointed;
+  const JammingPoint full = find_jamming_point(sys, work, nullptr, &answers, [&] {
+    if (answers.size() == half_way) checkpointed = work;
+  });
   BOOST_TEST_REQUIRE(full.bracketed);
   BOOST_TEST(full.replayed == 0);
   BOOST_TEST(answers.size() == static_cast<std::size_t>(full.minimizations));
   BOOST_TEST(full.minimizations > 8);  // 2 ends, ~4 bisections over 13, ~10 refinements
+  const auto kept = [](const std::vector<SavedConfiguration>& v) {
+    std::vector<double> phi;
+    for (const auto& c : v)
+      if (!c.s.empty()) phi.push_back(c.packing_fraction);
+    return phi;
+  };
+  const auto bracket = kept(work);  // the two ends the refinement interpolated between
+  BOOST_TEST_REQUIRE(bracket.size() == 2u);
+  BOOST_TEST(std::abs(bracket[1] - bracket[0] - 0.01) < 1e-12);
+  BOOST_TEST(bracket[0] < full.packing_fraction);
+  BOOST_TEST(full.packing_fraction < bracket[1]);
+  BOOST_TEST_REQUIRE(checkpointed.size() == saved.size());
+  BOOST_TEST(kept(checkpointed).size() == 2u);
 
-  // Stopped after half its decisions: the resumed search minimizes only the rest, and lands on
-  // the same point bit for bit (the same minimizations from the same configurations).
-  JammingAnswers half(answers.begin(), answers.begin() + full.minimizations / 2);
-  const JammingPoint resumed = find_jamming_point(sys, saved, nullptr, &half);
-  BOOST_TEST(resumed.replayed == full.minimizations / 2);
+  // Stopped after those decisions: the resumed search, from the configurations it had kept,
+  // minimizes only the rest and lands on the same point bit for bit (the same minimizations
+  // from the same configurations).
+  JammingAnswers half(answers.begin(), answers.begin() + half_way);
+  const JammingPoint resumed = find_jamming_point(sys, checkpointed, nullptr, &half);
+  BOOST_TEST(resumed.replayed == static_cast<int>(half_way));
   BOOST_TEST(resumed.minimizations == full.minimizations);
   BOOST_TEST(resumed.packing_fraction == full.packing_fraction);
   BOOST_TEST((half == answers));
@@ -116,7 +136,18 @@ BOOST_AUTO_TEST_CASE(a_resumed_search_replays_its_decisions) {
   // another bracket, so a replay that ignored them would go unnoticed no more.
   JammingAnswers flipped(answers.begin(), answers.begin() + 3);
   flipped[2] = 1 - flipped[2];
-  const JammingPoint misled = find_jamming_point(sys, saved, nullptr, &flipped);
+  std::vector<SavedConfiguration> all = saved;
+  const JammingPoint misled = find_jamming_point(sys, all, nullptr, &flipped);
   BOOST_TEST(misled.replayed == 3);
   BOOST_TEST(std::abs(misled.packing_fraction - full.packing_fraction) > 1e-3);
+
+  // Answers that lead outside what was kept (a checkpoint that contradicts itself) are an
+  // error, not a minimization of an empty configuration.
+  std::vector<SavedConfiguration> pruned = work;
+  JammingAnswers misleading(answers.begin(), answers.begin() + 3);
+  misleading[2] = 1 - misleading[2];
+  BOOST_CHECK_EXCEPTION(find_jamming_point(sys, pruned, nullptr, &misleading), std::runtime_error,
+                        [](const std::runtime_error& e) {
+                          return std::string(e.what()).find("was not kept") != std::string::npos;
+                        });
 }

@@ -78,12 +78,17 @@ void write_checkpoint(const std::string& path, const std::string& fingerprint,
     for (const auto& pt : state.points)
       for (const auto& row : pt.stress) stress.insert(stress.end(), row.begin(), row.end());
     f.write_dataset("points_stress", stress);
+    // Every saved packing; the positions of those the jamming-point search still keeps (1 in
+    // saved_kept: one contiguous bracket once the search has released the rest).
     std::vector<double> saved_phi, saved_s;
+    std::vector<std::uint32_t> saved_kept;
     for (const auto& c : state.saved) {
       saved_phi.push_back(c.packing_fraction);
+      saved_kept.push_back(c.s.empty() ? 0 : 1);
       saved_s.insert(saved_s.end(), c.s.begin(), c.s.end());
     }
     f.write_dataset("saved_packing_fraction", saved_phi);
+    f.write_dataset("saved_kept", saved_kept);
     f.write_dataset("saved_s", saved_s);
     f.write_dataset("jamming_answers", state.jamming_answers);
     for (const auto& [name, values] : stepper) f.write_dataset("stepper_" + name, values);
@@ -191,10 +196,31 @@ template <int D>
 void read_saved(const h5::File& f, RunState<D>& s, std::size_t n) {
   const auto saved_phi = f.read_dataset("saved_packing_fraction", h5::at_most(kMaxPoints));
   const std::size_t per = D * n;
-  const auto saved_s = f.read_dataset("saved_s", h5::exactly(saved_phi.size() * per));
+  // Checkpoints from before the search released configurations keep them all.
+  std::vector<std::uint32_t> kept(saved_phi.size(), 1);
+  if (f.has_dataset("saved_kept"))
+    kept = f.read_dataset_u32("saved_kept", h5::exactly(saved_phi.size()));
+  std::size_t runs_of_kept = 0, count = 0;
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    if (kept[k] > 1) {
+      throw std::runtime_error(
+          fmt::format("{}: dataset 'saved_kept' holds {}, not 0 or 1", f.path(), kept[k]));
+    }
+    count += kept[k];
+    runs_of_kept += kept[k] == 1 && (k == 0 || kept[k - 1] == 0);
+  }
+  if (runs_of_kept > 1 || (count < kept.size() && count < 2)) {
+    throw std::runtime_error(fmt::format(
+        "{}: dataset 'saved_kept' keeps {} of {} configurations, not one bracket of at least 2",
+        f.path(), count, kept.size()));
+  }
+  const auto saved_s = f.read_dataset("saved_s", h5::exactly(count * per));
+  auto first = saved_s.begin();
   for (std::size_t k = 0; k < saved_phi.size(); ++k) {
-    const auto first = saved_s.begin() + static_cast<long>(k * per);
-    s.saved.push_back({saved_phi[k], std::vector<double>(first, first + static_cast<long>(per))});
+    s.saved.push_back({saved_phi[k], {}});
+    if (kept[k] == 0) continue;
+    s.saved.back().s.assign(first, first + static_cast<long>(per));
+    first += static_cast<long>(per);
   }
   // A stopped jamming-point search's decisions (0 or 1 each); checkpoints from before they
   // were kept have none, and the search then starts over. A bisection over at most kMaxPoints
