@@ -14,7 +14,7 @@
 // linearly with phi - phi_Ji (p ~ 1e-5 at 1e-4 above), so 1e-8 separates the two cleanly.
 // As the bisection narrows its bracket, the configurations outside it are released: they are
 // never needed again, and the run's checkpoints shrink with them (at N = 32768 in 2D all of
-// them take 505 MB, after four decisions a sixteenth of that).
+// them take 505 MB, after four bisection decisions a sixteenth of that).
 #include <cmath>
 #include <cstdint>
 #include <limits>
