@@ -45,6 +45,9 @@ LONGEST = 300
 # so values are cut shorter there, and at most SUMMARY_ROWS verdicts are listed.
 SUMMARY_LONGEST = 120
 SUMMARY_ROWS = 2000
+# A figure's caption is jam's own sentences with numbers (the longest about 800 characters):
+# shown whole, bounded only against a value in it grown out of all proportion.
+CAPTION_LONGEST = 4000
 
 
 def plain(x, longest=LONGEST, lines=False):
@@ -251,7 +254,7 @@ def _figure_section(f):
              f"<a href='{text(f.svg)}'>SVG</a> &middot; <a href='{text(f.csv)}'>"
              "CSV of the plotted numbers</a></p>")
     body = (f"<figure><img src='{text(f.file)}' alt='{text(f.title)}'>"
-            f"<figcaption>{text(f.caption)}</figcaption></figure>{files}")
+            f"<figcaption>{text(f.caption, longest=CAPTION_LONGEST)}</figcaption></figure>{files}")
     return _section("figure-" + f.stem, f.title, body)
 
 

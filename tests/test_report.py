@@ -185,6 +185,15 @@ class Report(unittest.TestCase):
         self.assertIn("feel the finite size" if fitted else "the rate&#x27;s scale is not drawn",
                       self.page)
 
+    def test_captions_are_whole(self):
+        # Captions run to several hundred characters (the fit's reason, the paper's values
+        # cited): none may be cut as an over-long value would be ("... (N characters)").
+        captions = re.findall(r"<figcaption>(.*?)</figcaption>", self.page, re.S)
+        self.assertGreater(len(captions), 5)
+        self.assertGreater(max(map(len, captions)), 300, "no long caption to test with")
+        for caption in captions:
+            self.assertNotRegex(caption, r"\.\.\. \(\d+ characters\)$")
+
     def test_verdicts_folded_per_check_after_the_figures(self):
         with open(os.path.join(self.work, "runs", "ci", "checks.json")) as f:
             verdicts = json.load(f)["verdicts"]
@@ -280,6 +289,50 @@ class Report(unittest.TestCase):
         self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
         self.assertIn("stats.h5", r.stderr)
         self.assertFalse(os.path.exists(os.path.join(self.work, "reports", "x")))
+
+
+class WidthPowerLaw(unittest.TestCase):
+    """The fit of Delta phi_J(N) = a N^-w in the jamming-width figure, on planted widths: each
+    the standard deviation of 10 normal values, so each log width scatters by about 0.25."""
+
+    @staticmethod
+    def law():
+        sys.path.insert(0, os.path.join(os.path.abspath(ARGS.source), "reports"))
+        from report_figures_jamming import width_power_law
+        return width_power_law
+
+    def planted(self, w, seed):
+        rng = np.random.default_rng(seed)
+        sizes = [256, 1024, 4096, 16384, 32768]
+        widths = [float(np.std(rng.normal(0.84, 0.03 * n ** -w, 10), ddof=1)) for n in sizes]
+        return self.law()(sizes, widths, [10] * len(sizes))
+
+    def test_recovers_the_planted_exponent_within_its_error(self):
+        # Over 400 planted sets the error covers the planted w about as a standard error should:
+        # within 2 errors in about 95% (a wrong error, x2 or /2, gives ~100% or ~68%).
+        for w in (0.5, 0.25):
+            inside = sum(abs(self.planted(w, seed)[0] - w) < 2 * self.planted(w, seed)[1]
+                         for seed in range(400))
+            self.assertGreater(inside, 0.90 * 400, w)
+            self.assertLess(inside, 0.99 * 400, w)
+
+    def test_log_width_variance_is_the_scatter_of_log_s(self):
+        sys.path.insert(0, os.path.join(os.path.abspath(ARGS.source), "reports"))
+        from report_figures_jamming import log_width_variance
+        rng = np.random.default_rng(3)
+        for n in (2, 3, 10, 11):
+            logs = np.log(np.std(rng.normal(size=(200000, n)), axis=1, ddof=1))
+            # 200000 draws: the sample variance is good to about 0.3% (kurtosis near 3)
+            self.assertAlmostEqual(float(np.var(logs)) / log_width_variance(n), 1.0, delta=0.015)
+
+    def test_tells_one_half_from_one_quarter(self):
+        # Five sizes over a factor 128 in N, 10 samples each: w's error is about 0.063, so 0.25
+        # and 0.5 lie four errors apart, and a fit of planted 0.25 puts 0.5 beyond two of its
+        # errors in about 97% of the sets (measured 0.978 over 400).
+        fits = [self.planted(0.25, seed) for seed in range(400)]
+        told = sum(abs(w - 0.5) > 2 * e for w, e, _, _ in fits)
+        self.assertGreater(told, 0.93 * 400)
+        self.assertIsNone(self.law()([256, 1024], [0.002, 0.001], [10, 10]))
 
 
 if __name__ == "__main__":
