@@ -59,8 +59,9 @@ def width_power_law(sizes, widths, runs):
 
 
 def jamming_width_figure(c, out_dir):
-    """Left: phi_Ji histograms per size (slowest rate, every phi_init pooled). Right: their
-    standard deviation Delta phi_J(N) against N, with the rate's scale as a line."""
+    """Left: phi_Ji histograms per size (slowest rate, every phi_init pooled). Middle: their
+    standard deviation Delta phi_J(N) against N with its errors, the power law fitted to it and
+    the rate's scale as a line. Right: their mean <phi_Ji> against N."""
     by_size, slowest = _slowest_found(c)
     if not by_size:
         return None

@@ -39,8 +39,8 @@ import stat
 import subprocess
 import tempfile
 
-from script_files import Staged, fail  # noqa: E402 (beside this script)
-from jamio.errors import JamioError  # noqa: E402 (script_files puts python/ on the path)
+from script_files import Staged, fail  # beside this script
+from jamio.errors import JamioError  # script_files puts python/ on the path
 
 MARK = ".jam-snapshot"
 PARTIAL = (".h5.checkpoint", ".start.h5")  # what save puts in partial/
