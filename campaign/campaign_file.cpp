@@ -47,7 +47,7 @@ class Reader {
     const toml::node* node = find(key, required);
     if (!node) return fallback;
     if (!node->is_number()) fail(key, "must be a number");
-    const double v = node->value<double>().value();
+    const double v = *toml_number(node);
     if (!std::isfinite(v)) fail(key, "must be finite");
     return v;
   }
@@ -87,7 +87,7 @@ class Reader {
   /// A string, or a number as its text ("auto"-or-number keys: tolerance, relax_energy).
   std::string text(const std::string& key, bool required, const std::string& fallback) {
     const toml::node* node = find(key, required);
-    if (node && node->is_number()) return fmt::format("{:.17g}", node->value<double>().value());
+    if (node && node->is_number()) return fmt::format("{:.17g}", *toml_number(node));
     return string(key, required, fallback);
   }
 
@@ -131,7 +131,7 @@ class Reader {
       const std::string k(name.str());
       if (!allowed.count(k)) fail(key, fmt::format("{}: unknown check", k));
       if (!value.is_number()) fail(key, fmt::format("{}: must be a number", k));
-      const double v = value.value<double>().value();
+      const double v = *toml_number(&value);
       if (!std::isfinite(v) || v <= 0) fail(key, fmt::format("{} = {}: must be > 0", k, v));
       out[k] = v;
     }
@@ -153,7 +153,7 @@ class Reader {
     if (!array) fail(key, shape);
     for (const auto& element : *array) {
       if (!element.is_number()) fail(key, shape);
-      v.push_back(element.value<double>().value());
+      v.push_back(*toml_number(&element));
       if (!std::isfinite(v.back())) fail(key, "values must be finite");
     }
     return v;

@@ -33,7 +33,7 @@ std::string text_of(const toml::table& t, const char* key, const std::string& wh
 }
 
 double number_of(const toml::table& t, const char* key, const std::string& where) {
-  const auto v = t[key].value<double>();
+  const auto v = toml_number(t.get(key));
   if (!v || !std::isfinite(*v))
     throw std::runtime_error(fmt::format("{}: missing or not a number: {}", where, key));
   return *v;
@@ -43,6 +43,12 @@ double number_of(const toml::table& t, const char* key, const std::string& where
 /// out of range or truncated without a word.
 std::int64_t whole_of(const toml::table& t, const char* key, const std::string& where,
                       std::int64_t lo, std::int64_t hi) {
+  // A TOML integer is judged as written: rounded to a double, 2^53 + 1 would pass as 2^53.
+  if (const auto* exact = t.get(key) ? t.get(key)->as_integer() : nullptr) {
+    if (exact->get() >= lo && exact->get() <= hi) return exact->get();
+    throw std::runtime_error(fmt::format("{}: {} = {} is not a whole number in [{}, {}]", where,
+                                         key, exact->get(), lo, hi));
+  }
   const double v = number_of(t, key, where);
   if (const auto whole = whole_number(v, lo, hi)) return *whole;
   throw std::runtime_error(

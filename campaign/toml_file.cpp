@@ -24,6 +24,13 @@ std::optional<NonAsciiByte> first_non_ascii(std::string_view text) {
   return std::nullopt;
 }
 
+std::optional<double> toml_number(const toml::node* node) {
+  if (!node) return std::nullopt;
+  if (const auto* f = node->as_floating_point()) return f->get();
+  if (const auto* i = node->as_integer()) return static_cast<double>(i->get());
+  return std::nullopt;
+}
+
 std::string toml_text(const toml::table& table) {
   std::ostringstream text;
   text << toml::toml_formatter{

@@ -29,6 +29,12 @@ inline constexpr std::size_t kMaxTomlBytes = std::size_t{64} << 20;
 /// are written as \uXXXX escapes, so that read_toml_file reads back whatever jam wrote.
 std::string toml_text(const toml::table& table);
 
+/// A TOML number as a double: a float as it is, an integer rounded to the nearest double.
+/// (toml++'s value<double>() is empty for an integer beyond 2^53 in magnitude, one that no
+/// double holds exactly: found by fuzzing the campaign reader.) Empty when `node` is absent or
+/// not a number.
+std::optional<double> toml_number(const toml::node* node);
+
 /// `path` parsed, or std::runtime_error "<path>[:line]: <cause>" (`what` names the kind of
 /// file in the message about a special file).
 toml::table read_toml_file(const std::string& what, const std::string& path);
