@@ -18,9 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 double number(const toml::table& t, const char* key, const std::string& path) {
-  const auto* node = t.get(key);
-  if (node && node->is_integer()) return static_cast<double>(node->value<std::int64_t>().value());
-  if (node && node->is_floating_point()) return node->value<double>().value();
+  if (const auto v = toml_number(t.get(key))) return *v;
   throw CampaignError(fmt::format("{}: ensemble needs a number '{}'", path, key));
 }
 

@@ -170,8 +170,8 @@ std::optional<RunRecord> read_run_record(const PlannedRun& run) {
     const toml::table t = read_toml_file("run record", path);
     RunRecord r;
     r.status = t["status"].value_or(std::string());
-    r.wall_seconds = t["wall_seconds"].value_or(0.0);
-    r.cpu_seconds = t["cpu_seconds"].value_or(0.0);
+    r.wall_seconds = toml_number(t.get("wall_seconds")).value_or(0.0);
+    r.cpu_seconds = toml_number(t.get("cpu_seconds")).value_or(0.0);
     r.steps = t["steps"].value_or(std::int64_t{0});
     r.particle_steps = t["particle_steps"].value_or(std::int64_t{0});
     r.error = t["error"].value_or(std::string());
