@@ -44,7 +44,8 @@ double number_of(const toml::table& t, const char* key, const std::string& where
 std::int64_t whole_of(const toml::table& t, const char* key, const std::string& where,
                       std::int64_t lo, std::int64_t hi) {
   // A TOML integer is judged as written: rounded to a double, 2^53 + 1 would pass as 2^53.
-  if (const auto* exact = t.get(key) ? t.get(key)->as_integer() : nullptr) {
+  const toml::node* node = t.get(key);
+  if (const auto* exact = node ? node->as_integer() : nullptr) {
     if (exact->get() >= lo && exact->get() <= hi) return exact->get();
     throw std::runtime_error(fmt::format("{}: {} = {} is not a whole number in [{}, {}]", where,
                                          key, exact->get(), lo, hi));

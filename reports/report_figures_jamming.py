@@ -93,7 +93,7 @@ def jamming_width_figure(c, out_dir):
         right.plot(sizes, line, "k-", lw=1, label=f"fit: N^-{w:.2f}({round(100 * w_err):d})")
         plotted.add("width", "fit a N^-w", sizes, line)
     means = [float(np.mean(by_size[n])) for n in sizes]
-    mean_errors = [float(np.std(by_size[n], ddof=1)) / math.sqrt(k) for n, k in zip(sizes, runs)]
+    mean_errors = [w / math.sqrt(k) for w, k in zip(widths, runs)]
     plotted.panel("mean", "N", "mean of phi_Ji")
     mean.errorbar(sizes, means, yerr=mean_errors, fmt="o", label=r"$\langle\phi_{Ji}\rangle$")
     plotted.add("mean", "<phi_Ji>", sizes, means, mean_errors)
