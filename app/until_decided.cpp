@@ -213,8 +213,10 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
       for (auto [field, value] : {std::pair{"statistic", &v.statistic},
                                   {"threshold", &v.threshold},
                                   {"excluded_above", &v.excluded_above},
+                                  {"excluded_below", &v.excluded_below},
+                                  {"estimate", &v.estimate},
                                   {"detectable", &v.detectable}}) {
-        *value = d.at(field).is_number() ? d.at(field).get<double>() : NAN;
+        *value = d.contains(field) && d.at(field).is_number() ? d.at(field).get<double>() : NAN;
       }
       v.samples_needed = NAN;
       v.values["look"] = d.at("look").get<double>();
@@ -233,6 +235,8 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
                         {"statistic", number(v.statistic)},
                         {"threshold", number(v.threshold)},
                         {"excluded_above", number(v.excluded_above)},
+                        {"excluded_below", number(v.excluded_below)},
+                        {"estimate", number(v.estimate)},
                         {"detectable", number(v.detectable)}};
       ++decided;
     } else if (const auto ens = ensembles_of(v); ens.empty()) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "checks/regions.hpp"
 #include "checks/relative_difference.hpp"
 #include "checks/stats_data.hpp"
 #include "checks/verdict.hpp"
@@ -32,6 +33,10 @@ struct CheckOptions {
   // The packing range the pressure checks pool over (checks/pooled_verdict.hpp; default: the
   // campaign's scaling-fit window).
   std::optional<double> phi_min, phi_max;
+  // Where the regions below, at and above jamming lie (checks/regions.hpp): phi_J when given
+  // (else the fit's, else <phi_Ji>), and the regions' offsets from it.
+  std::optional<double> phi_j;
+  RegionOffsets regions;
   std::optional<RunSetSelector> set_a, set_b;  // finite-size check of two named run sets
   std::map<std::string, double> margins;       // per check; default_margin() otherwise
   // The alpha the samples estimates aim at (until-decided: the next look's); alpha when unset.

@@ -9,20 +9,30 @@
 
 namespace jam::checks {
 
-void decide(Verdict& v, bool detected, double excluded_above, double margin) {
+void decide(Verdict& v, bool detected, double excluded_above, double excluded_below,
+            double margin) {
   v.margin = margin;
   v.excluded_above = excluded_above;
+  v.excluded_below = std::isfinite(excluded_below) ? std::max(0.0, excluded_below) : 0.0;
   // The first clause says the outcome without a number (the terminal shows it: short_reason);
   // the numbers follow in the effects' unit (effect_text: relative ones in %).
-  const std::string m = effect_text(v, margin), bound = effect_text(v, excluded_above);
+  const std::string m = effect_text(v, margin), bound = effect_text(v, excluded_above),
+                    low = effect_text(v, v.excluded_below);
   if (excluded_above <= margin) {
     v.status = "pass";
     v.reason = fmt::format("within the margin{}: effects above {} excluded, margin {}",
                            detected ? ", though a smaller difference is detected" : "", bound, m);
-  } else if (detected) {
+  } else if (v.excluded_below > margin) {
     v.status = "fail";
     v.reason = fmt::format(
-        "difference detected beyond the margin: effects up to {} allowed, margin {}", bound, m);
+        "the effect surely exceeds the margin: effects at or below {} excluded, margin {}", low,
+        m);
+  } else if (detected) {
+    v.status = "inconclusive";
+    v.reason = fmt::format(
+        "a difference is detected, not shown to exceed the margin: effects from {} to {} "
+        "allowed, margin {}",
+        low, bound, m);
   } else {
     v.status = "inconclusive";
     v.reason =
@@ -45,9 +55,10 @@ double samples_to_decide(const std::vector<double>& delta, const std::vector<dou
     bound = std::max(bound, d + band[k]);
     if (d >= margin) {
       within = false;
-      // Beyond reach at these samples (too few splits): the band, scaled from its level to
-      // the detection level as for normal errors, stands in for the threshold.
-      to_fail = std::min(to_fail, n * std::pow(detect[k] / d, 2));
+      // A fail needs the detection band to clear the margin: |Delta_k| - detect_k > M. Beyond
+      // reach at these samples (too few splits): the band, scaled from its level to the
+      // detection level as for normal errors, stands in for the threshold.
+      if (d > margin) to_fail = std::min(to_fail, n * std::pow(detect[k] / (d - margin), 2));
     }
   }
   const double estimate = within ? n * std::pow(bound / margin, 2) : to_fail;
@@ -96,7 +107,7 @@ void judge(Verdict& v, const RelativeDifference& t, Levels levels, double margin
   v.statistic = t.statistic;
   v.threshold = t.critical;
   v.detectable = t.detectable;
-  decide(v, t.statistic > t.critical, t.excluded_above, margin);
+  decide(v, t.statistic > t.critical, t.excluded_above, t.excluded_below, margin);
   v.reason += " (" + permutation_words(t.p_value, levels.detect, t.permutations) + ")";
   std::vector<double> band, detect;
   const double critical = reachable(t.critical, t.band, levels);
@@ -109,7 +120,8 @@ void judge(Verdict& v, const WeightedDifference& t, Levels levels, double margin
   v.statistic = std::abs(t.difference);
   v.threshold = t.critical;
   v.detectable = t.critical;
-  decide(v, v.statistic > t.critical, t.excluded_above, margin);
+  v.estimate = t.difference;
+  decide(v, v.statistic > t.critical, t.excluded_above, t.excluded_below, margin);
   v.reason += fmt::format(" (weighted mean relative difference {} over {} points, {})",
                           effect_text(v, t.difference, true), t.points.size(),
                           permutation_words(t.p_value, levels.detect, t.permutations));
@@ -122,7 +134,8 @@ void judge(Verdict& v, const MeanDifference& t, Levels levels, double margin, st
   v.statistic = t.statistic;
   v.threshold = t.critical;
   v.detectable = t.detectable;
-  decide(v, t.statistic > t.critical, t.excluded_above, margin);
+  v.estimate = t.difference;
+  decide(v, t.statistic > t.critical, t.excluded_above, t.excluded_below, margin);
   v.reason += fmt::format(" (difference {} +- {}, {})", effect_text(v, t.difference, true),
                           effect_text(v, t.sigma),
                           permutation_words(t.p_value, levels.detect, t.permutations));

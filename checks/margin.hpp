@@ -1,17 +1,21 @@
 #pragma once
-// Three outcomes against a margin M (checks/verdict.hpp), for every statistical check:
+// Three outcomes against a margin M (checks/verdict.hpp), for every statistical check, by the
+// same two one-sided logic on either side of the margin:
 //   pass          excluded_above <= M: every effect the data allow at 1 - alpha lies in +-M,
-//   fail          a difference detected at alpha (p <= alpha) and excluded_above > M,
-//   inconclusive  neither.
+//   fail          excluded_below > M: the data exclude every effect at or below M (one-sided
+//                 at the detection level), so the effect surely exceeds the margin,
+//   inconclusive  neither; when a difference is detected (p <= alpha) but not shown to exceed
+//                 M, the reason says so with the estimate and the effects allowed.
 // A test that is not significant never passes by itself: "found no difference" means nothing
-// unless the data also exclude every difference beyond the margin.
+// unless the data also exclude every difference beyond the margin. And a detected difference
+// never fails by itself: "different" is not "different by more than the margin".
 //
 // samples_needed (inconclusive only) is an estimate of the samples per set that would decide
 // the comparison at the observed scatter, standard errors shrinking as 1/sqrt(samples) and the
 // thresholds held. Where every observed |Delta_k| < M, the difference is taken for noise
 // (nothing was detected) and the whole bound shrinks: pass at  n (excluded_above / M)^2.
-// Otherwise the observed difference beyond M is taken for the truth, and it would be detected
-// at  n min over those k of (detection threshold_k / |Delta_k|)^2.
+// Otherwise the observed difference beyond M is taken for the truth, and it would be shown to
+// exceed M at  n min over those k of (detection threshold_k / (|Delta_k| - M))^2.
 #include <string>
 #include <vector>
 
@@ -21,9 +25,11 @@
 
 namespace jam::checks {
 
-/// The outcome from a detection at alpha and the equivalence bound excluded_above, with the
-/// words of the reason (sets v.status, v.reason, v.margin, v.excluded_above).
-void decide(Verdict& v, bool detected, double excluded_above, double margin);
+/// The outcome from a detection at alpha, the equivalence bound excluded_above and the lower
+/// bound excluded_below (the effect surely exceeds it), with the words of the reason (sets
+/// v.status, v.reason, v.margin, v.excluded_above, v.excluded_below).
+void decide(Verdict& v, bool detected, double excluded_above, double excluded_below,
+            double margin);
 
 /// Judges v on a relative difference of run sets with `samples` per set (the smaller set).
 void judge(Verdict& v, const RelativeDifference& t, Levels levels, double margin,

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <tuple>
 
 #include "checks/margin.hpp"
 #include "checks/window_scatter.hpp"
@@ -19,12 +21,14 @@ void fail_where_surely_beyond(Verdict& v, const RelativeDifference& r,
   std::size_t worst = r.delta.size();
   double beyond = margin;
   for (std::size_t k = 0; k < r.delta.size(); ++k) {
+    if (grid[r.points[k]] < range.pointwise_from) continue;
     const double low = std::abs(r.delta[k]) - r.critical * r.sigma[k];
     if (low > beyond) beyond = low, worst = k;
   }
   if (worst == r.delta.size()) return;
   v.status = "fail";
   v.samples_needed = NAN;
+  v.excluded_below = std::max(v.excluded_below, beyond);
   v.reason = fmt::format(
       "the effect surely exceeds the margin at {} = {:.4f}: Delta p/p = {}, at least {}, "
       "margin {} (simultaneous band, p = {:.3g}); the weighted mean: {}",
@@ -74,6 +78,84 @@ std::optional<PoolRange> phi_range(const StatsData& d, const CheckOptions& o, do
   return r;
 }
 
+std::pair<double, double> z_span(const EnsembleTables& a, const EnsembleTables& b, double phi_lo,
+                                 double phi_hi) {
+  // Z values of each set whose mean packing is in [phi_lo, phi_hi]; the range both share.
+  auto span = [&](const EnsembleTables& e, double* zmin, double* zmax) {
+    *zmin = HUGE_VAL, *zmax = -HUGE_VAL;
+    if (e.phi_at_z.size() != e.z_grid.size()) {
+      *zmin = -HUGE_VAL, *zmax = HUGE_VAL;  // no mean packing stored: Z is not limited
+      return;
+    }
+    for (std::size_t k = 0; k < e.z_grid.size(); ++k)
+      if (e.phi_at_z[k] >= phi_lo && e.phi_at_z[k] <= phi_hi)
+        *zmin = std::min(*zmin, e.z_grid[k]), *zmax = std::max(*zmax, e.z_grid[k]);
+  };
+  double amin = 0, amax = 0, bmin = 0, bmax = 0;
+  span(a, &amin, &amax);
+  span(b, &bmin, &bmax);
+  return {std::max(amin, bmin), std::min(amax, bmax)};
+}
+
+Aligned cut(const Aligned& al, double lo, double hi) {
+  Aligned out;
+  std::vector<std::size_t> keep;
+  for (std::size_t k = 0; k < al.grid.size(); ++k)
+    if (al.grid[k] >= lo - 1e-12 && al.grid[k] <= hi + 1e-12) keep.push_back(k);
+  for (auto k : keep) out.grid.push_back(al.grid[k]);
+  auto rows = [&keep](const std::vector<std::vector<double>>& in) {
+    std::vector<std::vector<double>> t;
+    for (const auto& r : in) {
+      std::vector<double> x;
+      for (auto k : keep) x.push_back(r[k]);
+      t.push_back(std::move(x));
+    }
+    return t;
+  };
+  out.a = rows(al.a);
+  out.b = rows(al.b);
+  return out;
+}
+
+std::vector<Verdict> judge_by_region(const Verdict& base, const Aligned& al,
+                                     const PoolRange& pooled, const std::vector<Region>& names,
+                                     const std::vector<PoolRange>& regions, Levels levels,
+                                     double margin, int permutations, std::uint64_t seed,
+                                     RelativeTo relative_to) {
+  std::vector<Verdict> out;
+  auto one = [&](Verdict v, const PoolRange& range) {
+    const Aligned part = cut(al, range.min, range.max);
+    try {
+      if (part.grid.size() < 2) {
+        throw std::invalid_argument(fmt::format(
+            "fewer than 2 common points in {} [{:.4g}, {:.4g}]: the compared data cover [{}]",
+            range.variable, range.min, range.max,
+            al.grid.empty() ? std::string("nothing")
+                            : fmt::format("{:.4g}, {:.4g}", al.grid.front(), al.grid.back())));
+      }
+      judge_pooled(v, part, range, levels, margin, permutations, seed, relative_to);
+    } catch (const std::invalid_argument& e) {
+      v.status = "inconclusive";
+      v.reason = e.what();
+      v.curves.clear();
+    }
+    // The range asked, where the data did not reach it (judge_pooled keeps the range judged).
+    if (std::isfinite(range.min)) v.values.insert({"range_min", range.min});
+    if (std::isfinite(range.max)) v.values.insert({"range_max", range.max});
+    out.push_back(std::move(v));
+  };
+  Verdict pooled_verdict = base;
+  pooled_verdict.region = "pooled";
+  one(pooled_verdict, pooled);
+  for (std::size_t i = 0; i < regions.size() && i < names.size(); ++i) {
+    Verdict v = base;
+    v.region = names[i].name;
+    v.case_name += ", " + names[i].name + " jamming";
+    one(v, regions[i]);
+  }
+  return out;
+}
+
 PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTables& a,
                   const EnsembleTables& b, double compressed_z) {
   PoolRange r;
@@ -91,22 +173,7 @@ PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTable
   } else {
     r.why = "no scaling fit in stats.h5: the whole compressed range";
   }
-  // Z values of each set whose mean packing is in [phi_lo, phi_hi]; the range both share.
-  auto span = [&](const EnsembleTables& e, double* zmin, double* zmax) {
-    *zmin = HUGE_VAL, *zmax = -HUGE_VAL;
-    if (e.phi_at_z.size() != e.z_grid.size()) {
-      *zmin = -HUGE_VAL, *zmax = HUGE_VAL;  // no mean packing stored: Z is not limited
-      return;
-    }
-    for (std::size_t k = 0; k < e.z_grid.size(); ++k)
-      if (e.phi_at_z[k] >= phi_lo && e.phi_at_z[k] <= phi_hi)
-        *zmin = std::min(*zmin, e.z_grid[k]), *zmax = std::max(*zmax, e.z_grid[k]);
-  };
-  double amin = 0, amax = 0, bmin = 0, bmax = 0;
-  span(a, &amin, &amax);
-  span(b, &bmin, &bmax);
-  r.min = std::max(amin, bmin);
-  r.max = std::min(amax, bmax);
+  std::tie(r.min, r.max) = z_span(a, b, phi_lo, phi_hi);
   if (compressed_z > r.min) {
     r.min = compressed_z;
     r.why += ", from where the compression sets both sets' pressure";

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "checks/checks.hpp"
+#include "checks/regions.hpp"
 #include "checks/relative_difference.hpp"
 #include "checks/stats_data.hpp"
 
@@ -22,6 +23,10 @@ struct PoolRange {
   std::string variable = "phi";  // the grid: "phi" or "Z"
   double min = -HUGE_VAL, max = HUGE_VAL;
   std::string why;  // e.g. "the scaling fit's window (phi_J +- 0.01)"
+  // The pointwise rule judges no point below this: the start's transient (kStartTransient past
+  // where the compression takes over, margin.hpp), where a relaxed start's pressure is still
+  // building and the first points differ by tens of percent between sizes that agree later.
+  double pointwise_from = -HUGE_VAL;
 };
 
 /// The packing range a check at constant phi pools over: --phi-min/--phi-max when given, else
@@ -35,6 +40,25 @@ std::optional<PoolRange> phi_range(const StatsData& d, const CheckOptions& o, do
 /// window (else the constant-phi fit's) in both sets, never below `compressed_z`.
 PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTables& a,
                   const EnsembleTables& b, double compressed_z);
+
+/// The rows of `al` whose grid value lies in [lo, hi].
+Aligned cut(const Aligned& al, double lo, double hi);
+
+/// The Z range whose mean packing lies in [phi_lo, phi_hi] in both sets (all of Z when a set
+/// stores no mean packing): [+inf, -inf] when there is none.
+std::pair<double, double> z_span(const EnsembleTables& a, const EnsembleTables& b, double phi_lo,
+                                 double phi_hi);
+
+/// One comparison judged pooled over `pooled` and in each region: the verdict `base` (check,
+/// case name and values set) copied into one verdict per range, region "pooled", then those
+/// of `regions` (their variable as pooled's; the region's name in PoolRange::why's place is
+/// taken from `names`). `al`: the two sets over everything compared. A region with fewer than
+/// 2 common points is inconclusive and says which range the data cover.
+std::vector<Verdict> judge_by_region(const Verdict& base, const Aligned& al,
+                                     const PoolRange& pooled, const std::vector<Region>& names,
+                                     const std::vector<PoolRange>& regions, Levels levels,
+                                     double margin, int permutations, std::uint64_t seed = 3,
+                                     RelativeTo relative_to = RelativeTo::mean);
 
 /// Judges v on the two run sets of `al` (cut to the range already): D over the range at
 /// `levels`, the pointwise rule at levels.detect. Sets statistic_name, the range and weight

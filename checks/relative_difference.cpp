@@ -117,6 +117,7 @@ RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
   r.permutations = count_of(null);
   for (std::size_t k = 0; k < r.delta.size(); ++k) {
     r.excluded_above = std::max(r.excluded_above, std::abs(r.delta[k]) + r.band * r.sigma[k]);
+    r.excluded_below = std::max(r.excluded_below, std::abs(r.delta[k]) - r.critical * r.sigma[k]);
   }
   std::vector<double> sigmas = r.sigma;
   std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<long>(sigmas.size() / 2),
@@ -159,8 +160,10 @@ WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
   r.p_value = null.p_value(std::abs(r.difference));
   r.critical = null.threshold(levels.detect);
   r.band = null.threshold(2 * levels.pass);
+  r.beyond = null.threshold(2 * levels.detect);
   r.permutations = count_of(null);
   r.excluded_above = std::abs(r.difference) + r.band;
+  r.excluded_below = std::max(0.0, std::abs(r.difference) - r.beyond);
   return r;
 }
 
@@ -201,8 +204,10 @@ MeanDifference compare_means(std::vector<double> a, std::vector<double> b, Level
   r.p_value = null.p_value(r.statistic);
   r.critical = null.threshold(levels.detect);
   r.band = null.threshold(2 * levels.pass);
+  r.beyond = null.threshold(2 * levels.detect);
   r.permutations = count_of(null);
   r.excluded_above = std::abs(r.difference) + r.band * r.sigma;
+  r.excluded_below = std::max(0.0, std::abs(r.difference) - r.beyond * r.sigma);
   r.detectable = r.critical * r.sigma;
   return r;
 }

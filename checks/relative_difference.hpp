@@ -12,6 +12,9 @@
 // 2 levels.pass gives a simultaneous band |Delta_k - true_k| <= c sigma_k, each sign at
 // 1 - levels.pass, so
 //   - the data exclude any effect larger than  max_k (|Delta_k| + c sigma_k)  (equivalence bound),
+//   - and, with the threshold d at levels.detect (a simultaneous band at 1 - levels.detect),
+//     any effect at or below  max_k (|Delta_k| - d sigma_k)  (the effect surely exceeds it
+//     at some point: the bound a fail rests on),
 //   - the smallest effect it could have detected is the detection threshold times the median
 //     sigma_k.
 #include <cstdint>
@@ -57,6 +60,7 @@ struct RelativeDifference {
   double critical = 0;               // detection threshold: detected iff T > critical
   double band = 0;                   // c: the simultaneous band's half-width in sigmas
   double excluded_above = 0;         // max_k (|Delta_k| + c sigma_k)
+  double excluded_below = 0;         // max(0, max_k (|Delta_k| - critical sigma_k))
   double detectable = 0;             // critical * median sigma_k
   PermutationCount permutations;
 };
@@ -75,7 +79,10 @@ RelativeDifference compare_run_sets(const std::vector<std::vector<double>>& a,
 /// least-squares fit gives the points, so D is the shift of the pressure that a fit over the
 /// window sees. Its null distribution again comes from permuting whole runs: detected when
 /// |D| exceeds the threshold at levels.detect; with c the threshold of |D| at 2 levels.pass,
-/// the data exclude any shift beyond |D| + c (each sign at 1 - levels.pass). A difference
+/// the data exclude any shift beyond |D| + c (each sign at 1 - levels.pass); with d the
+/// threshold of |D| at 2 levels.detect, any shift at or below |D| - d (one-sided at
+/// 1 - levels.detect: a fail that rests on it is false at most levels.detect of the time when
+/// the true shift is at the bound, less when it is inside). A difference
 /// confined to the noisiest points weighs little in D, as it does in a fit; the pointwise
 /// bound of compare_run_sets is kept alongside (checks/pooled_verdict.hpp).
 struct WeightedDifference {
@@ -85,7 +92,9 @@ struct WeightedDifference {
   double p_value = 1;          // permutation p-value of |D|
   double critical = 0;         // detection threshold of |D|
   double band = 0;             // c
+  double beyond = 0;           // d
   double excluded_above = 0;   // |D| + c
+  double excluded_below = 0;   // max(0, |D| - d)
   PermutationCount permutations;
 };
 WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
@@ -94,10 +103,12 @@ WeightedDifference compare_weighted(const std::vector<std::vector<double>>& a,
                                     RelativeTo to = RelativeTo::mean);
 
 /// Two sets of scalars (e.g. phi_Ji per run): T = |mean_a - mean_b| / sqrt(v_a/n_a + v_b/n_b),
-/// p-value and thresholds from permuting the values between the sets. NaNs are dropped.
+/// p-value and thresholds from permuting the values between the sets (beyond: T's threshold
+/// at 2 levels.detect, one-sided as for WeightedDifference). NaNs are dropped.
 struct MeanDifference {
   double difference = 0, sigma = 0, statistic = 0, p_value = 1, critical = 0, band = 0;
-  double excluded_above = 0, detectable = 0;  // in the units of the values
+  double beyond = 0;
+  double excluded_above = 0, excluded_below = 0, detectable = 0;  // in the units of the values
   PermutationCount permutations;
 };
 MeanDifference compare_means(std::vector<double> a, std::vector<double> b, Levels levels,

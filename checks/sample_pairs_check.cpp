@@ -172,7 +172,10 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     // allowed, so delta^2 <= (R - lo) v_mean.
     const double allowed = std::sqrt(std::max(0.0, v.statistic - lo_pass) * v_mean);
     const double margin = o.margin("sample_pairs");
-    decide(v, v.statistic > hi, allowed, margin);
+    // ... and the effects it excludes from below: noise above hi is not allowed, so
+    // delta^2 > (R - hi) v_mean.
+    const double surely = std::sqrt(std::max(0.0, v.statistic - hi) * v_mean);
+    decide(v, v.statistic > hi, allowed, surely, margin);
     if (v.statistic < lo) {
       // Pairs more alike than independent samples: the samples of the two sizes are not
       // independent (shared seeds or starts), whatever the margin says.

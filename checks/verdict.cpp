@@ -71,6 +71,9 @@ std::string to_json(const std::vector<Verdict>& v, const std::string& campaign,
                  {"threshold", num(x.threshold)},
                  {"detectable_effect", num(x.detectable)},
                  {"excluded_above", num(x.excluded_above)},
+                 {"excluded_below", num(x.excluded_below)},
+                 {"estimate", num(x.estimate)},
+                 {"region", x.region},
                  {"margin", num(x.margin)},
                  {"unit", effect_unit(x)},
                  {"samples_needed", num(x.samples_needed)},
@@ -144,6 +147,9 @@ void write_curves(const std::string& given, const std::vector<Verdict>& v, doubl
       f.write_attribute("threshold", v[k].threshold, g);
       f.write_attribute("margin", v[k].margin, g);
       f.write_attribute("excluded_above", v[k].excluded_above, g);
+      f.write_attribute("excluded_below", v[k].excluded_below, g);
+      f.write_attribute("estimate", v[k].estimate, g);
+      f.write_attribute("region", v[k].region, g);
       f.write_attribute("samples_needed", v[k].samples_needed, g);
       f.write_attribute("expected_failure", std::int64_t{v[k].expected_failure}, g);
       for (const auto& [name, value] : v[k].values) f.write_attribute(name, value, g);

@@ -3,9 +3,11 @@
 // the effect (checks/margin.hpp):
 //   pass          the effects the data allow (at 1 - alpha) lie within +-M: excluded_above <= M
 //                 (even when a smaller difference is detected; the reason says so);
-//   fail          a difference is detected at alpha and the allowed effects are not within +-M;
+//   fail          the effect surely exceeds the margin: the data exclude every effect at or
+//                 below M (excluded_below > M, at the detection level);
 //   inconclusive  anything else: the data cannot tell (with samples_needed, an estimate of how
-//                 many samples per set would decide it), or there was nothing to compare.
+//                 many samples per set would decide it), a difference detected but not shown
+//                 to exceed M, or there was nothing to compare.
 // With the statistic and its threshold and the smallest effect the data could have detected.
 // Written as a table, as JSON and as JUnit XML (inconclusive as skipped).
 #include <cmath>
@@ -28,6 +30,13 @@ struct Verdict {
   double threshold = NAN;
   double detectable = NAN;        // smallest effect the data could have detected
   double excluded_above = NAN;    // effects larger than this are excluded (where meaningful)
+  double excluded_below = NAN;    // effects at or below this are excluded: the effect surely
+                                  // exceeds it (0 when nothing is detected)
+  double estimate = NAN;          // the signed effect measured, in the unit of the margin
+  // Where along the compression the verdict judges (checks/regions.hpp): "pooled" (a range
+  // stated in the reason), "below", "at" or "above" jamming; empty for verdicts that are not
+  // about a stretch of the compression (fits, jamming points, LAMMPS).
+  std::string region;
   double margin = NAN;            // M: the largest effect that still passes
   double samples_needed = NAN;    // inconclusive: samples per set that would decide (est.)
   bool expected_failure = false;  // the campaign marks this verdict as expected to fail

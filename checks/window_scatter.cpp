@@ -68,12 +68,15 @@ SamplesNeeded samples_needed(double difference, double s_a, double s_b, double c
                              double margin) {
   if (!std::isfinite(s_a) || !std::isfinite(s_b)) return {};
   const double z_pass = gsl_cdf_ugaussian_Qinv(levels.pass),
-               z_detect = gsl_cdf_ugaussian_Qinv(levels.detect / 2),
+               z_detect = gsl_cdf_ugaussian_Qinv(levels.detect),
                z_power = gsl_cdf_ugaussian_Qinv(1 - kEstimatePower);
   // The sigma_D at which a verdict decides with probability kEstimatePower when the true
-  // difference is delta: pass when |D| + z_pass sigma <= M, fail when detected; whichever
-  // route allows the larger sigma (the fewer samples).
-  auto to_fail = [&](double delta) { return delta / (z_detect + z_power); };
+  // difference is delta: pass when |D| + z_pass sigma <= M, fail when |D| - z_detect sigma > M
+  // (one-sided at the detection level, margin.hpp); whichever route allows the larger sigma
+  // (the fewer samples).
+  auto to_fail = [&](double delta) {
+    return delta > margin ? (delta - margin) / (z_detect + z_power) : 0.0;
+  };
   auto to_pass = [&](double delta) {
     return delta < margin ? (margin - delta) / (z_pass + z_power) : 0.0;
   };
@@ -92,7 +95,7 @@ SamplesNeeded samples_needed(double difference, double s_a, double s_b, double c
   // Permutations of whole runs reach a p-value of 2 / C(n_a + n_b, n_a) at best: the route's
   // level (detection; the band at twice the pass level) must be reachable.
   const double d = std::abs(difference);
-  const double level = to_fail(d) >= to_pass(d) ? levels.detect : 2 * levels.pass;
+  const double level = to_fail(d) >= to_pass(d) ? 2 * levels.detect : 2 * levels.pass;
   auto reachable = [level](double a, double b) {
     return std::log(2.0 / level) <=
            std::lgamma(a + b + 1) - std::lgamma(a + 1) - std::lgamma(b + 1);

@@ -35,10 +35,10 @@ WindowScatter window_scatter(const Aligned& al, const std::vector<std::size_t>& 
 /// set's window scatter is s_a, s_b and one sample costs c_a, c_b (core time, relative): the
 /// samples at which, were delta the truth, it decides with probability kEstimatePower,
 ///   pass at   (z_pass + z_power) sigma_D <= M - |delta|   (when |delta| < M),
-///   fail at   (z_det + z_power) sigma_D <= |delta|          (detected),
+///   fail at   (z_det + z_power) sigma_D <= |delta| - M   (shown beyond the margin),
 /// whichever comes first, taken at the median over delta ~ N(D, sigma_D at the present
 /// samples) (the observed D near the margin would make it jump); z are the normal quantiles of
-/// levels.pass (one-sided), levels.detect (two-sided) and the power. `equal`: the same samples in
+/// levels.pass and levels.detect (both one-sided) and the power. `equal`: the same samples in
 /// both sets; `a`, `b`: the cheapest split reaching the same sigma_D (n proportional to s /
 /// sqrt(c)), never fewer than the samples present, and more than present in at least one set (the
 /// data at hand did not decide), and enough for the permutation test to reach the route's level.

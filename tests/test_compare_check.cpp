@@ -125,16 +125,18 @@ BOOST_AUTO_TEST_CASE(equal_physics_on_other_seeds_samples_and_grids_never_fails)
   BOOST_TEST(passed >= judged / 2);  // the check is not dead: most verdicts decide
 }
 
-BOOST_AUTO_TEST_CASE(a_planted_ten_percent_pressure_difference_fails) {
+// 15% at a 5% margin: D's detection band here is about 5%, so the data exclude every effect at
+// or below the margin (a fail needs that; 10% left the margin inside the band).
+BOOST_AUTO_TEST_CASE(a_planted_fifteen_percent_pressure_difference_fails) {
   for (double step : {0.0005, 0.00033}) {
     EnsembleDesign d;
     d.phi_step = step;
-    d.shift = 0.10;
+    d.shift = 0.15;
     const Pair p = make_pair(d, 12);
     for (const auto& v : of(compare_check(p.dir, p.ref, options(), {}), "compare")) {
       BOOST_TEST(v.status == "fail", step << " " << v.case_name << ": " << v.reason);
-      // Delta p/p relative to REF: about +0.10.
-      BOOST_TEST(std::abs(v.values.at("difference") - 0.10) < 0.04, v.reason);
+      // Delta p/p relative to REF: about +0.15.
+      BOOST_TEST(std::abs(v.values.at("difference") - 0.15) < 0.04, v.reason);
     }
   }
 }
