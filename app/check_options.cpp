@@ -57,6 +57,27 @@ std::vector<JudgingOption> make_table() {
            return fmt::format("must exceed --phi-min {}", *a.phi_min);
          return std::string();
        }},
+      {"--phi-j", "phi_j", &JudgingArgs::phi_j,
+       "Pressure checks: the packing the regions below, at and above jamming are placed "
+       "around (default: the scaling fit's phi_J in stats.h5, else <phi_Ji> of the largest "
+       "size; none: no regions)",
+       [](const JudgingArgs& a) {
+         return packing(a.phi_j) ? "" : std::string("must be a packing in (0, 1)");
+       }},
+      {"--region-near", "region_near", &JudgingArgs::region_near,
+       "Half-width of the region at jamming, phi_J +- near; the regions below and above "
+       "reach from it to --region-far",
+       [](const JudgingArgs& a) {
+         return a.region_near > 0 && a.region_near < 0.1 ? "" : std::string("must be in (0, 0.1)");
+       }},
+      {"--region-far", "region_far", &JudgingArgs::region_far,
+       "Outer edge of the regions below and above jamming, phi_J -+ far",
+       [](const JudgingArgs& a) {
+         if (!(a.region_far < 0.2)) return std::string("must be below 0.2");
+         if (!(a.region_far > a.region_near))
+           return fmt::format("must exceed --region-near {:g}", a.region_near);
+         return std::string();
+       }},
       {"--margin", "margin", &JudgingArgs::margin, margin_help(),
        [](const JudgingArgs& a) {
          return !a.margin || (std::isfinite(*a.margin) && *a.margin > 0)
@@ -133,6 +154,8 @@ checks::CheckOptions check_options(const JudgingArgs& args, const std::string& n
   o.permutations = args.permutations;
   o.phi_min = args.phi_min;
   o.phi_max = args.phi_max;
+  o.phi_j = args.phi_j;
+  o.regions = {args.region_near, args.region_far};
   o.margins = campaign_margins;
   if (args.margin) {
     // `all` sets the margin of every check in the unit of the named one (relative pressure

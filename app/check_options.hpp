@@ -27,6 +27,8 @@ struct JudgingArgs {
   int permutations = 2000;
   std::optional<double> phi_min, phi_max;  // absent: the scaling fit's window
   std::optional<double> margin;            // absent: the campaign's [margins], else defaults
+  std::optional<double> phi_j;             // absent: the fit's, else <phi_Ji>
+  double region_near = checks::RegionOffsets{}.near, region_far = checks::RegionOffsets{}.far;
   std::string reference_dir = data_path("reference").string();
   bool no_lmp = false;
 };

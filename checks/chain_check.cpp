@@ -46,7 +46,11 @@ std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& cont
                          "no chained rate of the campaign has an unchained control (same size, "
                          "phi_init and rate) in the --against directory")};
   }
-  const Levels levels{o.alpha / static_cast<double>(pairs.size()), o.alpha};
+  // Detection shared over every verdict: chained rates x (pooled + regions).
+  const JammingReference jamming = jamming_reference(chained, o.phi_j);
+  const std::vector<Region> names = regions_around(jamming, o.regions);
+  const Levels levels{
+      o.alpha / static_cast<double>(pairs.size() * verdicts_per_comparison(jamming)), o.alpha};
   const double margin = o.margin("chain");
   std::vector<Verdict> out;
   for (const auto& [e, c] : pairs) {
@@ -71,16 +75,15 @@ std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& cont
                     ? "from the campaign's scaling-fit window: what the fit uses must not "
                       "remember the chain"
                     : "no scaling fit: from where both sets are past their starts";
+    range.pointwise_from = pointwise_start(false, *e, *c, compressed);
+    const std::vector<PoolRange> regions =
+        region_ranges(names, jamming, false, *e, *c, compressed, range.pointwise_from);
     const Aligned al =
-        align(e->phi_grid, e->pressure_at_phi, c->phi_grid, c->pressure_at_phi, phi_min);
-    try {
-      judge_pooled(v, al, range, levels, margin, o.permutations);
-      v.values["weighted_phi"] = v.values["weighted_at"];
-    } catch (const std::invalid_argument& ex) {
-      v.status = "inconclusive";
-      v.reason = ex.what();
+        align(e->phi_grid, e->pressure_at_phi, c->phi_grid, c->pressure_at_phi, compressed);
+    for (auto& x : judge_by_region(v, al, range, names, regions, levels, margin, o.permutations)) {
+      if (x.values.count("weighted_at")) x.values["weighted_phi"] = x.values["weighted_at"];
+      out.push_back(std::move(x));
     }
-    out.push_back(std::move(v));
   }
   return out;
 }

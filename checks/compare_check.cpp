@@ -79,9 +79,11 @@ std::string grid_words(const GridMatch& m, const std::string& variable) {
                      m.aligned.grid.size(), steps);
 }
 
-/// The pressure verdict of one pair at constant phi or Z.
-Verdict pressure_verdict(const Pair& p, bool at_z, Levels levels, const StatsData& ref,
-                         const CheckOptions& o) {
+/// The pressure verdicts of one pair at constant phi or Z: pooled, and in the regions around
+/// REF's phi_J.
+std::vector<Verdict> pressure_verdicts(const Pair& p, bool at_z, Levels levels,
+                                       const StatsData& ref, const CheckOptions& o,
+                                       const JammingReference& jamming) {
   Verdict v;
   v.check = "compare";
   v.case_name = fmt::format("{}: DIR vs REF, constant {}", case_label(*p.ref), at_z ? "Z" : "phi");
@@ -91,13 +93,14 @@ Verdict pressure_verdict(const Pair& p, bool at_z, Levels levels, const StatsDat
   const std::string variable = at_z ? "Z" : "phi";
   if (at_z && (p.dir->pressure_at_z.empty() || p.ref->pressure_at_z.empty())) {
     v.status = "inconclusive";
+    v.region = "pooled";
     v.reason = fmt::format(
         "no constant-Z table in {}'s stats.h5 (its runs stored no contacts per particle, or "
         "`jam stats` made none)",
         p.dir->pressure_at_z.empty() && p.ref->pressure_at_z.empty() ? "DIR's nor REF"
         : p.dir->pressure_at_z.empty()                               ? "DIR"
                                                                      : "REF");
-    return v;
+    return {v};
   }
   // From where the compression, not the start, sets the pressure in both sets.
   const double from = at_z ? std::max(p.dir->compressed_from_z, p.ref->compressed_from_z)
@@ -106,36 +109,37 @@ Verdict pressure_verdict(const Pair& p, bool at_z, Levels levels, const StatsDat
   PoolRange range =
       at_z ? z_range(ref, o, *p.dir, *p.ref, from) : *phi_range(ref, o, from, false, nullptr);
   range.why = of_ref(range.why);
-  const GridMatch m = at_z ? match_grids(p.dir->z_grid, p.dir->pressure_at_z, p.ref->z_grid,
-                                         p.ref->pressure_at_z, range.min, range.max)
-                           : match_grids(p.dir->phi_grid, p.dir->pressure_at_phi, p.ref->phi_grid,
-                                         p.ref->pressure_at_phi, range.min, range.max);
-  v.values["interpolated"] = m.interpolated ? 1.0 : 0.0;
-  v.values["shared_points"] = static_cast<double>(m.shared);
-  v.values["step_dir"] = m.step_dir;
-  v.values["step_ref"] = m.step_ref;
-  const std::string grids = grid_words(m, variable);
-  const std::string samples =
-      fmt::format("DIR {} samples, REF {}", m.aligned.a.size(), m.aligned.b.size());
-  if (m.aligned.grid.empty() || m.aligned.a.size() < 2 || m.aligned.b.size() < 2) {
-    v.status = "inconclusive";
-    v.reason = fmt::format(
-        "nothing to compare: no grid point of REF in {} within DIR's grid, or fewer than 2 "
-        "samples per set ({}; {}; {})",
-        range.why, samples, grids,
-        fmt::format("{} in [{:.4g}, {:.4g}]", variable, range.min, range.max));
-    return v;
+  const double from_phi = std::max(p.dir->compressed_from_phi, p.ref->compressed_from_phi);
+  range.pointwise_from = pointwise_start(at_z, *p.dir, *p.ref, from_phi);
+  const std::vector<Region> names = regions_around(jamming, o.regions);
+  const std::vector<PoolRange> regions =
+      region_ranges(names, jamming, at_z, *p.dir, *p.ref, from, range.pointwise_from);
+  // Each range matches the grids within itself: another code's coarser grid is interpolated
+  // onto REF's only where the two share too few values there.
+  std::map<std::string, std::string> words;  // by region
+  const RangeData data = [&](const PoolRange& r, Verdict& x) {
+    const GridMatch m = at_z ? match_grids(p.dir->z_grid, p.dir->pressure_at_z, p.ref->z_grid,
+                                           p.ref->pressure_at_z, r.min, r.max)
+                             : match_grids(p.dir->phi_grid, p.dir->pressure_at_phi, p.ref->phi_grid,
+                                           p.ref->pressure_at_phi, r.min, r.max);
+    x.values["interpolated"] = m.interpolated ? 1.0 : 0.0;
+    x.values["shared_points"] = static_cast<double>(m.shared);
+    x.values["step_dir"] = m.step_dir;
+    x.values["step_ref"] = m.step_ref;
+    const std::string samples =
+        fmt::format("DIR {} samples, REF {}", m.aligned.a.size(), m.aligned.b.size());
+    words[x.region] = fmt::format("{}; {}", samples, grid_words(m, variable));
+    if (m.aligned.a.size() < 2 || m.aligned.b.size() < 2) return Aligned{};
+    return m.aligned;
+  };
+  v.statistic_name = "|weighted mean (p_DIR - p_REF) / p_REF|";
+  std::vector<Verdict> out = judge_by_region(v, data, range, names, regions, levels,
+                                             o.margin("compare"), o.permutations, 3, RelativeTo::b);
+  for (auto& x : out) {
+    x.statistic_name = v.statistic_name;
+    x.reason += fmt::format(" ({})", words[x.region]);
   }
-  try {
-    judge_pooled(v, m.aligned, range, levels, o.margin("compare"), o.permutations, 3,
-                 RelativeTo::b);
-    v.statistic_name = "|weighted mean (p_DIR - p_REF) / p_REF|";
-    v.reason += fmt::format("; {}; {}", samples, grids);
-  } catch (const std::invalid_argument& e) {
-    v.status = "inconclusive";
-    v.reason = fmt::format("{} ({}; {})", e.what(), samples, grids);
-  }
-  return v;
+  return out;
 }
 
 /// Sample standard deviation of the finite values (NaN with fewer than two).
@@ -372,20 +376,25 @@ std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
     comparisons += 1 + (!p.dir->pressure_at_z.empty() && !p.ref->pressure_at_z.empty());
     jamming += has_jamming(*p.dir) && has_jamming(*p.ref);
   }
-  const Levels levels{o.alpha / static_cast<double>(std::max<std::size_t>(1, comparisons)),
+  // ... and over the regions around REF's phi_J, beside each pooled verdict.
+  const JammingReference jamming_ref = jamming_reference(ref, o.phi_j);
+  const Levels levels{o.alpha / static_cast<double>(std::max<std::size_t>(1, comparisons) *
+                                                    verdicts_per_comparison(jamming_ref)),
                       o.alpha};
   const Levels jamming_levels{o.alpha / static_cast<double>(std::max<std::size_t>(1, jamming)),
                               o.alpha};
   std::vector<Verdict> out;
   std::vector<ScatterSeries> series;  // the samples estimate pools each series over its rates
-  std::map<std::tuple<std::int64_t, double, bool>, int> series_of;
+  std::map<std::tuple<std::int64_t, double, bool, std::string>, int> series_of;
   for (const auto& p : pairs) {
     for (bool at_z : {false, true}) {
-      out.push_back(pressure_verdict(p, at_z, levels, ref, o));
-      if (!out.back().values.count("scatter_a")) continue;
-      const auto key = std::tuple{p.ref->n, p.ref->phi_init, at_z};
-      const int id = series_of.emplace(key, static_cast<int>(series_of.size())).first->second;
-      series.push_back({out.size() - 1, id, p.ref->log10_rate, 1.0, 1.0, "DIR", "REF"});
+      for (auto& v : pressure_verdicts(p, at_z, levels, ref, o, jamming_ref)) {
+        out.push_back(std::move(v));
+        if (!out.back().values.count("scatter_a")) continue;
+        const auto key = std::tuple{p.ref->n, p.ref->phi_init, at_z, out.back().region};
+        const int id = series_of.emplace(key, static_cast<int>(series_of.size())).first->second;
+        series.push_back({out.size() - 1, id, p.ref->log10_rate, 1.0, 1.0, "DIR", "REF"});
+      }
     }
     const bool dir_j = has_jamming(*p.dir), ref_j = has_jamming(*p.ref);
     if (dir_j && ref_j) {

@@ -1,7 +1,8 @@
 // Finite size (the paper's supplement, "relE-p" and "relE-p-constZ"): Delta p/p between two
 // system sizes against phi and against Z, for every phi_init and rate, pooled over the
-// campaign's scaling-fit window (checks/pooled_verdict.hpp); one verdict per comparison. A
-// difference is detected at alpha / (number of comparisons), so the whole check's false-alarm
+// campaign's scaling-fit window (checks/pooled_verdict.hpp), and in the regions below, at and
+// above jamming (checks/regions.hpp): four verdicts per comparison when phi_J is known. A
+// difference is detected at alpha / (number of verdicts), so the whole check's false-alarm
 // rate is alpha; each pass is a two one-sided test at alpha.
 #include <fmt/format.h>
 
@@ -27,7 +28,8 @@ struct Comparison {
   std::string label;
 };
 
-Verdict compare(const Comparison& c, Levels levels, const StatsData& d, const CheckOptions& o) {
+std::vector<Verdict> compare(const Comparison& c, Levels levels, const StatsData& d,
+                             const CheckOptions& o, const JammingReference& jamming) {
   Verdict v;
   v.check = "finite_size";
   v.case_name = c.label;
@@ -38,28 +40,28 @@ Verdict compare(const Comparison& c, Levels levels, const StatsData& d, const Ch
               {"log10_rate", c.a->log10_rate},
               {"constant_z", c.at_z ? 1.0 : 0.0}};
   // From where the compression, not the start, sets the pressure in both sets.
-  const double from = c.at_z ? std::max(c.a->compressed_from_z, c.b->compressed_from_z)
-                             : std::max(c.a->compressed_from_phi, c.b->compressed_from_phi);
+  const double from_phi = std::max(c.a->compressed_from_phi, c.b->compressed_from_phi);
+  const double from = c.at_z ? std::max(c.a->compressed_from_z, c.b->compressed_from_z) : from_phi;
   v.values["compared_from"] = from;
-  const PoolRange range =
+  PoolRange range =
       c.at_z ? z_range(d, o, *c.a, *c.b, from) : *phi_range(d, o, from, false, nullptr);
+  range.pointwise_from = pointwise_start(c.at_z, *c.a, *c.b, from_phi);
+  const std::vector<Region> names = regions_around(jamming, o.regions);
+  const std::vector<PoolRange> regions =
+      region_ranges(names, jamming, c.at_z, *c.a, *c.b, from, range.pointwise_from);
   const Aligned al = c.at_z ? align(c.a->z_grid, c.a->pressure_at_z, c.b->z_grid,
-                                    c.b->pressure_at_z, range.min, range.max)
+                                    c.b->pressure_at_z, from, HUGE_VAL)
                             : align(c.a->phi_grid, c.a->pressure_at_phi, c.b->phi_grid,
-                                    c.b->pressure_at_phi, range.min, range.max);
+                                    c.b->pressure_at_phi, from, HUGE_VAL);
   if (al.grid.empty() || al.a.size() < 2 || al.b.size() < 2) {
     v.status = "inconclusive";
+    v.region = "pooled";
     v.reason =
         fmt::format("no common grid points in {} (or fewer than 2 samples per set)", range.why);
-    return v;
+    return {v};
   }
-  try {
-    judge_pooled(v, al, range, levels, o.margin("finite_size"), o.permutations);
-  } catch (const std::invalid_argument& e) {
-    v.status = "inconclusive";
-    v.reason = e.what();
-  }
-  return v;
+  return judge_by_region(v, al, range, names, regions, levels, o.margin("finite_size"),
+                         o.permutations);
 }
 
 }  // namespace
@@ -106,18 +108,24 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
     }
   }
   std::vector<Verdict> out;
-  const Levels levels{o.alpha / static_cast<double>(comparisons.size()), o.alpha};
+  // Detection shared over every verdict: comparisons x (pooled + regions).
+  const JammingReference jamming = jamming_reference(d, o.phi_j);
+  const Levels levels{
+      o.alpha / static_cast<double>(comparisons.size() * verdicts_per_comparison(jamming)),
+      o.alpha};
   // The samples estimate pools each series' scatter over its rates (window_scatter.hpp); a
   // sample costs in proportion to N at one rate.
   std::vector<ScatterSeries> series;
-  std::map<std::tuple<std::int64_t, std::int64_t, double, bool>, int> series_of;
+  std::map<std::tuple<std::int64_t, std::int64_t, double, bool, std::string>, int> series_of;
   for (const auto& c : comparisons) {
-    out.push_back(compare(c, levels, d, o));
-    const auto key = std::tuple{c.a->n, c.b->n, c.a->phi_init, c.at_z};
-    const int id = series_of.emplace(key, static_cast<int>(series_of.size())).first->second;
-    series.push_back({out.size() - 1, id, c.a->log10_rate, static_cast<double>(c.a->n),
-                      static_cast<double>(c.b->n), fmt::format("N = {}", c.a->n),
-                      fmt::format("N = {}", c.b->n)});
+    for (auto& v : compare(c, levels, d, o, jamming)) {
+      out.push_back(std::move(v));
+      const auto key = std::tuple{c.a->n, c.b->n, c.a->phi_init, c.at_z, out.back().region};
+      const int id = series_of.emplace(key, static_cast<int>(series_of.size())).first->second;
+      series.push_back({out.size() - 1, id, c.a->log10_rate, static_cast<double>(c.a->n),
+                        static_cast<double>(c.b->n), fmt::format("N = {}", c.a->n),
+                        fmt::format("N = {}", c.b->n)});
+    }
   }
   pool_window_scatter(out, series, o.for_estimate(levels), o.margin("finite_size"));
   return out;

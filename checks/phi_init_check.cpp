@@ -1,7 +1,8 @@
 // Independence of phi_init (the paper's supplement, "Compression Protocol"): Delta p/p between
 // runs started at each phi_init and runs started at the lowest one, same size and rate, pooled
 // over the scaling fit's window (checks/pooled_verdict.hpp) or --phi-min/--phi-max, since
-// independence of the start is what the fitted data need. Without a fit or a range the
+// independence of the start is what the fitted data need, and in the regions below, at and
+// above jamming (checks/regions.hpp). Without a fit or a range the
 // verdicts are inconclusive and say why: just past the higher start its pressure still
 // carries the start's own memory, and a comparison there failed at -182% on what no fit uses
 // (never past where the compression, not the start, sets the pressure: margin.hpp). Memory of
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "checks/checks.hpp"
 #include "checks/margin.hpp"
@@ -42,10 +44,14 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
                              !starts.begin()->second->jamming_points.empty();
   if (comparisons == 0)
     return {inconclusive("phi_init", "all", "the campaign has a single phi_init")};
-  const Levels levels{o.alpha / static_cast<double>(comparisons), o.alpha};
+  // Detection shared over every verdict: comparisons x (pooled + regions).
+  const JammingReference jamming = jamming_reference(d, o.phi_j);
+  const std::vector<Region> names = regions_around(jamming, o.regions);
+  const Levels levels{o.alpha / static_cast<double>(comparisons * verdicts_per_comparison(jamming)),
+                      o.alpha};
   std::vector<Verdict> out;
   std::vector<ScatterSeries> series;  // the samples estimate pools over rates
-  std::map<std::pair<std::int64_t, double>, int> series_of;
+  std::map<std::tuple<std::int64_t, double, std::string>, int> series_of;
   for (const auto& [key, starts] : by) {
     const auto* low = starts.begin()->second;
     double largest_consistent = low->phi_init;
@@ -56,38 +62,45 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
       v.check = "phi_init";
       const double compressed = std::max(e->compressed_from_phi, low->compressed_from_phi);
       std::string why_not;
-      const std::optional<PoolRange> range = phi_range(d, o, compressed, true, &why_not);
-      v.case_name =
-          range ? fmt::format(
-                      "n{} rate 1e{:g}: phi_init {:g} vs {:g}, phi in [{:.4f}, "
-                      "{:.4f}]",
-                      key.first, key.second, e->phi_init, low->phi_init, range->min, range->max)
-                : fmt::format("n{} rate 1e{:g}: phi_init {:g} vs {:g}", key.first, key.second,
-                              e->phi_init, low->phi_init);
+      std::optional<PoolRange> range = phi_range(d, o, compressed, true, &why_not);
+      v.case_name = fmt::format("n{} rate 1e{:g}: phi_init {:g} vs {:g}", key.first, key.second,
+                                e->phi_init, low->phi_init);
       v.values = {{"n", static_cast<double>(key.first)},
                   {"log10_rate", key.second},
                   {"phi_init", e->phi_init},
                   {"lowest_phi_init", low->phi_init}};
-      try {
-        if (!range) throw std::invalid_argument(why_not);
-        const Aligned al = align(e->phi_grid, e->pressure_at_phi, low->phi_grid,
-                                 low->pressure_at_phi, range->min, range->max);
-        judge_pooled(v, al, *range, levels, margin, o.permutations);
-        // Consistent only where the data exclude effects beyond the margin.
-        if (v.status == "pass" && all_consistent_so_far) largest_consistent = e->phi_init;
-        if (v.status != "pass") all_consistent_so_far = false;
-      } catch (const std::invalid_argument& ex) {
-        v.status = "inconclusive";
-        v.reason = ex.what();
-        all_consistent_so_far = false;
+      const double pointwise_from = pointwise_start(false, *e, *low, compressed);
+      const std::vector<PoolRange> regions =
+          region_ranges(names, jamming, false, *e, *low, compressed, pointwise_from);
+      const Aligned al = align(e->phi_grid, e->pressure_at_phi, low->phi_grid, low->pressure_at_phi,
+                               compressed, HUGE_VAL);
+      PoolRange pooled = range.value_or(PoolRange{});
+      pooled.pointwise_from = pointwise_from;
+      std::vector<Verdict> judged =
+          judge_by_region(v, al, pooled, names, regions, levels, margin, o.permutations);
+      if (!range) {
+        // No fit and no range given: the pooled verdict has nothing it may judge; the
+        // regions (placed by <phi_Ji> or --phi-j) still stand.
+        judged.front() = v;
+        judged.front().region = "pooled";
+        judged.front().status = "inconclusive";
+        judged.front().reason = why_not;
       }
-      out.push_back(v);
-      // One series per (N, phi_init pair): the same samples' cost in both sets.
-      const auto id =
-          series_of.emplace(std::pair{key.first, e->phi_init}, static_cast<int>(series_of.size()));
-      series.push_back({out.size() - 1, id.first->second, key.second, 1.0, 1.0,
-                        fmt::format("phi_init {:g}", e->phi_init),
-                        fmt::format("phi_init {:g}", low->phi_init)});
+      // Consistent only where the data exclude effects beyond the margin, in every range.
+      for (const auto& x : judged) {
+        if (x.status != "pass") all_consistent_so_far = false;
+      }
+      if (all_consistent_so_far) largest_consistent = e->phi_init;
+      const std::size_t first = out.size();
+      for (auto& x : judged) out.push_back(std::move(x));
+      // One series per (N, phi_init pair, region): the same samples' cost in both sets.
+      for (std::size_t i = first; i < out.size(); ++i) {
+        const auto id = series_of.emplace(std::tuple{key.first, e->phi_init, out[i].region},
+                                          static_cast<int>(series_of.size()));
+        series.push_back({i, id.first->second, key.second, 1.0, 1.0,
+                          fmt::format("phi_init {:g}", e->phi_init),
+                          fmt::format("phi_init {:g}", low->phi_init)});
+      }
       // The jamming points themselves, when the runs looked for them.
       if (!e->jamming_points.empty() && !low->jamming_points.empty()) {
         Verdict j;

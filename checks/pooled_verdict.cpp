@@ -28,7 +28,11 @@ void fail_where_surely_beyond(Verdict& v, const RelativeDifference& r,
   if (worst == r.delta.size()) return;
   v.status = "fail";
   v.samples_needed = NAN;
-  v.excluded_below = std::max(v.excluded_below, beyond);
+  // The verdict's numbers become the pointwise rule's, so that its interval speaks of one
+  // effect: Delta p/p at the point where it surely exceeds the margin.
+  v.excluded_below = beyond;
+  v.excluded_above = std::max(beyond, r.excluded_above);
+  v.estimate = r.delta[worst];
   v.reason = fmt::format(
       "the effect surely exceeds the margin at {} = {:.4f}: Delta p/p = {}, at least {}, "
       "margin {} (simultaneous band, p = {:.3g}); the weighted mean: {}",
@@ -117,26 +121,77 @@ Aligned cut(const Aligned& al, double lo, double hi) {
   return out;
 }
 
+double pointwise_start(bool at_z, const EnsembleTables& a, const EnsembleTables& b,
+                       double compressed_phi) {
+  const double phi = compressed_phi + kStartTransient;
+  if (!at_z) return phi;
+  const double z = z_span(a, b, phi, HUGE_VAL).first;
+  return std::isfinite(z) ? z : -HUGE_VAL;
+}
+
+std::vector<PoolRange> region_ranges(const std::vector<Region>& regions, const JammingReference& j,
+                                     bool at_z, const EnsembleTables& a, const EnsembleTables& b,
+                                     double compressed, double pointwise_from) {
+  std::vector<PoolRange> out;
+  for (const auto& g : regions) {
+    PoolRange r;
+    r.variable = at_z ? "Z" : "phi";
+    std::tie(r.min, r.max) = at_z ? z_span(a, b, g.min, g.max) : std::pair{g.min, g.max};
+    r.why = fmt::format("{}, relative to {}{}", g.words(), j.from,
+                        at_z ? ": the Z whose mean packing lies there" : "");
+    if (compressed > r.min) {
+      r.min = compressed;
+      r.why += ", from where the compression sets both sets' pressure";
+    }
+    r.pointwise_from = pointwise_from;
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
 std::vector<Verdict> judge_by_region(const Verdict& base, const Aligned& al,
+                                     const PoolRange& pooled, const std::vector<Region>& names,
+                                     const std::vector<PoolRange>& regions, Levels levels,
+                                     double margin, int permutations, std::uint64_t seed,
+                                     RelativeTo relative_to) {
+  const RangeData data = [&al](const PoolRange& r, Verdict& v) {
+    Aligned part = cut(al, r.min, r.max);
+    if (part.grid.size() < 2) {
+      v.reason = al.grid.empty() ? std::string("nothing")
+                                 : fmt::format("{:.4g}, {:.4g}", al.grid.front(), al.grid.back());
+    }
+    return part;
+  };
+  return judge_by_region(base, data, pooled, names, regions, levels, margin, permutations, seed,
+                         relative_to);
+}
+
+std::vector<Verdict> judge_by_region(const Verdict& base, const RangeData& data,
                                      const PoolRange& pooled, const std::vector<Region>& names,
                                      const std::vector<PoolRange>& regions, Levels levels,
                                      double margin, int permutations, std::uint64_t seed,
                                      RelativeTo relative_to) {
   std::vector<Verdict> out;
   auto one = [&](Verdict v, const PoolRange& range) {
-    const Aligned part = cut(al, range.min, range.max);
+    v.reason.clear();
+    const Aligned part = data(range, v);
     try {
-      if (part.grid.size() < 2) {
+      if (!(range.min < range.max)) {
         throw std::invalid_argument(fmt::format(
-            "fewer than 2 common points in {} [{:.4g}, {:.4g}]: the compared data cover [{}]",
-            range.variable, range.min, range.max,
-            al.grid.empty() ? std::string("nothing")
-                            : fmt::format("{:.4g}, {:.4g}", al.grid.front(), al.grid.back())));
+            "nothing to judge: {} lies outside what both sets compress ({} from {:.4g})", range.why,
+            range.variable, range.min));
+      }
+      if (part.grid.size() < 2) {
+        // data() may say in the reason which range the compared data cover.
+        throw std::invalid_argument(fmt::format(
+            "fewer than 2 common points in {} [{:.4g}, {:.4g}]{}", range.variable, range.min,
+            range.max, v.reason.empty() ? "" : ": the compared data cover [" + v.reason + "]"));
       }
       judge_pooled(v, part, range, levels, margin, permutations, seed, relative_to);
     } catch (const std::invalid_argument& e) {
       v.status = "inconclusive";
       v.reason = e.what();
+      v.margin = margin;
       v.curves.clear();
     }
     // The range asked, where the data did not reach it (judge_pooled keeps the range judged).

@@ -9,6 +9,7 @@
 //
 // The range is part of the verdict: its edges, why it is that range, and where the weights lie
 // (their mean and the span holding the central 80% of them) are in the reason and the values.
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -49,12 +50,35 @@ Aligned cut(const Aligned& al, double lo, double hi);
 std::pair<double, double> z_span(const EnsembleTables& a, const EnsembleTables& b, double phi_lo,
                                  double phi_hi);
 
+/// Where the pointwise rule may start for a comparison of a and b: kStartTransient (margin.hpp)
+/// past the packing `compressed_phi` where both are compressed, or at constant Z the Z whose
+/// mean packing is there.
+double pointwise_start(bool at_z, const EnsembleTables& a, const EnsembleTables& b,
+                       double compressed_phi);
+
+/// The ranges of `regions` for a comparison of a and b: in packing, or at constant Z the Z
+/// whose mean packing lies in each (z_span); never below `compressed` (in the grid's
+/// variable); each says in its why which region and where phi_J comes from.
+std::vector<PoolRange> region_ranges(const std::vector<Region>& regions, const JammingReference& j,
+                                     bool at_z, const EnsembleTables& a, const EnsembleTables& b,
+                                     double compressed, double pointwise_from);
+
 /// One comparison judged pooled over `pooled` and in each region: the verdict `base` (check,
 /// case name and values set) copied into one verdict per range, region "pooled", then those
 /// of `regions` (their variable as pooled's; the region's name in PoolRange::why's place is
 /// taken from `names`). `al`: the two sets over everything compared. A region with fewer than
 /// 2 common points is inconclusive and says which range the data cover.
 std::vector<Verdict> judge_by_region(const Verdict& base, const Aligned& al,
+                                     const PoolRange& pooled, const std::vector<Region>& names,
+                                     const std::vector<PoolRange>& regions, Levels levels,
+                                     double margin, int permutations, std::uint64_t seed = 3,
+                                     RelativeTo relative_to = RelativeTo::mean);
+
+/// The same where each range's data come from `data` (e.g. grids matched within the range
+/// only): called once per range with the verdict it is for (region set), which it may add
+/// values to.
+using RangeData = std::function<Aligned(const PoolRange&, Verdict&)>;
+std::vector<Verdict> judge_by_region(const Verdict& base, const RangeData& data,
                                      const PoolRange& pooled, const std::vector<Region>& names,
                                      const std::vector<PoolRange>& regions, Levels levels,
                                      double margin, int permutations, std::uint64_t seed = 3,

@@ -84,6 +84,101 @@ std::vector<double> pair_ratio_null(const std::vector<const std::vector<double>*
   return null;
 }
 
+/// The verdict of sample pairs over one range (al cut to it already); alpha: the detection
+/// level of this verdict.
+Verdict judge_pairs(Verdict v, const Aligned& al, const PoolRange& range, double alpha,
+                    const CheckOptions& o) {
+  // Points where every sample has a positive pressure.
+  std::vector<std::size_t> keep;
+  for (std::size_t k = 0; k < al.grid.size(); ++k) {
+    bool ok = true;
+    for (const auto& r : al.a) ok = ok && r[k] > 0 && std::isfinite(r[k]);
+    for (const auto& r : al.b) ok = ok && r[k] > 0 && std::isfinite(r[k]);
+    if (ok) keep.push_back(k);
+  }
+  if (keep.empty() || al.a.size() < 3 || al.b.size() < 3) {
+    v.status = "inconclusive";
+    v.reason =
+        fmt::format("fewer than 3 samples per size or no common grid points: in {}", range.why);
+    return v;
+  }
+  std::vector<std::vector<double>> rows;
+  for (const auto* set : {&al.a, &al.b})
+    for (const auto& r : *set) {
+      std::vector<double> x;
+      for (auto k : keep) x.push_back(r[k]);
+      rows.push_back(std::move(x));
+    }
+  std::vector<const std::vector<double>*> a, b;
+  for (std::size_t i = 0; i < rows.size(); ++i) (i < al.a.size() ? a : b).push_back(&rows[i]);
+  v.statistic = pair_ratio(a, b);
+  const std::vector<double> null =
+      pair_ratio_null(a, b, permutations_for(alpha / 2, o.permutations));
+  const auto quantile = [&](double q) {
+    return null[std::min(null.size() - 1,
+                         static_cast<std::size_t>(q * static_cast<double>(null.size())))];
+  };
+  const double lo = quantile(alpha / 2), hi = quantile(1 - alpha / 2);
+  const double lo_pass = quantile(o.alpha);
+  v.threshold = hi;
+  // A uniform systematic difference delta adds delta^2 / (v_a + v_b) to R: the smallest one
+  // that reaches the threshold from R = 1.
+  double v_sum = 0.0;
+  for (std::size_t k = 0; k < keep.size(); ++k) {
+    double ma = 0, sa = 0, mb = 0, sb = 0;
+    for (const auto* r : a) ma += (*r)[k] / static_cast<double>(a.size());
+    for (const auto* r : a)
+      sa += ((*r)[k] - ma) * ((*r)[k] - ma) / static_cast<double>(a.size() - 1);
+    for (const auto* r : b) mb += (*r)[k] / static_cast<double>(b.size());
+    for (const auto* r : b)
+      sb += ((*r)[k] - mb) * ((*r)[k] - mb) / static_cast<double>(b.size() - 1);
+    v_sum += sa / (ma * ma) + sb / (mb * mb);
+  }
+  const double v_mean = v_sum / static_cast<double>(keep.size());
+  v.detectable = std::sqrt(std::max(0.0, hi - 1.0) * v_mean);
+  // The effects the data allow: R = 1 + delta^2 / v_mean + noise, and noise above lo is
+  // allowed, so delta^2 <= (R - lo) v_mean.
+  const double allowed = std::sqrt(std::max(0.0, v.statistic - lo_pass) * v_mean);
+  const double margin = o.margin("sample_pairs");
+  // ... and the effects it excludes from below: noise above hi is not allowed, so
+  // delta^2 > (R - hi) v_mean.
+  const double surely = std::sqrt(std::max(0.0, v.statistic - hi) * v_mean);
+  decide(v, v.statistic > hi, allowed, surely, margin);
+  if (v.statistic < lo) {
+    // Pairs more alike than independent samples: the samples of the two sizes are not
+    // independent (shared seeds or starts), whatever the margin says.
+    v.status = "fail";
+    v.reason = "pairs more alike than independent samples (R below its band)";
+  }
+  v.reason += fmt::format(
+      " (R = {:.3g}, band [{:.3g}, {:.3g}] of {} bootstrap draws under the null, alpha {:.3g}; "
+      "over phi in [{:.4g}, "
+      "{:.4g}], {})",
+      v.statistic, lo, hi, null.size(), alpha, al.grid[keep.front()], al.grid[keep.back()],
+      range.why);
+  if (v.status == "inconclusive") {
+    // The band's half-width shrinks as 1/sqrt(samples); R - 1 stays.
+    const double room = margin * margin / v_mean - (v.statistic - 1.0);
+    const double n = static_cast<double>(std::min(a.size(), b.size()));
+    if (room > 0 && 1.0 - lo_pass > 0) {
+      v.samples_needed = std::ceil(n * std::pow((1.0 - lo_pass) / room, 2));
+      v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
+                              v.samples_needed);
+    }
+  }
+  // Delta p/p of each pair (sample i of one size against sample i of the other).
+  std::vector<double> grid;
+  for (auto k : keep) grid.push_back(al.grid[k]);
+  v.curves.emplace_back("grid", grid);
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+    std::vector<double> d;
+    for (std::size_t k = 0; k < keep.size(); ++k)
+      d.push_back(2 * ((*a[i])[k] - (*b[i])[k]) / ((*a[i])[k] + (*b[i])[k]));
+    v.curves.emplace_back("pair_" + std::to_string(i), d);
+  }
+  return v;
+}
+
 }  // namespace
 
 std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& o) {
@@ -99,7 +194,11 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     return {inconclusive("sample_pairs", "all", "the campaign has a single system size")};
   // Detection (R beyond its band on either side) at alpha shared over the comparisons; the
   // allowed effect from R's lower quantile at alpha itself (one-sided, as every pass).
-  const double alpha = o.alpha / static_cast<double>(comparisons);
+  // ... and over the regions around phi_J beside the pooled range (checks/regions.hpp).
+  const JammingReference jamming = jamming_reference(d, o.phi_j);
+  const std::vector<Region> names = regions_around(jamming, o.regions);
+  const double alpha =
+      o.alpha / static_cast<double>(comparisons * verdicts_per_comparison(jamming));
   std::vector<Verdict> out;
   for (const auto& [key, sizes] : by) {
     if (sizes.size() < 2) continue;
@@ -118,97 +217,18 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     // fitted data are.
     const PoolRange range = *phi_range(
         d, o, std::max(ea->compressed_from_phi, eb->compressed_from_phi), false, nullptr);
+    const double compressed = std::max(ea->compressed_from_phi, eb->compressed_from_phi);
     const Aligned al = align(ea->phi_grid, ea->pressure_at_phi, eb->phi_grid, eb->pressure_at_phi,
-                             range.min, range.max);
-    // Points where every sample has a positive pressure.
-    std::vector<std::size_t> keep;
-    for (std::size_t k = 0; k < al.grid.size(); ++k) {
-      bool ok = true;
-      for (const auto& r : al.a) ok = ok && r[k] > 0 && std::isfinite(r[k]);
-      for (const auto& r : al.b) ok = ok && r[k] > 0 && std::isfinite(r[k]);
-      if (ok) keep.push_back(k);
+                             compressed, HUGE_VAL);
+    std::vector<PoolRange> ranges = {range};
+    for (auto& r : region_ranges(names, jamming, false, *ea, *eb, compressed, -HUGE_VAL))
+      ranges.push_back(std::move(r));
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      Verdict x = v;
+      x.region = i == 0 ? "pooled" : names[i - 1].name;
+      if (i > 0) x.case_name += ", " + x.region + " jamming";
+      out.push_back(judge_pairs(x, cut(al, ranges[i].min, ranges[i].max), ranges[i], alpha, o));
     }
-    if (keep.empty() || al.a.size() < 3 || al.b.size() < 3) {
-      v.status = "inconclusive";
-      v.reason = "fewer than 3 samples per size or no common grid points";
-      out.push_back(v);
-      continue;
-    }
-    std::vector<std::vector<double>> rows;
-    for (const auto* set : {&al.a, &al.b})
-      for (const auto& r : *set) {
-        std::vector<double> x;
-        for (auto k : keep) x.push_back(r[k]);
-        rows.push_back(std::move(x));
-      }
-    std::vector<const std::vector<double>*> a, b;
-    for (std::size_t i = 0; i < rows.size(); ++i) (i < al.a.size() ? a : b).push_back(&rows[i]);
-    v.statistic = pair_ratio(a, b);
-    const std::vector<double> null =
-        pair_ratio_null(a, b, permutations_for(alpha / 2, o.permutations));
-    const auto quantile = [&](double q) {
-      return null[std::min(null.size() - 1,
-                           static_cast<std::size_t>(q * static_cast<double>(null.size())))];
-    };
-    const double lo = quantile(alpha / 2), hi = quantile(1 - alpha / 2);
-    const double lo_pass = quantile(o.alpha);
-    v.threshold = hi;
-    // A uniform systematic difference delta adds delta^2 / (v_a + v_b) to R: the smallest one
-    // that reaches the threshold from R = 1.
-    double v_sum = 0.0;
-    for (std::size_t k = 0; k < keep.size(); ++k) {
-      double ma = 0, sa = 0, mb = 0, sb = 0;
-      for (const auto* r : a) ma += (*r)[k] / static_cast<double>(a.size());
-      for (const auto* r : a)
-        sa += ((*r)[k] - ma) * ((*r)[k] - ma) / static_cast<double>(a.size() - 1);
-      for (const auto* r : b) mb += (*r)[k] / static_cast<double>(b.size());
-      for (const auto* r : b)
-        sb += ((*r)[k] - mb) * ((*r)[k] - mb) / static_cast<double>(b.size() - 1);
-      v_sum += sa / (ma * ma) + sb / (mb * mb);
-    }
-    const double v_mean = v_sum / static_cast<double>(keep.size());
-    v.detectable = std::sqrt(std::max(0.0, hi - 1.0) * v_mean);
-    // The effects the data allow: R = 1 + delta^2 / v_mean + noise, and noise above lo is
-    // allowed, so delta^2 <= (R - lo) v_mean.
-    const double allowed = std::sqrt(std::max(0.0, v.statistic - lo_pass) * v_mean);
-    const double margin = o.margin("sample_pairs");
-    // ... and the effects it excludes from below: noise above hi is not allowed, so
-    // delta^2 > (R - hi) v_mean.
-    const double surely = std::sqrt(std::max(0.0, v.statistic - hi) * v_mean);
-    decide(v, v.statistic > hi, allowed, surely, margin);
-    if (v.statistic < lo) {
-      // Pairs more alike than independent samples: the samples of the two sizes are not
-      // independent (shared seeds or starts), whatever the margin says.
-      v.status = "fail";
-      v.reason = "pairs more alike than independent samples (R below its band)";
-    }
-    v.reason += fmt::format(
-        " (R = {:.3g}, band [{:.3g}, {:.3g}] of {} bootstrap draws under the null, alpha {:.3g}; "
-        "over phi in [{:.4g}, "
-        "{:.4g}], {})",
-        v.statistic, lo, hi, null.size(), alpha, al.grid[keep.front()], al.grid[keep.back()],
-        range.why);
-    if (v.status == "inconclusive") {
-      // The band's half-width shrinks as 1/sqrt(samples); R - 1 stays.
-      const double room = margin * margin / v_mean - (v.statistic - 1.0);
-      const double n = static_cast<double>(std::min(a.size(), b.size()));
-      if (room > 0 && 1.0 - lo_pass > 0) {
-        v.samples_needed = std::ceil(n * std::pow((1.0 - lo_pass) / room, 2));
-        v.reason += fmt::format("; about {:.0f} samples per set would decide it (estimate)",
-                                v.samples_needed);
-      }
-    }
-    // Delta p/p of each pair (sample i of one size against sample i of the other).
-    std::vector<double> grid;
-    for (auto k : keep) grid.push_back(al.grid[k]);
-    v.curves.emplace_back("grid", grid);
-    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
-      std::vector<double> d;
-      for (std::size_t k = 0; k < keep.size(); ++k)
-        d.push_back(2 * ((*a[i])[k] - (*b[i])[k]) / ((*a[i])[k] + (*b[i])[k]));
-      v.curves.emplace_back("pair_" + std::to_string(i), d);
-    }
-    out.push_back(v);
   }
   return out;
 }

@@ -120,7 +120,8 @@ BOOST_AUTO_TEST_CASE(chained_start_killed) {
 // decided from the recorded points) and every output point from the continuous extension.
 BOOST_AUTO_TEST_CASE(chebyshev_unrelaxed_dense_output_killed) {
   check_resume(
-      "--dim 2 --n 8192 --phi-init 0.75 --phi-stop 0.88 --phi-step 0.0005 --rate 1e-4 "
+      // Rate 1e-5: about 2 s on a quiet core (at 1e-4, 0.6 s: every run beat its first kill).
+      "--dim 2 --n 8192 --phi-init 0.75 --phi-stop 0.88 --phi-step 0.0005 --rate 1e-5 "
       "--relax 0 --quiet",
       3, SIGKILL, 6);
 }
@@ -134,8 +135,9 @@ BOOST_AUTO_TEST_CASE(inertial_2d_killed_keeps_velocities) {
 
 BOOST_AUTO_TEST_CASE(sigint_stops_cleanly_and_resumes) {
   // The default integrator (Chebyshev), whose tolerance differs between the relaxation (1e-4)
-  // and the compression (auto: 2e-3 at this rate).
-  check_resume("--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 2e-5 --quiet", 2, SIGINT, 4);
+  // and the compression (auto: 100 rate within [1e-4, 3e-3], 5e-4 at this rate).
+  // Rate 5e-6: about 1.7 s on a quiet core (at 2e-5, 0.7 s: the run beat the signal).
+  check_resume("--dim 2 --n 4096 --phi-init 0.7 --phi-stop 0.86 --rate 5e-6 --quiet", 2, SIGINT, 4);
   fs::remove_all(kDir);
 }
 

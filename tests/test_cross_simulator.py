@@ -157,12 +157,21 @@ def main():
         stored = os.path.join(args.source, "reference", "results", "cross-lammps")
         import shutil
         shutil.copytree(stored, os.path.join(cwd, "stored"))
-        expected = {"right": {"pass"}, "d135": {"fail"}, "k110": {"fail"}}
+        # d135 (diameter ratio 1.35) fails at constant phi, where its phi_J moved, and at
+        # constant Z at 1e-4; at constant Z at 1e-5 its pressure lies within the margin (Z
+        # measures the distance to its own jamming point). k110 (stiffness 1.10) differs by
+        # 5-8% at a 5% margin: detected, not shown beyond it, so inconclusive, never fail.
+        expected = {"right": ["pass"] * 4, "d135": ["fail", "fail", "fail", "pass"],
+                    "k110": ["inconclusive"] * 4}
         for name, statuses in expected.items():
             other = os.path.join("stored", f"lammps-{name}")
             run([jam, "check", "compare", other, "--against", "stored"], cwd, expect=(0, 1, 3))
-            got = [v["status"] for v in compare_verdicts(cwd, other)]
-            assert len(got) == 4 and set(got) == statuses, (name, got)
+            verdicts = compare_verdicts(cwd, other)
+            got = [v["status"] for v in verdicts]
+            assert got == statuses, (name, got)
+            if name == "k110":
+                assert all(v["reason"].startswith("a difference is detected") for v in verdicts), \
+                    verdicts
     print("walkthrough: passed")
     return 0
 

@@ -152,8 +152,10 @@ class Reproduce(unittest.TestCase):
         self.assertEqual((options["phi_min"], options["phi_max"]),
                          (free["phi_min"], free["phi_max"]))
         # The chain check judged the campaign's chained rates against the control.
+        # Two chained rates, each judged pooled and in the three regions around phi_J.
         chain = read_json(os.path.join(self.result, "chain-checks.json"))["verdicts"]
-        self.assertEqual(len(chain), 2, chain)
+        self.assertEqual(len(chain), 8, chain)
+        self.assertEqual([v["region"] for v in chain].count("pooled"), 2, chain)
 
     def test_a_cost_of_every_campaign(self):
         provenance = read_json(os.path.join(self.result, "provenance.json"))
