@@ -151,6 +151,11 @@ class Verdict:
     figure: str = "verdicts"  # the figure that shows the check (its registry entry)
     margin_unit: str = "relative"  # what the margin measures: relative or packing_fraction
     unit: str | None = None  # the unit of this verdict's effects (checks.json `unit`), if given
+    # Where along the compression it judges: pooled, below, at or above jamming ("": not a
+    # stretch of the compression, or an older file).
+    region: str = ""
+    estimate: float | None = None  # the signed effect measured
+    excluded_below: float | None = None  # the effect surely exceeds this
 
 
 @dataclass
@@ -348,7 +353,9 @@ def _verdict(x):
                    _number(x, "excluded_above"), values,
                    margin=_number(x, "margin"), samples_needed=_number(x, "samples_needed"),
                    expected_failure=expected,
-                   unit=_string(x, "unit") if "unit" in x else None)  # older files: none
+                   unit=_string(x, "unit") if "unit" in x else None,  # older files: none
+                   region=_string(x, "region", ""), estimate=_number(x, "estimate"),
+                   excluded_below=_number(x, "excluded_below"))
 
 
 def _registry(checks):

@@ -34,7 +34,24 @@ def _y_range(mine, margin):
     return margin * float(np.clip(max(spans, default=0) / margin * 1.15, lo, hi))
 
 
-def _finite_size_panel(ax, rate, mine, colors, plotted, panel_name):
+# The regions around jamming (checks/regions.hpp), shaded by their verdict.
+REGION_COLOR = {"pass": "tab:green", "fail": "tab:red", "inconclusive": "0.6"}
+REGIONS = ("below", "at", "above")
+
+
+def _regions(ax, regions):
+    """Each region verdict as a band over the range it judged, labelled with its outcome."""
+    for v in regions:
+        lo, hi = v.values.get("range_min"), v.values.get("range_max")
+        if lo is None or hi is None:
+            continue
+        ax.axvspan(lo, hi, ymin=0.9, ymax=1.0, color=REGION_COLOR.get(v.status, "0.6"),
+                   alpha=0.6, lw=0)
+        ax.text((lo + hi) / 2, 0.95, f"{v.region[:2]} {SHORT.get(v.status, v.status)}",
+                transform=ax.get_xaxis_transform(), ha="center", va="center", fontsize=5)
+
+
+def _finite_size_panel(ax, rate, mine, colors, plotted, panel_name, regions=()):
     margin = mine[0].margin or 0.1
     ax.axhspan(-margin, margin, color="tab:green", alpha=0.12, lw=0)
     ax.axhline(0, color="k", lw=0.5)
@@ -50,15 +67,22 @@ def _finite_size_panel(ax, rate, mine, colors, plotted, panel_name):
         plotted.add(panel_name, f"{rate_text(rate)}, {name}, {v.status}", g, d, s)
     shown = _y_range(mine, margin)
     ax.set_ylim(-shown, shown)
+    _regions(ax, regions)
     words = ", ".join(f"{v.values.get('phi_init', 0):g} {SHORT.get(v.status, v.status)}"
                       for v in mine)
+    failed = sorted({v.region for v in regions if v.status == "fail"}, key=REGIONS.index)
+    if failed:
+        words += "; FAIL " + ", ".join(failed)
     ax.set_title(f"{rate_label(rate)}: {words}", fontsize=8)
     ax.grid(alpha=0.3)
 
 
 def _finite_size_grid(c, found, at_z, out_dir):
     """One panel per rate, Delta p/p of every pair and phi_init on one scale, no offsets."""
-    mine = [v for v in found if v.values.get("constant_z", 0.0) == at_z]
+    # The pooled verdicts carry the curves; the region verdicts (their cuts) are drawn as bands.
+    every = [v for v in found if v.values.get("constant_z", 0.0) == at_z]
+    mine = [v for v in every if v.region not in REGIONS]
+    regions = [v for v in every if v.region in REGIONS]
     if not mine:
         return None
     rates = sorted({v.values.get("log10_rate", 0.0) for v in mine}, reverse=True)
@@ -74,7 +98,8 @@ def _finite_size_grid(c, found, at_z, out_dir):
     plotted.panel(panel_name, x_name, "Delta p/p (fraction)")
     for ax, rate in zip(axes.ravel(), rates):
         here = [v for v in mine if v.values.get("log10_rate", 0.0) == rate]
-        _finite_size_panel(ax, rate, here, colors, plotted, panel_name)
+        _finite_size_panel(ax, rate, here, colors, plotted, panel_name,
+                           [v for v in regions if v.values.get("log10_rate", 0.0) == rate])
     for ax in axes.ravel()[len(rates):]:
         ax.set_visible(False)
     for ax in axes[-1]:
@@ -94,8 +119,11 @@ def _finite_size_grid(c, found, at_z, out_dir):
                   "Delta p/p = 2(p_a - p_b)/(p_a + p_b) of the sample means against "
                   + ("Z" if at_z else "phi") + ", one panel per rate, all on one scale without "
                   "offsets; error bars: the errors the finite-size check uses; green band: the "
-                  "margin; blue: the range the pooled verdict judges; each panel's title gives "
-                  "each phi_init's verdict (phi_init, then pass, FAIL or inconcl.). Vertical range 2 to 6 margins: points beyond it "
+                  "margin; blue: the range the pooled verdict judges; the bands along the top: "
+                  "the regions below (be), at and above (ab) jamming, each judged on its own, "
+                  "green pass, red FAIL, grey inconclusive; each panel's title gives each "
+                  "phi_init's pooled verdict (phi_init, then pass, FAIL or inconcl.) and the "
+                  "regions that failed. Vertical range 2 to 6 margins: points beyond it "
                   "(far from phi_J, where p is small and Delta p/p noisy) are in the CSV.")
 
 
@@ -136,7 +164,8 @@ def _pairs_panel(ax, rate, mine, colors, plotted):
 def sample_pairs_figure(c, out_dir):
     """Delta p/p of single pairs of samples (sample i of one size against sample i of the
     other), one panel per rate on one scale, a colour per phi_init, no offsets."""
-    found = [v for v in c.verdicts if v.figure == "sample_pairs" and "grid" in v.curves]
+    found = [v for v in c.verdicts if v.figure == "sample_pairs" and "grid" in v.curves
+             and v.region not in REGIONS]  # a region's pairs are a cut of the pooled ones
     if not found:
         return None
     rates = sorted({v.values.get("log10_rate", 0.0) for v in found}, reverse=True)

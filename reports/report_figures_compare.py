@@ -83,8 +83,10 @@ def _panel(ax, c, v, plotted, panel):
 def compare_figure(c, out_dir):
     """Two rows per compared campaign, one column per rate: the reference's mean p (black) with
     its margin band and the other's (red) on the same grid, then their relative difference."""
+    # The pooled verdicts carry the curves (a region verdict's are a cut of them).
     found = [v for v in c.verdicts if v.figure == "compare" and "delta" in v.curves
-             and v.values.get("constant_z", 0.0) == 0.0]
+             and v.values.get("constant_z", 0.0) == 0.0
+             and v.region not in ("below", "at", "above")]
     if not found:
         return None
     others = sorted({_other(v) for v in found})

@@ -128,7 +128,7 @@ def headline(check, verdicts):
         margin = "each verdict's margin" if margins else "its margin"
     parts = [f"no effect above {margin} in {n['pass']} of {len(verdicts)}"]
     if n["fail"]:
-        parts.append(f"{n['fail']} failed")
+        parts.append(f"{n['fail']} failed{_where(verdicts, 'fail')}")
     if n["expected"]:
         parts.append(f"{n['expected']} failed as expected")
     if n["inconclusive"]:
@@ -137,8 +137,26 @@ def headline(check, verdicts):
         span = (f"{int(min(needed))}" if needed and min(needed) == max(needed)
                 else f"{int(min(needed or [0]))}-{int(max(needed or [0]))}")
         need = f", needs about {span} samples per set (estimate)" if needed else ""
-        parts.append(f"{n['inconclusive']} inconclusive{need}")
+        parts.append(f"{n['inconclusive']} inconclusive{_where(verdicts, 'inconclusive')}{need}")
+    regions = {v.region for v in verdicts}
+    if "pooled" in regions and not regions & set(REGIONS):
+        parts.append("pooled only, no region around jamming judged (no phi_J: no scaling fit, "
+                     "no jamming points, no --phi-j)")
     return f"{plain(check).replace('_', ' ')}: " + "; ".join(parts)
+
+
+REGIONS = ("below", "at", "above")
+
+
+def _where(verdicts, status):
+    """' (below jamming 5, at jamming 2)': the regions of the verdicts of a status, when any
+    of them judged a region around jamming."""
+    counted = {r: sum(v.status == status and v.region == r
+                      and (status != "fail" or not v.expected_failure)
+                      for v in verdicts) for r in REGIONS}
+    if not any(counted.values()):
+        return ""
+    return " (" + ", ".join(f"{r} jamming {k}" for r, k in counted.items() if k) + ")"
 
 
 def headlines(verdicts):
