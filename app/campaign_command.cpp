@@ -12,8 +12,41 @@
 #include "app/pilot.hpp"
 #include "app/plan_decidability.hpp"
 #include "app/until_decided.hpp"
+#include "sim/io/atomic_file.hpp"
 
 namespace jam {
+
+namespace {
+
+/// `jam campaign converge`: the campaign file written (never over an existing file), and what
+/// to run next.
+int write_convergence_campaign(const CampaignArgs& a) {
+  const Campaign c = read_campaign(a.file);
+  const std::string text = convergence_campaign_text(c, a.converge);
+  std::filesystem::path out = a.converge_out;
+  if (out.empty()) {
+    out = std::filesystem::path(a.file);
+    out.replace_filename(out.stem().string() + "-convergence.toml");
+  }
+  if (std::filesystem::exists(out))
+    throw CLI::ValidationError(
+        "--out", fmt::format("{}: exists; move it away or name another", out.string()));
+  {
+    AtomicFile file(out.string());
+    std::fputs(text.c_str(), file.stream());
+    file.commit();
+  }
+  const Campaign written = read_campaign(out.string());
+  fmt::print(
+      "wrote {}: {} runs of {} redone\nthen:\n  jam campaign run {}\n  jam stats {}\n"
+      "  jam check convergence {} --against {}\n",
+      out.string(),
+      written.samples * written.sizes.size() * written.phi_init.size() * written.log10_rates.size(),
+      c.name, out.string(), written.output, c.output, written.output);
+  return 0;
+}
+
+}  // namespace
 
 void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   CLI::App* campaign = app.add_subcommand(
@@ -66,6 +99,30 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   import->footer(
       "Exit status: 0 every file imported (or already there); 1 a file was set aside "
       "(the reason is printed and kept in external.toml); 2 bad input.");
+  CLI::App* converge = campaign->add_subcommand(
+      "converge",
+      "Write the campaign file that redoes part of a campaign at a stricter integrator setting "
+      "from the same starts, for `jam check convergence`");
+  converge->add_option("file", a.file, "Campaign file (TOML)")->required();
+  converge->add_option("--sizes", a.converge.sizes, "Sizes redone (default: every size)");
+  converge->add_option("--rates", a.converge.log10_rates,
+                       "Rates redone, as log10 values (default: the two slowest)");
+  converge->add_option("--samples", a.converge.samples, "The campaign's first K samples")
+      ->capture_default_str();
+  converge
+      ->add_option("--tolerance-factor", a.converge.tolerance_factor,
+                   "The compression tolerance, times the campaign's strictest among the "
+                   "rates redone (the error then in the largest component)")
+      ->capture_default_str();
+  converge
+      ->add_option("--phi-stop", a.converge.phi_stop,
+                   "Stop there (default: the campaign's; e.g. phi_J - 0.004 to judge only "
+                   "the region below jamming)")
+      ->check(CLI::Range(0.0, 1.0));
+  converge->add_option("--output", a.converge.output,
+                       "Its campaign directory (default: <output>-convergence)");
+  converge->add_option("--out", a.converge_out,
+                       "The campaign file written (default: FILE's name with -convergence)");
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
@@ -166,6 +223,7 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
                out.already, out.set_aside.size());
     return out.set_aside.empty() ? 0 : 1;
   }
+  if (campaign->got_subcommand("converge")) return write_convergence_campaign(a);
   const Campaign c = read_campaign(a.file);
   // The variance model first, so that a bad --scatter-from is refused before any output.
   ScatterModel model;

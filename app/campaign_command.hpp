@@ -3,6 +3,7 @@
 
 #include "app/until_decided.hpp"
 #include "campaign/campaign_runner.hpp"
+#include "campaign/convergence_campaign.hpp"
 #include "campaign/external_campaign.hpp"
 
 namespace jam {
@@ -19,6 +20,8 @@ struct CampaignArgs {
   int pilot = 0;                          // plan --pilot K
   std::vector<std::string> import_files;  // import DIR FILE...
   ImportOptions import_options;
+  ConvergenceChoice converge;  // converge FILE: what is redone
+  std::string converge_out;    // converge --out: the campaign file written
 };
 
 /// Registers `jam campaign run|status|plan`.

@@ -250,7 +250,8 @@ void validate_chain(Reader& r, const Campaign& c) {
       continue;
     }
     const auto rate = fmt::format("{:g} at log10 rate {:g}", phi, c.log10_rates[k]);
-    if (k == order.front()) {
+    // Starts read from another campaign (chain_starts_from) come from its faster rates.
+    if (k == order.front() && c.chain_starts_from.empty()) {
       r.fail(key, rate + ": the fastest rate has no faster one to start from (give 0)");
     }
     if (!(phi > faster_start && phi < c.run.phi_stop)) {
@@ -312,6 +313,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   c.phi_init = r.numbers("phi_init");
   c.log10_rates = r.numbers("log10_rates");
   c.chain_phi_init = r.optional_numbers("chain_phi_init");
+  c.chain_starts_from = r.string("chain_starts_from", false, "");
   c.samples = r.integer("samples", true, 0);
   c.first_sample = r.integer("first_sample", false, c.first_sample);
   const std::int64_t seed = r.integer("seed", true, 0);
@@ -368,6 +370,11 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   if (c.output.empty()) r.fail("output", "must name a directory");
   if (c.run.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
   validate_chain(r, c);
+  if (!c.chain_starts_from.empty() && c.chain_phi_init.empty()) {
+    r.fail("chain_starts_from",
+           "'" + c.chain_starts_from +
+               "': needs chain_phi_init, the packings at which that campaign's starts are taken");
+  }
 
   // Everything a single run checks, with the campaign's key names in the message: every size
   // and start (a size too small for its box, say), and every rate.
@@ -418,6 +425,7 @@ std::vector<std::pair<std::string, std::string>> identity_keys(const Campaign& c
     keys.emplace_back(p.name, ignored ? "-" : fingerprint_text(field_value(c.run, p)));
   }
   keys.emplace_back("seed", std::to_string(c.base_seed));
+  keys.emplace_back("chain_starts_from", c.chain_starts_from.empty() ? "-" : c.chain_starts_from);
   return keys;
 }
 

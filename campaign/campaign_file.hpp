@@ -34,6 +34,12 @@ struct Campaign {
   // the sample's relaxed random start; a packing phi'_init continues from the configuration the
   // next faster rate of the same sample passed through there. Empty: no chains.
   std::vector<double> chain_phi_init;
+  // Runs redone from another campaign's starts (`jam campaign converge`): a campaign directory
+  // whose plan holds every run of this one under the same name; each rate with a
+  // chain_phi_init reads the start its namesake there read (from that campaign's parent run,
+  // which `jam campaign run` rewrites first when it is gone), instead of chaining its own, so
+  // the two differ only in how they integrate. Empty: none.
+  std::string chain_starts_from;
   std::int64_t samples = 0;
   // Samples are numbered first_sample ... first_sample + samples - 1: a rerun of part of a
   // campaign (first_sample inside it) or new samples of it (first_sample past its end).

@@ -19,6 +19,7 @@
 #include "campaign/campaign_lock.hpp"
 #include "campaign/progress_estimate.hpp"
 #include "campaign/progress_text.hpp"
+#include "campaign/restore_starts.hpp"
 #include "campaign/run_chains.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/run_queue.hpp"
@@ -82,6 +83,8 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     // Other shares may be writing: only a runner that owns the whole directory cleans up.
     if (!sharded) remove_stale_temporaries(c.output);
     prepare_campaign_directory(c);
+    // Runs redone from another campaign's starts: those gone rewritten there first.
+    restore_starts(c, options.quiet);
   }
   barrier();
 

@@ -63,7 +63,7 @@ double estimated_particle_steps(const SimConfig& s, double phi_from) {
 /// same sample (fastest first, so that a parent's fingerprint is final before its child's
 /// identity is taken from it). `runs` in plan order before sorting, rates innermost but one.
 void link_chains(const Campaign& c, std::vector<PlannedRun>& runs) {
-  if (c.chain_phi_init.empty()) return;
+  if (c.chain_phi_init.empty() || !c.chain_starts_from.empty()) return;
   std::map<std::tuple<std::int64_t, double, double, std::int64_t>, std::size_t> at;
   for (std::size_t k = 0; k < runs.size(); ++k)
     at[{runs[k].n, runs[k].phi_init, runs[k].log10_rate, runs[k].sample}] = k;
@@ -97,7 +97,49 @@ void link_chains(const Campaign& c, std::vector<PlannedRun>& runs) {
   }
 }
 
+/// Runs redone from another campaign's starts (campaign_file.hpp, chain_starts_from): each
+/// chained rate reads the start its namesake there reads, from that campaign's chain
+/// directory, with the identity its parent there gives it. Planning needs only the path: when
+/// that campaign is not at hand (a plan of the cost) or has no such run, the identity stays
+/// empty, and `jam campaign run` refuses it (restore_starts.hpp) before any work.
+void take_starts_from(const Campaign& c, std::vector<PlannedRun>& runs) {
+  if (c.chain_starts_from.empty()) return;
+  std::map<double, double> chained;  // log10 rate -> the packing its start is taken at
+  for (std::size_t k = 0; k < c.chain_phi_init.size(); ++k)
+    if (c.chain_phi_init[k] > 0.0) chained[c.log10_rates[k]] = c.chain_phi_init[k];
+  const std::filesystem::path from(c.chain_starts_from);
+  std::map<std::string, SimConfig> theirs;
+  if (std::filesystem::exists(from / "campaign.toml")) {
+    for (auto& r : plan_runs(starts_campaign(c))) theirs.emplace(r.name, std::move(r.config));
+  }
+  for (auto& r : runs) {
+    const auto at = chained.find(r.log10_rate);
+    if (at == chained.end()) continue;  // a relaxed start: the same seed, relaxed here
+    r.config.relax = false;
+    r.config.start_cache.clear();
+    r.config.read_start = (from / "chain" / (r.name + ".start.h5")).string();
+    r.config.start_identity.clear();
+    if (const auto it = theirs.find(r.name);
+        it != theirs.end() && it->second.read_start == r.config.read_start)
+      r.config.start_identity = it->second.start_identity;
+    r.estimated_particle_steps = estimated_particle_steps(r.config, at->second);
+  }
+}
+
 }  // namespace
+
+Campaign starts_campaign(const Campaign& c) {
+  const std::filesystem::path dir(c.chain_starts_from);
+  Campaign from;
+  try {
+    from = read_campaign((dir / "campaign.toml").string());
+  } catch (const std::exception& e) {
+    throw CampaignError(
+        fmt::format("{}: chain_starts_from {}: {}", c.source_path, c.chain_starts_from, e.what()));
+  }
+  from.output = dir.string();  // its paths as seen from here
+  return from;
+}
 
 std::uint64_t derive_seed(std::uint64_t base_seed, std::int64_t n, double phi_init,
                           std::int64_t sample) {
@@ -183,6 +225,7 @@ std::vector<PlannedRun> plan_runs(const Campaign& c, const SampleCounts& added) 
     }
   }
   link_chains(c, runs);
+  take_starts_from(c, runs);
   std::stable_sort(runs.begin(), runs.end(), [](const PlannedRun& a, const PlannedRun& b) {
     return a.estimated_particle_steps > b.estimated_particle_steps;
   });

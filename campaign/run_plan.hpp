@@ -46,6 +46,10 @@ std::vector<PlannedRun> plan_runs(const Campaign& campaign);
 /// The same with the added samples given.
 std::vector<PlannedRun> plan_runs(const Campaign& campaign, const SampleCounts& added);
 
+/// The campaign whose starts `c` reads (c.chain_starts_from: its stored campaign.toml, its
+/// output taken as that directory). Throws CampaignError naming the key.
+Campaign starts_campaign(const Campaign& c);
+
 /// Directory holding the run files of a campaign.
 std::string runs_directory(const Campaign& campaign);
 

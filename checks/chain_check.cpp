@@ -21,24 +21,14 @@
 #include "checks/relative_difference.hpp"
 
 namespace jam::checks {
-namespace {
-
-using Key = std::tuple<std::int64_t, double, double>;  // n, phi_init, log10 rate
-
-Key key_of(const EnsembleTables& e) {
-  return {e.n, e.phi_init, e.log10_rate};
-}
-
-}  // namespace
-
 std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& control,
                                  const CheckOptions& o, const RegressionOptions&) {
-  std::map<Key, const EnsembleTables*> unchained;
+  std::map<EnsembleKey, const EnsembleTables*> unchained;
   for (const auto& e : control.ensembles)
-    if (e.chain_phi_init == 0) unchained[key_of(e)] = &e;
+    if (e.chain_phi_init == 0) unchained[ensemble_key(e)] = &e;
   std::vector<std::pair<const EnsembleTables*, const EnsembleTables*>> pairs;
   for (const auto& e : chained.ensembles) {
-    const auto it = unchained.find(key_of(e));
+    const auto it = unchained.find(ensemble_key(e));
     if (e.chain_phi_init > 0 && it != unchained.end()) pairs.push_back({&e, it->second});
   }
   if (pairs.empty()) {

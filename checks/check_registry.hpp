@@ -56,6 +56,10 @@ inline constexpr std::string_view kChain =
     "the weighted mean Delta p/p over the fit's window, as a fit weighs the points; 40 samples "
     "at N = 256 exclude 4.5-9.7% at every chained rate of the stored results, and a 15% shift "
     "planted in them fails every rate";
+// The convergence check: the integrator's own error (convergence_check.cpp).
+inline constexpr std::string_view kConvergence =
+    "the integrator's error must lie well below what the physics checks judge: a tenth of "
+    "their 10%, so that a size or start effect at the margin is not the integrator's";
 inline constexpr std::string_view kJammingPoint =
     "about the sample spread of phi_Ji at N ~ 10^3; a larger shift of <phi_Ji> would move "
     "phi_J by more than the fit's window steps";
@@ -95,6 +99,7 @@ inline constexpr std::string_view kLammps =
   X(lammps, &lammps_check, 0.005, relative, kLammps, true, "lammps")                               \
   X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")                   \
   X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts")                                \
+  X(convergence, &convergence_check, 0.01, relative, kConvergence, false, "verdicts")              \
   X(compare, &compare_check, 0.05, relative, kCompare, false, "compare")                           \
   X(compare_jamming, PartOf{"compare"}, 0.005, packing_fraction, kJammingPoint, false, "verdicts") \
   X(compare_fit, PartOf{"compare"}, 0.10, relative, kExponents, false, "verdicts")                 \

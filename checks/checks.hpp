@@ -64,6 +64,10 @@ struct RegressionOptions;
 /// Each chained rate against the same samples compressed without chaining (chain_check.cpp).
 std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& control,
                                  const CheckOptions& o, const RegressionOptions&);
+/// A campaign's pressures against the same runs redone at a stricter integrator setting, over
+/// the same samples (convergence_check.cpp).
+std::vector<Verdict> convergence_check(const StatsData& campaign, const StatsData& converged,
+                                       const CheckOptions& o, const RegressionOptions&);
 /// Two campaigns of the same model, ensemble by ensemble: DIR (e.g. another simulator's runs)
 /// against REF (the reference simulator's), whatever their samples, seeds and grids; verdicts
 /// compare, compare_jamming, compare_fit and compare_fit_phi_j (compare_check.cpp).

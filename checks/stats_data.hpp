@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace jam::checks {
@@ -26,6 +27,12 @@ struct EnsembleTables {
   // pressure, and the transient is its decay (margin.hpp, first_chained_compression_point).
   double chain_phi_init = 0;
 };
+
+/// An ensemble's identity across campaigns: size, phi_init, log10 rate.
+using EnsembleKey = std::tuple<std::int64_t, double, double>;
+inline EnsembleKey ensemble_key(const EnsembleTables& e) {
+  return {e.n, e.phi_init, e.log10_rate};
+}
 
 /// The ensemble as verdicts name it: "n<N> phi_init <phi> rate 1e<log10 rate>".
 std::string case_label(const EnsembleTables& e);
