@@ -55,7 +55,10 @@ std::size_t restore_starts(const Campaign& c, bool quiet) {
   if (order.empty()) return 0;
   const CampaignLock lock(from.output);
   for (const PlannedRun* p : order) {
-    std::filesystem::create_directories(std::filesystem::path(p->config.write_start).parent_path());
+    // A restored snapshot holds run files only: the directories of starts may be gone too.
+    for (const std::string& file : {p->config.write_start, p->config.start_cache})
+      if (!file.empty())
+        std::filesystem::create_directories(std::filesystem::path(file).parent_path());
     RunControl control;
     control.checkpoint_interval_seconds = p->config.checkpoint_interval;
     control.start_only = true;
