@@ -406,6 +406,13 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
                     "({:.3g}) differ by more than a factor {:g}",
                     r.chi2_cov_per_dof, r.chi2_diag_per_dof, kChi2DisagreementFactor));
   }
+  const double chi2 =
+      std::isfinite(r.chi2_cov_per_dof) ? r.chi2_cov_per_dof : r.chi2_diag_per_dof;
+  if (chi2 > kMaxChi2PerDof) {
+    poor.push_back(fmt::format(
+        "chi^2/dof {:.3g} above {:g}: the scaling form does not describe these points", chi2,
+        kMaxChi2PerDof));
+  }
   if (r.condition_number > kIllConditioned) {
     poor.push_back(fmt::format("ill-conditioned Jacobian (condition number {:.2g} > {:g})",
                                r.condition_number, kIllConditioned));

@@ -49,6 +49,10 @@ struct CollapsePoint {
 constexpr double kChi2DisagreementFactor = 10.0;  // chi^2 with the covariance vs diagonal
 constexpr double kIllConditioned = 1e10;          // condition number of the weighted Jacobian
 constexpr std::size_t kMinPointsPerRate = 5;      // points of every fitted rate in the window
+// Absolute: chi^2/dof (with the covariance, else diagonal) above this, the form does not
+// describe the data. The stored paper-2d scan's good rows lie at 0.35-1.3 and its +-0.03 rows,
+// a spurious fixed point of the window iteration, at 116-203 (docs/reproduction.md).
+constexpr double kMaxChi2PerDof = 3.0;
 
 struct ScalingFitResult {
   // Jackknife bias-corrected estimates (plain fit values if jackknife is off) and errors.

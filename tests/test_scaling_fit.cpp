@@ -229,6 +229,30 @@ BOOST_AUTO_TEST_CASE(too_few_points_per_rate_is_flagged) {
   BOOST_TEST(r.quality_reason.find("points in the window") != std::string::npos, r.quality_reason);
 }
 
+// Data the form does not describe: the slowest rate's pressure 15% higher everywhere (no single
+// power of the rate follows it), 1% scatter so that the misfit dominates. The fit returns,
+// flagged poor for its chi^2/dof; the same data without it stay ok.
+BOOST_AUTO_TEST_CASE(a_fit_far_above_chi2_one_is_flagged_poor) {
+  const Truth t;
+  auto clean = synthetic(t, 8, 10);
+  for (auto& e : clean)
+    for (std::size_t s = 0; s < e.pressure.size(); ++s)
+      for (std::size_t k = 0; k < e.phi.size(); ++k)
+        e.pressure[s][k] = t.pressure(e.phi[k], e.rate) * (1 + 0.01 * std::sin(7.0 * s + k));
+  auto kinked = clean;
+  FitEnsemble& slow = kinked.back();
+  for (auto& row : slow.pressure)
+    for (double& p : row) p *= 1.15;
+  const ScalingFitResult good = fit_scaling(clean, cubic_options());
+  BOOST_TEST(good.quality_reason.find("does not describe") == std::string::npos, good.quality_reason);
+  const ScalingFitResult bad = fit_scaling(kinked, cubic_options());
+  BOOST_TEST_MESSAGE("chi^2/dof clean " << good.chi2_cov_per_dof << ", kinked "
+                                        << bad.chi2_cov_per_dof);
+  BOOST_TEST(bad.quality == "poor");
+  BOOST_TEST(bad.quality_reason.find("does not describe") != std::string::npos,
+             bad.quality_reason);
+}
+
 // The representative fit of the scan (stats/fit_scan.cpp): the largest rate_max whose fit a
 // slower rate_max confirms. On data that follow the scaling form at every rate that is the
 // fastest rate_max, quality ok. With a planted correction to scaling at the fastest rate the
