@@ -196,19 +196,7 @@ std::vector<Verdict> convergence_check(const StatsData& campaign, const StatsDat
       continue;
     }
     const double compressed = std::max(e.compressed_from_phi, c->compressed_from_phi);
-    PoolRange range;
-    if (o.phi_min || o.phi_max) {
-      range.min = o.phi_min.value_or(-HUGE_VAL);
-      range.max = o.phi_max.value_or(HUGE_VAL);
-      range.why = "the range given (--phi-min, --phi-max)";
-    } else if (campaign.fit_window_min) {
-      range.min = *campaign.fit_window_min;
-      range.max = campaign.fit_window_max.value_or(HUGE_VAL);
-      range.why = "the campaign's scaling-fit window, the data its fit uses";
-    } else {
-      range.why = "no scaling fit: everything both compress";
-    }
-    range.min = std::max(range.min, compressed);
+    const PoolRange range = *phi_range(campaign, o, compressed, false, nullptr);
     std::vector<PoolRange> ranges = {range};
     for (auto& r : region_ranges(names, jamming, false, e, *c, compressed, -HUGE_VAL))
       ranges.push_back(std::move(r));
