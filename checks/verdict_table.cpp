@@ -13,6 +13,12 @@
 namespace jam::checks {
 namespace {
 
+/// The line under a check's heading when it judged no region around jamming
+/// (reports/report_html.py prints the same).
+constexpr const char* kPooledOnly =
+    "  pooled only: no region around jamming judged (no phi_J: no scaling fit, no jamming "
+    "points, no --phi-j)";
+
 /// The words after "effects in": "%", "packing fraction", or the verdict's own unit.
 std::string unit_words(const std::string& unit) {
   if (unit == "relative") return "%";
@@ -76,6 +82,13 @@ void check_table(std::ostringstream& out, const CheckRows& c) {
   out << fmt::format("{}: {} verdict{}, {}{}\n", c.check, c.all.size(),
                      c.all.size() == 1 ? "" : "s", outcome_counts(c.all),
                      one_unit ? "; effects in " + unit_words(c.by_unit.front().first) : "");
+  // A pressure check that could place no region around jamming says so before its rows.
+  const bool pooled = std::any_of(c.all.begin(), c.all.end(),
+                                  [](const Verdict& v) { return v.region == "pooled"; });
+  const bool regions = std::any_of(c.all.begin(), c.all.end(), [](const Verdict& v) {
+    return v.region == "below" || v.region == "at" || v.region == "above";
+  });
+  if (pooled && !regions) out << kPooledOnly << "\n";
   const std::string row = "  {:<{}}  {:<{}}  {:>10}  {:>14}  {:>8}  {}";
   out << trimmed(fmt::format(fmt::runtime(row), "verdict", status_width, "case", case_width,
                              "detectable", "excluded above", "margin", "reason"));

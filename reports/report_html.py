@@ -146,6 +146,9 @@ def headline(check, verdicts):
 
 
 REGIONS = ("below", "at", "above")
+# The line under a check's heading when it judged no region (checks/verdict_table.cpp).
+POOLED_ONLY = ("  pooled only: no region around jamming judged (no phi_J: no scaling fit, no "
+               "jamming points, no --phi-j)")
 
 
 def _where(verdicts, status):
@@ -363,6 +366,9 @@ def check_table(check, mine):
     plural = "" if len(mine) == 1 else "s"
     lines = [f"{plain(check)}: {len(mine)} verdict{plural}, {counts_text(counts(mine))}"
              + (f"; effects in {_unit_words(next(iter(groups)))}" if one_unit else "")]
+    regions = {v.region for v in mine}
+    if "pooled" in regions and not regions & set(REGIONS):
+        lines.append(POOLED_ONLY)
 
     def row(*cells):
         return (f"  {cells[0]:<{status_width}}  {cells[1]:<{case_width}}  {cells[2]:>10}  "

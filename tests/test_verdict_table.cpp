@@ -138,3 +138,18 @@ BOOST_AUTO_TEST_CASE(reasons_give_relative_effects_in_percent) {
   estimate.samples_needed = 93;
   BOOST_TEST(short_reason(estimate) == "about 93 samples per set would decide");
 }
+
+BOOST_AUTO_TEST_CASE(a_check_judged_pooled_only_says_so_under_its_heading) {
+  Verdict pooled = decided("finite_size", "a vs b", false, 0.05, 0.1);
+  pooled.region = "pooled";
+  const std::string only = format_table({pooled});
+  BOOST_TEST(only.find("pooled only: no region around jamming judged") != std::string::npos, only);
+  Verdict below = pooled;
+  below.region = "below";
+  below.case_name += ", below jamming";
+  const std::string both = format_table({pooled, below});
+  BOOST_TEST(both.find("pooled only") == std::string::npos, both);
+  // Verdicts about no stretch of the compression (fits, LAMMPS) carry no region: no line.
+  const std::string fits = format_table({decided("fit_parameters", "x", false, 0.05, 0.1)});
+  BOOST_TEST(fits.find("pooled only") == std::string::npos, fits);
+}
