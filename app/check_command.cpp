@@ -38,16 +38,18 @@ void mark_expected_failures(std::vector<checks::Verdict>& verdicts,
 struct CampaignPart {
   std::string name;
   std::map<std::string, double> margins;
+  std::map<std::string, double> regions;  // [regions]
   std::vector<std::string> expected;
   std::vector<std::string> compare_with;  // other simulators' campaigns judged against this one
 };
 
 CampaignPart campaign_part(const std::string& directory) {
   const std::filesystem::path file = std::filesystem::path(directory) / "campaign.toml";
-  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}, {}};
+  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}, {}, {}};
   if (std::filesystem::exists(file)) {
     const Campaign campaign = read_campaign(file.string());
-    c = {campaign.name, campaign.margins, campaign.expected_failures, campaign.compare_with};
+    c = {campaign.name, campaign.margins, campaign.regions, campaign.expected_failures,
+         campaign.compare_with};
   }
   return c;
 }
@@ -172,7 +174,7 @@ void append_comparisons(std::vector<checks::Verdict>& verdicts, const CampaignPa
 
 nlohmann::json check_record(const CheckArgs& a) {
   const CampaignPart c = campaign_part(a.directory);
-  return judging_record(a.judging, check_options(a.judging, a.name, c.margins));
+  return judging_record(a.judging, check_options(a.judging, a.name, c.margins, c.regions));
 }
 
 int run_check_command(const CheckArgs& a) {
@@ -192,7 +194,7 @@ int run_check_command(const CheckArgs& a) {
   }
   // Margins and expected failures: the campaign file's, then --margin.
   const CampaignPart campaign = campaign_part(a.directory);
-  checks::CheckOptions o = check_options(a.judging, a.name, campaign.margins);
+  checks::CheckOptions o = check_options(a.judging, a.name, campaign.margins, campaign.regions);
   if (!a.set_a.empty() || !a.set_b.empty()) {
     if (a.set_a.empty() || a.set_b.empty())
       throw std::runtime_error("--set-a and --set-b go together");

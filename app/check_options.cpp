@@ -68,14 +68,17 @@ std::vector<JudgingOption> make_table() {
        "Half-width of the region at jamming, phi_J +- near; the regions below and above "
        "reach from it to --region-far",
        [](const JudgingArgs& a) {
-         return a.region_near > 0 && a.region_near < 0.1 ? "" : std::string("must be in (0, 0.1)");
+         return !a.region_near || (*a.region_near > 0 && *a.region_near < 0.1)
+                    ? ""
+                    : std::string("must be in (0, 0.1)");
        }},
       {"--region-far", "region_far", &JudgingArgs::region_far,
        "Outer edge of the regions below and above jamming, phi_J -+ far",
        [](const JudgingArgs& a) {
-         if (!(a.region_far < 0.2)) return std::string("must be below 0.2");
-         if (!(a.region_far > a.region_near))
-           return fmt::format("must exceed --region-near {:g}", a.region_near);
+         if (!a.region_far) return std::string();
+         if (!(*a.region_far > 0 && *a.region_far < 0.2)) return std::string("must be in (0, 0.2)");
+         const double near = a.region_near.value_or(checks::RegionOffsets{}.near);
+         if (!(*a.region_far > near)) return fmt::format("must exceed --region-near {:g}", near);
          return std::string();
        }},
       {"--margin", "margin", &JudgingArgs::margin, margin_help(),
@@ -147,15 +150,24 @@ void validate_judging(const JudgingArgs& args) {
 }
 
 checks::CheckOptions check_options(const JudgingArgs& args, const std::string& name,
-                                   const std::map<std::string, double>& campaign_margins) {
+                                   const std::map<std::string, double>& campaign_margins,
+                                   const std::map<std::string, double>& campaign_regions) {
   validate_judging(args);
   checks::CheckOptions o;
   o.alpha = args.alpha;
   o.permutations = args.permutations;
   o.phi_min = args.phi_min;
   o.phi_max = args.phi_max;
-  o.phi_j = args.phi_j;
-  o.regions = {args.region_near, args.region_far};
+  auto campaign = [&campaign_regions](const char* key) -> std::optional<double> {
+    const auto it = campaign_regions.find(key);
+    return it == campaign_regions.end() ? std::nullopt : std::optional<double>(it->second);
+  };
+  o.phi_j = args.phi_j ? args.phi_j : campaign("phi_j");
+  o.regions.near = args.region_near.value_or(campaign("near").value_or(o.regions.near));
+  o.regions.far = args.region_far.value_or(campaign("far").value_or(o.regions.far));
+  if (!(o.regions.far > o.regions.near))
+    throw std::runtime_error(
+        fmt::format("regions: far {:g} must exceed near {:g}", o.regions.far, o.regions.near));
   o.margins = campaign_margins;
   if (args.margin) {
     // `all` sets the margin of every check in the unit of the named one (relative pressure
@@ -179,6 +191,11 @@ nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOption
   for (const auto& e : checks::check_registry())
     margins[std::string(e.name)] = options.margin(std::string(e.name));
   record["margins"] = margins;
+  // The regions as used (the campaign's [regions] where no option gave them).
+  record["regions"] = {
+      {"phi_j", options.phi_j ? nlohmann::json(*options.phi_j) : nlohmann::json(nullptr)},
+      {"near", options.regions.near},
+      {"far", options.regions.far}};
   return record;
 }
 

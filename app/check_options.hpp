@@ -27,8 +27,8 @@ struct JudgingArgs {
   int permutations = 2000;
   std::optional<double> phi_min, phi_max;  // absent: the scaling fit's window
   std::optional<double> margin;            // absent: the campaign's [margins], else defaults
-  std::optional<double> phi_j;             // absent: the fit's, else <phi_Ji>
-  double region_near = checks::RegionOffsets{}.near, region_far = checks::RegionOffsets{}.far;
+  std::optional<double> phi_j;             // absent: the campaign's [regions], the fit's, <phi_Ji>
+  std::optional<double> region_near, region_far;  // absent: the campaign's, else the defaults
   std::string reference_dir = data_path("reference").string();
   bool no_lmp = false;
 };
@@ -55,10 +55,12 @@ void add_judging_options(CLI::App* command, JudgingArgs& args);
 void validate_judging(const JudgingArgs& args);
 
 /// The statistical checks' options for check `name` (`all`: every check): the campaign's
-/// margins, then --margin (for `name`, its parts, or every check under `all`), the rest as
+/// margins, then --margin (for `name`, its parts, or every check under `all`); the regions
+/// from --phi-j, --region-near, --region-far, else the campaign's [regions]; the rest as
 /// given. Validates first.
 checks::CheckOptions check_options(const JudgingArgs& args, const std::string& name,
-                                   const std::map<std::string, double>& campaign_margins);
+                                   const std::map<std::string, double>& campaign_margins,
+                                   const std::map<std::string, double>& campaign_regions = {});
 
 /// What the verdicts were judged with: every option of the table by its key (null when not
 /// given) and "margins", each registered check's margin as used.

@@ -121,7 +121,8 @@ class Reader {
 
   /// An optional table of positive finite numbers, keys from `allowed`.
   std::map<std::string, double> number_table(const std::string& key,
-                                             const std::set<std::string>& allowed) {
+                                             const std::set<std::string>& allowed,
+                                             const char* what = "check") {
     std::map<std::string, double> out;
     const toml::node* node = find(key, false);
     if (!node) return out;
@@ -129,7 +130,7 @@ class Reader {
     if (!table) fail(key, "must be a table of numbers");
     for (const auto& [name, value] : *table) {
       const std::string k(name.str());
-      if (!allowed.count(k)) fail(key, fmt::format("{}: unknown check", k));
+      if (!allowed.count(k)) fail(key, fmt::format("{}: unknown {}", k, what));
       if (!value.is_number()) fail(key, fmt::format("{}: must be a number", k));
       const double v = *toml_number(&value);
       if (!std::isfinite(v) || v <= 0) fail(key, fmt::format("{} = {}: must be > 0", k, v));
@@ -319,6 +320,14 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   const std::int64_t seed = r.integer("seed", true, 0);
   c.output = r.string("output", true, "");
   c.margins = r.number_table("margins", checks::check_names());
+  c.regions = r.number_table("regions", {"phi_j", "near", "far"}, "key");
+  if (c.regions.count("phi_j") && !(c.regions.at("phi_j") < 1))
+    r.fail("regions",
+           fmt::format("phi_j = {:g}: must be a packing in (0, 1)", c.regions.at("phi_j")));
+  if (c.regions.count("near") && c.regions.count("far") &&
+      !(c.regions.at("near") < c.regions.at("far")))
+    r.fail("regions", fmt::format("far = {:g}: must exceed near = {:g}", c.regions.at("far"),
+                                  c.regions.at("near")));
   c.expected_failures = r.strings("expected_failures");
   c.compare_with = r.strings("compare_with");
   for (const auto& d : c.compare_with)

@@ -52,6 +52,10 @@ struct Campaign {
   // How `jam check` judges this campaign (not part of its identity: changing them never
   // touches a run). [margins]: a check's name -> its margin M (checks/checks.hpp).
   std::map<std::string, double> margins;
+  // [regions]: where the regions around jamming lie when `jam check` is not told
+  // (checks/regions.hpp): phi_j (fixing phi_J, e.g. for a registered follow-up whose regions
+  // are stated before its runs), near and far (the offsets). Keys absent: the defaults.
+  std::map<std::string, double> regions;
   // Verdicts the campaign expects to fail, "check: text" with text a part of the case name
   // ("phi_init: phi_init 0.8 vs"): the main job names them as expected, not as a bare FAIL.
   std::vector<std::string> expected_failures;

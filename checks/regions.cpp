@@ -7,7 +7,7 @@
 namespace jam::checks {
 
 JammingReference jamming_reference(const StatsData& d, std::optional<double> given) {
-  if (given) return {*given, fmt::format("phi_J {:.5f} as given (--phi-j)", *given)};
+  if (given) return {*given, fmt::format("phi_J {:.5f} as given (--phi-j or [regions])", *given)};
   if (d.fit_phi_j && std::isfinite(*d.fit_phi_j))
     return {*d.fit_phi_j, fmt::format("the scaling fit's phi_J {:.5f}", *d.fit_phi_j)};
   // The largest size that looked for jamming points: its phi_Ji scatter least.

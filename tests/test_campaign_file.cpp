@@ -124,6 +124,18 @@ BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
              "c.toml:4: phi_init: 9.0072e+15 (each must be in (0, phi_stop = 0.86))");
   BOOST_TEST(rejection(kGood + "[margins]\nfinite_size = -9007199254740993\n") ==
              "c.toml:10: margins: finite_size = -9007199254740992: must be > 0");
+  // [regions]: where the regions around jamming lie (checks/regions.hpp).
+  BOOST_TEST(parse_campaign(kGood + "[regions]\nphi_j = 0.84086\nfar = 0.01\n", "c.toml")
+                 .regions.at("phi_j") == 0.84086);
+  BOOST_TEST(rejection(kGood + "[regions]\nphi = 0.84\n") ==
+             "c.toml:10: regions: phi: unknown key");
+  BOOST_TEST(rejection(kGood + "[regions]\nphi_j = 1.2\n").find("phi_j = 1.2: must be a packing") !=
+             std::string::npos);
+  BOOST_TEST(rejection(kGood + "[regions]\nnear = 0.02\nfar = 0.01\n")
+                 .find("far = 0.01: must exceed near = 0.02") != std::string::npos);
+  // chain_starts_from names the packings it reads at: without chain_phi_init it is refused.
+  BOOST_TEST(rejection(kGood + "chain_starts_from = \"runs/x\"\n")
+                 .find("chain_starts_from: 'runs/x': needs chain_phi_init") != std::string::npos);
   // Non-ASCII text (the TOML parser has undefined behaviour on some of it) and control bytes.
   BOOST_TEST(rejection(replace(kGood, "sizes = [64, 128]", "sizes = [64\xcd\xbd, 128]")) ==
              "c.toml:3: byte 0xcd: campaign files are plain ASCII text");

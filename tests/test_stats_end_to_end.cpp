@@ -176,6 +176,19 @@ BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
   BOOST_TEST(out.find(" samples") != std::string::npos, out);
   BOOST_TEST(slurp(kDir / "ci" / "checks-finite_size.json").find("splits") != std::string::npos);
   BOOST_TEST(run_jam("check sample_pairs " + dir, &out) == 3, out);
+  {
+    // The campaign file's [regions] place the regions when no option does; an option wins.
+    const fs::path stored = kDir / "ci" / "campaign.toml";
+    const std::string text = slurp(stored);
+    std::ofstream(stored) << text << "\n[regions]\nphi_j = 0.845\n";
+    run_jam("check finite_size " + dir, &out);
+    const std::string judged = slurp(kDir / "ci" / "checks-finite_size.json");
+    BOOST_TEST(judged.find("relative to phi_J 0.84500") != std::string::npos, judged);
+    run_jam("check finite_size " + dir + " --phi-j 0.84", &out);
+    BOOST_TEST(slurp(kDir / "ci" / "checks-finite_size.json").find("relative to phi_J 0.84000") !=
+               std::string::npos);
+    std::ofstream(stored) << text;
+  }
   const fs::path changed = kDir / "changed";
   fs::create_directories(changed);
   fs::copy_file(kDir / "ci" / "stats.h5", changed / "stats.h5");
