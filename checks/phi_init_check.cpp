@@ -86,9 +86,11 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
         judged.front().status = "inconclusive";
         judged.front().reason = why_not;
       }
-      // Consistent only where the data exclude effects beyond the margin, in every range.
+      // Consistent only where the data exclude effects beyond the margin, in every range the
+      // data cover (a region beyond them has nothing to judge and says nothing against it).
       for (const auto& x : judged) {
-        if (x.status != "pass") all_consistent_so_far = false;
+        const bool uncovered = x.region != "pooled" && x.reason.starts_with("nothing to judge");
+        if (x.status != "pass" && !uncovered) all_consistent_so_far = false;
       }
       if (all_consistent_so_far) largest_consistent = e->phi_init;
       const std::size_t first = out.size();
