@@ -247,7 +247,12 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
   Throughput speed;
   print_campaign_plan(c, &speed);
   print_phi_init_findings(c);
-  if (no_model.empty())
+  if (!c.chain_starts_from.empty())
+    fmt::print(
+        "  what it can decide: runs redone from {}'s starts are judged against it (`jam check "
+        "convergence {} --against {}`), not on their own\n",
+        c.chain_starts_from, c.chain_starts_from, c.output);
+  else if (no_model.empty())
     print_decidability(c, model, speed);
   else
     fmt::print("  what it can decide: no variance model ({})\n", no_model);
