@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -379,6 +380,11 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   if (c.output.empty()) r.fail("output", "must name a directory");
   if (c.run.checkpoint_interval < 0.0) r.fail("checkpoint_interval", "must be >= 0 seconds");
   validate_chain(r, c);
+  if (!c.chain_starts_from.empty() &&
+      std::filesystem::path(c.chain_starts_from).lexically_normal() ==
+          std::filesystem::path(c.output).lexically_normal()) {
+    r.fail("chain_starts_from", "'" + c.chain_starts_from + "': is this campaign's own output");
+  }
   if (!c.chain_starts_from.empty() && c.chain_phi_init.empty()) {
     r.fail("chain_starts_from",
            "'" + c.chain_starts_from +

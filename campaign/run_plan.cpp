@@ -110,7 +110,16 @@ void take_starts_from(const Campaign& c, std::vector<PlannedRun>& runs) {
   const std::filesystem::path from(c.chain_starts_from);
   std::map<std::string, SimConfig> theirs;
   if (std::filesystem::exists(from / "campaign.toml")) {
-    for (auto& r : plan_runs(starts_campaign(c))) theirs.emplace(r.name, std::move(r.config));
+    const Campaign other = starts_campaign(c);
+    // Its starts must be its own: a chain of campaigns reading each other's (or a campaign
+    // reading its own) would never end.
+    if (!other.chain_starts_from.empty()) {
+      throw CampaignError(fmt::format(
+          "{}: chain_starts_from {}: that campaign reads its own starts from {}; name the "
+          "campaign that chains them",
+          c.source_path, c.chain_starts_from, other.chain_starts_from));
+    }
+    for (auto& r : plan_runs(other)) theirs.emplace(r.name, std::move(r.config));
   }
   for (auto& r : runs) {
     const auto at = chained.find(r.log10_rate);

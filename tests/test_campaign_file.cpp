@@ -133,6 +133,9 @@ BOOST_AUTO_TEST_CASE(errors_name_file_line_and_key) {
              std::string::npos);
   BOOST_TEST(rejection(kGood + "[regions]\nnear = 0.02\nfar = 0.01\n")
                  .find("far = 0.01: must exceed near = 0.02") != std::string::npos);
+  // Its own output is no other campaign (planning it would read itself without end).
+  BOOST_TEST(rejection(kGood + "chain_phi_init = [0, 0.82]\nchain_starts_from = \"./out\"\n")
+                 .find("is this campaign's own output") != std::string::npos);
   // chain_starts_from names the packings it reads at: without chain_phi_init it is refused.
   BOOST_TEST(rejection(kGood + "chain_starts_from = \"runs/x\"\n")
                  .find("chain_starts_from: 'runs/x': needs chain_phi_init") != std::string::npos);

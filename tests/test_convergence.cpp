@@ -130,5 +130,14 @@ BOOST_AUTO_TEST_CASE(default_tolerance_passes_and_a_loose_one_fails) {
   BOOST_TEST(!fs::exists(kDir / "x.toml"));
   BOOST_TEST(run_jam("campaign converge " + file.string(), &out) == 2);  // exists: not replaced
   BOOST_TEST(out.find("exists") != std::string::npos, out);
+  // The convergence runs of convergence runs: they would read starts their campaign reads
+  // from another; refused, naming the one that chains them.
+  const fs::path again = kDir / "again.toml";
+  BOOST_TEST_REQUIRE(run_jam("campaign converge " + (kDir / "default-convergence.toml").string() +
+                                 " --samples 2 --out " + again.string(),
+                             &out) == 0,
+                     out);
+  BOOST_TEST(run_jam("campaign run " + again.string(), &out) == 2, out);
+  BOOST_TEST(out.find("reads its own starts from") != std::string::npos, out);
   fs::remove_all(kDir);
 }
