@@ -39,7 +39,7 @@ REGION_COLOR = {"pass": "tab:green", "fail": "tab:red", "inconclusive": "0.6"}
 REGIONS = ("below", "at", "above")
 
 
-def _regions(ax, regions):
+def region_bands(ax, regions):
     """Each region verdict as a band over the range it judged, labelled with its outcome."""
     for v in regions:
         lo, hi = v.values.get("range_min"), v.values.get("range_max")
@@ -67,7 +67,7 @@ def _finite_size_panel(ax, rate, mine, colors, plotted, panel_name, regions=()):
         plotted.add(panel_name, f"{rate_text(rate)}, {name}, {v.status}", g, d, s)
     shown = _y_range(mine, margin)
     ax.set_ylim(-shown, shown)
-    _regions(ax, regions)
+    region_bands(ax, regions)
     words = ", ".join(f"{v.values.get('phi_init', 0):g} {SHORT.get(v.status, v.status)}"
                       for v in mine)
     failed = sorted({v.region for v in regions if v.status == "fail"}, key=REGIONS.index)

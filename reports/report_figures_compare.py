@@ -9,6 +9,7 @@ import matplotlib.patches
 import matplotlib.pyplot as plt
 import numpy as np
 
+from report_figures_checks import REGIONS, region_bands
 from report_plot import Figure, Plotted, panels_with_key, rate_label, rate_text, save
 
 SHORT = {"pass": "pass", "fail": "FAIL", "inconclusive": "inconcl."}
@@ -84,9 +85,10 @@ def compare_figure(c, out_dir):
     """Two rows per compared campaign, one column per rate: the reference's mean p (black) with
     its margin band and the other's (red) on the same grid, then their relative difference."""
     # The pooled verdicts carry the curves (a region verdict's are a cut of them).
-    found = [v for v in c.verdicts if v.figure == "compare" and "delta" in v.curves
-             and v.values.get("constant_z", 0.0) == 0.0
-             and v.region not in ("below", "at", "above")]
+    at_phi = [v for v in c.verdicts if v.figure == "compare"
+              and v.values.get("constant_z", 0.0) == 0.0]
+    found = [v for v in at_phi if "delta" in v.curves and v.region not in REGIONS]
+    regions = [v for v in at_phi if v.region in REGIONS]
     if not found:
         return None
     others = sorted({_other(v) for v in found})
@@ -102,6 +104,9 @@ def compare_figure(c, out_dir):
             if here:
                 _panel(axes[2 * r, k], c, here[0], plotted, panel)
                 _difference_panel(axes[2 * r + 1, k], here[0], plotted, difference)
+                region_bands(axes[2 * r + 1, k],
+                         [v for v in regions if _other(v) == other
+                          and v.values.get("log10_rate") == rate])
             else:
                 axes[2 * r, k].set_visible(False)
                 axes[2 * r + 1, k].set_visible(False)
@@ -125,6 +130,8 @@ def compare_figure(c, out_dir):
                   "campaign, one column per rate: this campaign's mean (black) with the margin "
                   "band, the other's (red, with the error the check uses) on this campaign's "
                   "grid; below each, their relative difference with the margin band (green) "
-                  "and errors; blue: the range the pooled verdict judges; each title gives the "
+                  "and errors; blue: the range the pooled verdict judges; the bands along the "
+                  "top: the regions below (be), at and above (ab) jamming judged on their own, "
+                  "green pass, red FAIL, grey inconclusive; each title gives the pooled "
                   "verdict at constant phi (constant Z: the verdict table). Differences are "
                   "shown within 2 to 6 margins; points beyond are in the CSV.")
