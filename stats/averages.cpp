@@ -29,8 +29,16 @@ namespace {
 
 std::vector<double> grid_between(double lo, double hi, double step) {
   std::vector<double> g;
-  const auto first = static_cast<long long>(std::ceil(lo / step - 1e-9));
-  const double count = std::floor(hi / step + 1e-9) - std::ceil(lo / step - 1e-9) + 1;
+  const double a = std::ceil(lo / step - 1e-9), b = std::floor(hi / step + 1e-9);
+  // Grid indices must be whole numbers a long long holds exactly: a value of 1e300 (or
+  // 5.4e154, a single flipped exponent bit of 4.0) in a run would otherwise overflow the
+  // conversion below and ask for a grid of any size (the count bound passed it).
+  if (!(std::abs(a) < 0x1p53 && std::abs(b) < 0x1p53)) {
+    throw std::runtime_error(fmt::format(
+        "a grid of step {:g} from {:g} to {:g}: values beyond any packing or contact number", step,
+        lo, hi));
+  }
+  const double count = b - a + 1;
   // A bound before anything is allocated: a step from a damaged run file (or a typo) must not
   // ask for gigabytes. The campaigns' grids have a few thousand points.
   if (!(count <= 1e6)) {
@@ -38,7 +46,8 @@ std::vector<double> grid_between(double lo, double hi, double step) {
         fmt::format("a grid of step {:g} from {:g} to {:g} has {:.3g} points (at most 10^6)", step,
                     lo, hi, count));
   }
-  const auto last = static_cast<long long>(std::floor(hi / step + 1e-9));
+  if (count < 1) return g;
+  const auto first = static_cast<long long>(a), last = static_cast<long long>(b);
   // Grid values are exactly k * step, whatever the samples: the same run then gives the same
   // numbers in any set of samples (a regression baseline compares them bitwise). k * step can
   // land an ulp outside [lo, hi] (0.86 = 430 * 0.002 + 1e-16); interpolate() takes such a

@@ -2,6 +2,8 @@
 // constant Z on runs whose curves are known exactly; the shrunk covariance.
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <random>
 
 #include "stats/averages.hpp"
@@ -108,6 +110,29 @@ BOOST_AUTO_TEST_CASE(constant_z_average_recovers_phi_of_z_and_p_of_z) {
     BOOST_TEST(std::abs(p[k].mean - expected_p) <= 1.2e-3 * expected_p);
   }
   BOOST_CHECK_THROW(average_at_constant_z(runs, 0.01, true), std::invalid_argument);
+}
+
+// A run whose first contacts_per_particle is absurd but finite (1e300, or 4.0 with one
+// exponent bit flipped: 5.4e154): a one-line error, no grid of any size (it used to overflow
+// the grid's index and grow until the memory ran out).
+BOOST_AUTO_TEST_CASE(absurd_contact_numbers_are_an_error_not_a_huge_grid) {
+  double flipped = 4.0;
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &flipped, sizeof bits);
+  bits ^= std::uint64_t{1} << 61;  // an exponent bit
+  std::memcpy(&flipped, &bits, sizeof bits);
+  BOOST_TEST_REQUIRE(flipped > 1e150);
+  for (double absurd : {1e300, flipped}) {
+    // One run's first value only: the common range is then [absurd, a normal Z], whose point
+    // count is negative and passed the count bound before the index check.
+    std::vector<RunCurves> runs = {known_run(0, 3.0, 0.0), known_run(1, 3.2, 0.0)};
+    runs[0].contacts.front() = absurd;
+    BOOST_CHECK_EXCEPTION(average_at_constant_z(runs, 0.01, false), std::runtime_error,
+                          [](const std::runtime_error& e) {
+                            return std::string(e.what()).find("beyond any packing") !=
+                                   std::string::npos;
+                          });
+  }
 }
 
 BOOST_AUTO_TEST_CASE(first_crossing_when_z_is_not_monotonic) {
