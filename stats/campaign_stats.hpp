@@ -60,6 +60,13 @@ struct FitScan {
   // while its row in `rows` keeps the verdict of its own quality test.
   std::optional<ScalingFitResult> chosen_fit;
   const ScalingFitResult* representative() const { return chosen_fit ? &*chosen_fit : nullptr; }
+  // The error of the choices the scan makes (window, rate_max), beside the representative's
+  // jackknife error: half the spread of phi_J, beta and y over the rows of quality ok (NaN
+  // with fewer than two). It covers those choices only, not the order of ln f or pooling.
+  struct Spread {
+    double phi_j = NAN, beta = NAN, y = NAN;
+    std::size_t fits = 0;  // the rows of quality ok it spans
+  } systematic;
 };
 
 /// Rates of the fitted ensembles that the phi_init check clears (no memory of the start within

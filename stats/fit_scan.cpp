@@ -77,8 +77,10 @@ RateClearance read_clearance(const std::string& directory, std::int64_t n, doubl
   return c;
 }
 
-FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
-                  const RateClearance& clearance, const std::string& variable) {
+namespace {
+
+FitScan scan_and_choose(std::vector<FitEnsemble> data, const StatsOptions& o,
+                        const RateClearance& clearance, const std::string& variable) {
   FitScan scan;
   if (data.empty()) {
     scan.failure = fmt::format("no ensembles to fit at constant {}", variable);
@@ -168,6 +170,26 @@ FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
     return scan;
   }
   scan.failure = scan.rows[rows.back()].failure;
+  return scan;
+}
+
+}  // namespace
+
+FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
+                  const RateClearance& clearance, const std::string& variable) {
+  FitScan scan = scan_and_choose(std::move(data), o, clearance, variable);
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const ScanRow& row : scan.rows) {
+    if (!row.result || row.result->quality != "ok") continue;
+    const double v[3] = {row.result->phi_j, row.result->beta, row.result->y};
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], v[k]), hi[k] = std::max(hi[k], v[k]);
+    ++scan.systematic.fits;
+  }
+  if (scan.systematic.fits >= 2) {
+    scan.systematic.phi_j = (hi[0] - lo[0]) / 2;
+    scan.systematic.beta = (hi[1] - lo[1]) / 2;
+    scan.systematic.y = (hi[2] - lo[2]) / 2;
+  }
   return scan;
 }
 

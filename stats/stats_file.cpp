@@ -253,10 +253,10 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
         const std::string jg = g + "/jamming";
         f.create_group(jg);
         write_dataset(f, jg + "/packing_fraction_samples", e.jamming->samples, kDimensionless);
-        write_dataset(f, jg + "/sample_ids",
-                      std::vector<double>(e.jamming->sample_ids.begin(),
-                                          e.jamming->sample_ids.end()),
-                      kDimensionless);
+        write_dataset(
+            f, jg + "/sample_ids",
+            std::vector<double>(e.jamming->sample_ids.begin(), e.jamming->sample_ids.end()),
+            kDimensionless);
         f.write_attribute("mean", e.jamming->mean.mean, jg);
         f.write_attribute("error", e.jamming->mean.error, jg);
         f.write_attribute("spread", e.jamming->spread, jg);
@@ -273,6 +273,12 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
       if (const auto* r = scan->representative()) {
         write_fit(f, group + "/representative", *r, scan->rows[*scan->chosen], o.order);
         f.write_attribute("chosen_because", scan->reason, group + "/representative");
+        // The scan's own spread (campaign_stats.hpp, FitScan::systematic).
+        f.write_attribute("phi_j_systematic", scan->systematic.phi_j, group + "/representative");
+        f.write_attribute("beta_systematic", scan->systematic.beta, group + "/representative");
+        f.write_attribute("y_systematic", scan->systematic.y, group + "/representative");
+        f.write_attribute("systematic_fits", static_cast<std::int64_t>(scan->systematic.fits),
+                          group + "/representative");
       }
       if (!scan->failure.empty()) f.write_attribute("failure", scan->failure, group);
       write_scan(f, group + "/scan", *scan);
@@ -299,8 +305,8 @@ std::string format_stats_summary(const CampaignStats& s) {
     while (k + 1 < a.grid.size() && a.grid[k] < probe - 1e-9) ++k;
     const auto& p = a.mean("pressure")[k];
     // Runs of other simulators may carry no Z: shown as nan.
-    const bool has_z = std::find(a.names.begin(), a.names.end(), "contacts_per_particle") !=
-                       a.names.end();
+    const bool has_z =
+        std::find(a.names.begin(), a.names.end(), "contacts_per_particle") != a.names.end();
     const SampleMean z = has_z ? a.mean("contacts_per_particle")[k] : SampleMean{NAN, NAN, 0};
     out << fmt::format(
         "{:>8} {:>8.4f} {:>9.2e} {:>7} {:>13.4e} {:>8.1f}% {:>9.4f} {:>8.2f}%{}\n",
@@ -358,6 +364,10 @@ std::string format_stats_summary(const CampaignStats& s) {
           r->beta, r->beta_plain, r->y, r->y_plain, r->fixed.empty() ? "nothing" : r->fixed,
           r->quality, r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
       out << "  chosen: " << scan->reason << "\n";
+      out << fmt::format(
+          "  systematic (half the spread over the scan's {} fits of quality ok: windows and "
+          "rate_max): phi_J +-{:.5f}, beta +-{:.3f}, y +-{:.3f}\n",
+          scan->systematic.fits, scan->systematic.phi_j, scan->systematic.beta, scan->systematic.y);
     } else {
       out << "no representative fit: " << scan->failure << "\n";
     }

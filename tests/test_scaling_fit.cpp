@@ -2,6 +2,7 @@
 // sample-to-sample noise that is correlated along each run: it recovers phi_J, beta and y
 // within their errors, about 68% of its 1-sigma intervals cover the truth (measured over many
 // data sets), and impossible fits fail with a message.
+#include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <random>
@@ -244,13 +245,13 @@ BOOST_AUTO_TEST_CASE(a_fit_far_above_chi2_one_is_flagged_poor) {
   for (auto& row : slow.pressure)
     for (double& p : row) p *= 1.15;
   const ScalingFitResult good = fit_scaling(clean, cubic_options());
-  BOOST_TEST(good.quality_reason.find("does not describe") == std::string::npos, good.quality_reason);
+  BOOST_TEST(good.quality_reason.find("does not describe") == std::string::npos,
+             good.quality_reason);
   const ScalingFitResult bad = fit_scaling(kinked, cubic_options());
   BOOST_TEST_MESSAGE("chi^2/dof clean " << good.chi2_cov_per_dof << ", kinked "
                                         << bad.chi2_cov_per_dof);
   BOOST_TEST(bad.quality == "poor");
-  BOOST_TEST(bad.quality_reason.find("does not describe") != std::string::npos,
-             bad.quality_reason);
+  BOOST_TEST(bad.quality_reason.find("does not describe") != std::string::npos, bad.quality_reason);
 }
 
 // The representative fit of the scan (stats/fit_scan.cpp): the largest rate_max whose fit a
@@ -279,6 +280,18 @@ BOOST_AUTO_TEST_CASE(the_scan_takes_a_confirmed_plateau_and_flags_a_fit_without_
   BOOST_TEST(good.rows[*good.chosen].rate_max == 1e-5);
   BOOST_TEST(good.representative()->quality == "ok", good.representative()->quality_reason);
   BOOST_TEST(good.reason.find("(1 compared)") != std::string::npos, good.reason);
+  // The scan's systematic error: half the spread of its fits of quality ok, computed here from
+  // the rows themselves.
+  {
+    std::vector<double> beta;
+    for (const auto& row : good.rows)
+      if (row.result && row.result->quality == "ok") beta.push_back(row.result->beta);
+    BOOST_TEST_REQUIRE(beta.size() == good.systematic.fits);
+    BOOST_TEST_REQUIRE(beta.size() >= 2u);
+    const auto [lo, hi] = std::minmax_element(beta.begin(), beta.end());
+    BOOST_TEST(good.systematic.beta == (*hi - *lo) / 2, boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(good.systematic.beta > 0.0);
+  }
 
   // The fastest rate's pressure grows with phi - phi_J beyond the scaling form (a correction
   // to scaling): its fit moves phi_J and the exponents away from the slower rates' fit.
