@@ -236,11 +236,15 @@ def fit_table_html(c):
             f"<p class='summary'><b>Fit quality: {text(quality)}</b> "
             f"({text(str(rep.get('quality_reason', '')))})</p>")
     out = [flag, "<table><tr><th>parameter</th><th>this campaign (jackknife, bias-corrected)"
-           "</th><th>plain fit</th><th>quality</th><th>paper</th></tr>"]
+           "</th><th>systematic (the scan's choices)</th><th>plain fit</th><th>quality</th>"
+           "<th>paper</th></tr>"]
     for name, value, error, paper, paper_error in rows:
         paper_text = "-" if paper is None else f"{num(paper)} &plusmn; {num(paper_error)}"
+        # Half the spread over the scan's fits of quality ok (stats.h5 <name>_systematic).
+        systematic = rep.get(name + "_systematic")
         out.append(f"<tr><td>{text(name)}</td><td class='num'>{num(value, '.5g')} &plusmn; "
                    f"{num(error, '.4g')}</td>"
+                   f"<td class='num'>{'-' if systematic is None else '&plusmn; ' + num(systematic, '.3g')}</td>"
                    f"<td class='num'>{num(rep.get(name + '_plain'), '.4g')}</td>"
                    f"<td>{text(quality)}</td><td class='num'>{paper_text}</td></tr>")
     out.append("</table>")
