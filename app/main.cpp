@@ -16,6 +16,7 @@
 #include "app/report_command.hpp"
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
+#include "app/validate_command.hpp"
 #include "sim/io/install_paths.hpp"
 #include "sim/simd.hpp"
 #include "sim/version.hpp"
@@ -63,6 +64,8 @@ int main(int argc, char** argv) {
   jam::add_report_command(app, report_args);
   jam::PipelineArgs pipeline_args;
   jam::add_pipeline_command(app, pipeline_args);
+  jam::ValidateArgs validate_args;
+  jam::add_validate_command(app, validate_args);
   jam::BenchArgs bench_args;
   bench_args.throughput.reference_dir = jam::data_path("reference/lammps").string();
   bench_args.accuracy.reference_dir = jam::data_path("reference/lammps").string();
@@ -91,6 +94,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("import")) return jam::run_import_command(import_request);
     if (app.got_subcommand("report")) return jam::run_report_command(report_args);
     if (app.got_subcommand("bench")) return jam::run_bench_command(app, bench_args, argc, argv);
+    if (app.got_subcommand("validate")) return jam::run_validate_command(validate_args);
     if (app.got_subcommand("pipeline")) return jam::run_pipeline_command(pipeline_args, ranks);
     return 0;
   };
