@@ -18,6 +18,7 @@
 #include "app/stats_command.hpp"
 #include "app/validate_command.hpp"
 #include "sim/io/install_paths.hpp"
+#include "sim/io/terminal_text.hpp"
 #include "sim/simd.hpp"
 #include "sim/version.hpp"
 
@@ -83,7 +84,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // One line, naming the option: CLI11's messages already do.
-    fmt::print(stderr, "jam: error: {}\n", e.what());
+    fmt::print(stderr, "jam: error: {}\n", jam::visible(e.what()));
     return 2;
   }
   auto run_subcommand = [&]() {
@@ -112,14 +113,16 @@ int main(int argc, char** argv) {
     const std::string what = e.what();
     const bool print_failed = what.rfind("cannot write to file", 0) == 0;
     fmt::print(stderr, "jam: error: {}\n",
-               print_failed ? "cannot write to standard output: " + e.code().message() : what);
+               print_failed ? "cannot write to standard output: " + e.code().message()
+                            : jam::visible(what));
     jam::abort_ranks(2);
     return 2;
   } catch (const std::exception& e) {
     // The tool could not do what was asked (bad input, a missing or unreadable file, a full
     // disk): exit status 2 in every subcommand, apart from the results a command reports
-    // itself (a failed verdict, a failed run: 1).
-    fmt::print(stderr, "jam: error: {}\n", e.what());
+    // itself (a failed verdict, a failed run: 1). Control characters of a file name or value
+    // are shown, not sent to the terminal.
+    fmt::print(stderr, "jam: error: {}\n", jam::visible(e.what()));
     // Under MPI the other ranks may be waiting for this one in a collective: end them all,
     // with the status a single process would have had.
     std::fflush(stdout);

@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "sim/io/open_run.hpp"
+#include "sim/io/terminal_text.hpp"
 
 namespace jam {
 
@@ -22,13 +23,14 @@ int run_validate_command(const ValidateArgs& args) {
     try {
       const OpenRun r = read_open_run(path);
       const auto& phi = r.packing_fraction;
-      fmt::print("{}: ok: {} {}, D {}, N {}, rate {:.4g}, phi_init {:.6g}, sample {}, {} points "
-                 "(phi {:.6g} to {:.6g})\n",
-                 path, r.simulator, r.simulator_version, r.dim, r.n, r.compression_rate,
-                 r.phi_init, r.sample, phi.size(), phi.front(), phi.back());
+      fmt::print(
+          "{}: ok: {} {}, D {}, N {}, rate {:.4g}, phi_init {:.6g}, sample {}, {} points "
+          "(phi {:.6g} to {:.6g})\n",
+          visible(path), visible(r.simulator), visible(r.simulator_version), r.dim, r.n,
+          r.compression_rate, r.phi_init, r.sample, phi.size(), phi.front(), phi.back());
     } catch (const std::exception& e) {
       // read_open_run's reasons start with the file's name.
-      fmt::print("{}\n", e.what());
+      fmt::print("{}\n", visible(e.what()));
       status = 1;
     }
   }

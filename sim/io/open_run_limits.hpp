@@ -7,8 +7,8 @@
 namespace jam {
 
 struct OpenRunLimits {
-  std::int64_t max_whole;           // n and sample at most this (2^53)
-  std::int64_t max_points;          // output points per series
+  std::int64_t max_whole;   // n and sample at most this (2^53)
+  std::int64_t max_points;  // output points per series
   double diameter_ratio_min, diameter_ratio_max;
   double max_contacts_per_particle;
   double jamming_above, jamming_below;  // phi_Ji in (above, below), or NaN
