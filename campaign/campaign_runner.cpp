@@ -26,9 +26,9 @@
 #include "campaign/throughput.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/io/terminal_text.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/run/stop_signal.hpp"
-#include "sim/io/terminal_text.hpp"
 
 namespace jam {
 namespace {
@@ -231,7 +231,8 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       record.error = e.what();
       ++failed;
       std::lock_guard lock(print_mutex);
-      fmt::print(stderr, "{}jam: run {} failed: {}\n", tty ? "\n" : "", run.name, visible(e.what()));
+      fmt::print(stderr, "{}jam: run {} failed: {}\n", tty ? "\n" : "", run.name,
+                 visible(e.what()));
     }
     record.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

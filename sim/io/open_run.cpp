@@ -45,17 +45,16 @@ bool blank(const std::string& s) {
 }
 
 bool hex16(const std::string& s) {
-  return s.size() == 16 && std::all_of(s.begin(), s.end(), [](unsigned char c) {
-           return std::isxdigit(c);
-         });
+  return s.size() == 16 &&
+         std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c); });
 }
 
 void check_model(const OpenRun& r, const std::string& where) {
   const OpenRunLimits& lim = open_run_limits();
   if (r.dim != 2 && r.dim != 3) refuse(where, fmt::format("dim {} must be 2 or 3", r.dim));
   if (r.n < 2 || r.n % 2 != 0 || r.n > lim.max_whole)
-    refuse(where, fmt::format("n {} must be even, >= 2 (half small, half big) and at most 2^53",
-                              r.n));
+    refuse(where,
+           fmt::format("n {} must be even, >= 2 (half small, half big) and at most 2^53", r.n));
   if (!(r.diameter_ratio >= lim.diameter_ratio_min && r.diameter_ratio <= lim.diameter_ratio_max))
     refuse(where, fmt::format("diameter_ratio {} must be in [{}, {}]", r.diameter_ratio,
                               lim.diameter_ratio_min, lim.diameter_ratio_max));
@@ -67,8 +66,8 @@ void check_model(const OpenRun& r, const std::string& where) {
   } else if (r.dynamics != "overdamped") {
     refuse(where, fmt::format("dynamics '{}' must be overdamped or inertial", r.dynamics));
   } else if (r.q != 0.0) {
-    refuse(where, fmt::format("q {} is only for dynamics 'inertial' (dynamics is 'overdamped')",
-                              r.q));
+    refuse(where,
+           fmt::format("q {} is only for dynamics 'inertial' (dynamics is 'overdamped')", r.q));
   }
 }
 
@@ -102,7 +101,8 @@ void check_values(const OpenRun& r, const std::string& where) {
     if (v.size() != m)
       refuse(where, fmt::format("{} has {} points, packing_fraction {}", f.name, v.size(), m));
     for (std::size_t k = 0; k < m; ++k)
-      if (!std::isfinite(v[k])) refuse(where, fmt::format("{}[{}] = {} is not finite", f.name, k, v[k]));
+      if (!std::isfinite(v[k]))
+        refuse(where, fmt::format("{}[{}] = {} is not finite", f.name, k, v[k]));
   }
   const OpenRunLimits& lim = open_run_limits();
   if (m > static_cast<std::size_t>(lim.max_points))
@@ -124,8 +124,8 @@ void check_values(const OpenRun& r, const std::string& where) {
       refuse(where, fmt::format("contacts_per_particle[{}] = {} must be in [0, {}]", k,
                                 r.contacts_per_particle[k], lim.max_contacts_per_particle));
     if (!r.energy_per_particle.empty() && r.energy_per_particle[k] < 0)
-      refuse(where, fmt::format("energy_per_particle[{}] = {} is negative", k,
-                                r.energy_per_particle[k]));
+      refuse(where,
+             fmt::format("energy_per_particle[{}] = {} is negative", k, r.energy_per_particle[k]));
   }
   if (r.time.empty()) return;
   for (std::size_t k = 0; k < m; ++k) {
@@ -314,9 +314,9 @@ std::string file_checksum(const std::string& path) {
 
 double packing_fraction_of(int dim, std::int64_t n, double diameter_ratio, double box_length) {
   const double half = static_cast<double>(n) / 2.0;
-  const double volume =
-      dim == 2 ? half * (sphere_volume<2>(1.0) + sphere_volume<2>(diameter_ratio))
-               : half * (sphere_volume<3>(1.0) + sphere_volume<3>(diameter_ratio));
+  const double volume = dim == 2
+                            ? half * (sphere_volume<2>(1.0) + sphere_volume<2>(diameter_ratio))
+                            : half * (sphere_volume<3>(1.0) + sphere_volume<3>(diameter_ratio));
   return volume / std::pow(box_length, dim);
 }
 
