@@ -31,10 +31,11 @@ struct Truth {
 // sample's pressure is the truth times exp(eps), eps an AR(1) process along phi with
 // neighbour correlation 0.95 and 10% amplitude (the scatter seen at these sizes).
 std::vector<FitEnsemble> synthetic(const Truth& t, std::uint64_t seed, int samples = 10,
-                                   double phi_lo = 0.78, double phi_hi = 0.90) {
+                                   double phi_lo = 0.78, double phi_hi = 0.90,
+                                   double sigma = 0.10) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
-  const double rho = 0.95, sigma = 0.10;
+  const double rho = 0.95;
   std::vector<FitEnsemble> ens;
   for (double lr : {-5.0, -5.5, -6.0, -6.5}) {
     FitEnsemble e;
@@ -323,4 +324,54 @@ BOOST_AUTO_TEST_CASE(the_scan_takes_a_confirmed_plateau_and_flags_a_fit_without_
   BOOST_TEST_REQUIRE(single.rows.size() == 1u);
   BOOST_TEST_REQUIRE(single.representative() != nullptr, single.failure);
   BOOST_TEST(single.representative()->quality == "poor");
+}
+
+
+// What the scan's systematic error covers, measured. Each data set's pressure is the scaling
+// form times exp(a (phi - phi_J)) = exp(a x rate^(1/z nu)), an analytic correction to scaling.
+// Without it (a = 0), +-2 sqrt(jackknife^2 + systematic^2) covers the true beta in at least 27
+// of 30 sets (nominal 95%; one binomial standard deviation 4%). With it (a = 6, 3% noise) the
+// correction moves every fit of the scan alike (every window and rate_max of this four-rate
+// design), so the jackknife alone covers the truth in fewer than 20 of 30 sets, and the
+// systematic widens the interval (more sets covered) but does not restore the nominal rate:
+// measured 9/30 and 18/30. docs/statistics-and-checks.md states this limit.
+BOOST_AUTO_TEST_CASE(what_the_systematic_covers_is_measured) {
+  const Truth t;
+  StatsOptions o;
+  o.order = 3;
+  o.half_windows = {0.05, 0.04, 0.03};
+  const RateClearance all{std::nullopt, "all rates"};
+  for (double a : {6.0, 0.0}) {
+    int sets = 0, jackknife_only = 0, covered = 0;
+    double bias = 0.0, total_err = 0.0;
+    for (int k = 0; k < 30; ++k) {
+      auto d = synthetic(t, 500 + k, 10, 0.78, 0.90, 0.03);
+      for (auto& e : d)
+        for (auto& row : e.pressure)
+          for (std::size_t i = 0; i < row.size(); ++i) row[i] *= std::exp(a * (e.phi[i] - t.phi_j));
+      const FitScan s = scan_fits(d, o, all, "phi");
+      const ScalingFitResult* r = s.representative();
+      BOOST_TEST_REQUIRE(r != nullptr, s.failure);
+      BOOST_TEST_REQUIRE(!std::isnan(s.systematic.beta));
+      ++sets;
+      const double miss = std::abs(r->beta - t.beta());
+      const double total = std::hypot(r->beta_err, s.systematic.beta);
+      bias += (r->beta - t.beta()) / 30;
+      total_err += total / 30;
+      jackknife_only += miss <= 2 * r->beta_err;
+      covered += miss <= 2 * total;
+    }
+    BOOST_TEST_MESSAGE("a " << a << ": mean bias of beta " << bias << ", mean total error "
+                            << total_err << "; +-2 sigma covers the truth: jackknife alone "
+                            << jackknife_only << "/" << sets << ", with the systematic " << covered
+                            << "/" << sets);
+    if (a == 0) {
+      BOOST_TEST(covered >= 27, covered << " of " << sets);
+    } else {
+      // The planted correction is real: the jackknife alone does not cover it, and the
+      // systematic covers more sets than the jackknife alone.
+      BOOST_TEST(jackknife_only < 20);
+      BOOST_TEST(covered > jackknife_only);
+    }
+  }
 }
