@@ -314,4 +314,17 @@ BOOST_AUTO_TEST_CASE(a_phi_step_whose_grid_stats_would_refuse_is_refused_at_impo
   jam::ImportOptions fine;
   fine.phi_step = 1e-6;
   BOOST_TEST(jam::import_runs(dir.string(), {run}, fine).imported == 1);
+  // Another step is refused; but a step an older jam recorded beyond the limit can be replaced.
+  jam::ImportOptions other;
+  other.phi_step = 0.001;
+  BOOST_CHECK_THROW(jam::import_runs(dir.string(), {run}, other), std::runtime_error);
+  std::string text = slurp(dir / "external.toml");
+  const auto at = text.find("phi_step = ");
+  BOOST_REQUIRE(at != std::string::npos);
+  text.replace(at, text.find('\n', at) - at, "phi_step = 1e-08");
+  std::ofstream(dir / "external.toml") << text;
+  BOOST_TEST(jam::read_external_campaign(dir.string()).phi_step == 1e-8);
+  const jam::ImportOutcome out = jam::import_runs(dir.string(), {run}, other);
+  BOOST_TEST(out.already == 1);
+  BOOST_TEST(jam::read_external_campaign(dir.string()).phi_step == 0.001);
 }
