@@ -13,6 +13,7 @@
 #include "app/plan_decidability.hpp"
 #include "app/until_decided.hpp"
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/terminal_text.hpp"
 
 namespace jam {
 
@@ -218,9 +219,10 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
   }
   if (campaign->got_subcommand("import")) {
     const ImportOutcome out = import_runs(a.directory, a.import_files, a.import_options);
-    for (const auto& s : out.set_aside) fmt::print(stderr, "set aside {}: {}\n", s.file, s.reason);
-    for (const auto& note : out.notes) fmt::print("{}\n", note);
-    fmt::print("{}: {} runs imported, {} already there, {} set aside{}\n", a.directory,
+    for (const auto& s : out.set_aside)
+      fmt::print(stderr, "set aside {}: {}\n", visible(s.file), visible(s.reason));
+    for (const auto& note : out.notes) fmt::print("{}\n", visible(note));
+    fmt::print("{}: {} runs imported, {} already there, {} set aside{}\n", visible(a.directory),
                out.imported, out.already, out.set_aside.size(),
                out.repaired ? fmt::format(", {} repaired", out.repaired) : "");
     return out.set_aside.empty() ? 0 : 1;

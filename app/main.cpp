@@ -16,7 +16,9 @@
 #include "app/report_command.hpp"
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
+#include "app/validate_command.hpp"
 #include "sim/io/install_paths.hpp"
+#include "sim/io/terminal_text.hpp"
 #include "sim/simd.hpp"
 #include "sim/version.hpp"
 
@@ -63,6 +65,8 @@ int main(int argc, char** argv) {
   jam::add_report_command(app, report_args);
   jam::PipelineArgs pipeline_args;
   jam::add_pipeline_command(app, pipeline_args);
+  jam::ValidateArgs validate_args;
+  jam::add_validate_command(app, validate_args);
   jam::BenchArgs bench_args;
   bench_args.throughput.reference_dir = jam::data_path("reference/lammps").string();
   bench_args.accuracy.reference_dir = jam::data_path("reference/lammps").string();
@@ -80,7 +84,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // One line, naming the option: CLI11's messages already do.
-    fmt::print(stderr, "jam: error: {}\n", e.what());
+    fmt::print(stderr, "jam: error: {}\n", jam::visible(e.what()));
     return 2;
   }
   auto run_subcommand = [&]() {
@@ -91,6 +95,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("import")) return jam::run_import_command(import_request);
     if (app.got_subcommand("report")) return jam::run_report_command(report_args);
     if (app.got_subcommand("bench")) return jam::run_bench_command(app, bench_args, argc, argv);
+    if (app.got_subcommand("validate")) return jam::run_validate_command(validate_args);
     if (app.got_subcommand("pipeline")) return jam::run_pipeline_command(pipeline_args, ranks);
     return 0;
   };
@@ -108,14 +113,16 @@ int main(int argc, char** argv) {
     const std::string what = e.what();
     const bool print_failed = what.rfind("cannot write to file", 0) == 0;
     fmt::print(stderr, "jam: error: {}\n",
-               print_failed ? "cannot write to standard output: " + e.code().message() : what);
+               print_failed ? "cannot write to standard output: " + e.code().message()
+                            : jam::visible(what));
     jam::abort_ranks(2);
     return 2;
   } catch (const std::exception& e) {
     // The tool could not do what was asked (bad input, a missing or unreadable file, a full
     // disk): exit status 2 in every subcommand, apart from the results a command reports
-    // itself (a failed verdict, a failed run: 1).
-    fmt::print(stderr, "jam: error: {}\n", e.what());
+    // itself (a failed verdict, a failed run: 1). Control characters of a file name or value
+    // are shown, not sent to the terminal.
+    fmt::print(stderr, "jam: error: {}\n", jam::visible(e.what()));
     // Under MPI the other ranks may be waiting for this one in a collective: end them all,
     // with the status a single process would have had.
     std::fflush(stdout);

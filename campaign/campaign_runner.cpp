@@ -26,6 +26,7 @@
 #include "campaign/throughput.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/io/terminal_text.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/run/stop_signal.hpp"
 
@@ -230,7 +231,8 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       record.error = e.what();
       ++failed;
       std::lock_guard lock(print_mutex);
-      fmt::print(stderr, "{}jam: run {} failed: {}\n", tty ? "\n" : "", run.name, e.what());
+      fmt::print(stderr, "{}jam: run {} failed: {}\n", tty ? "\n" : "", run.name,
+                 visible(e.what()));
     }
     record.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -399,7 +401,8 @@ int print_campaign_status(const std::string& directory, bool json) {
     }
     fmt::print("\n");
   }
-  if (!problems.empty()) fmt::print("\n{}\n", fmt::join(problems, "\n"));
+  for (const std::string& problem : problems) fmt::print("\n{}", visible(problem));
+  if (!problems.empty()) fmt::print("\n");
   return status;
 }
 

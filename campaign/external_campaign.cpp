@@ -18,6 +18,7 @@
 #include "campaign/import_store.hpp"
 #include "campaign/toml_file.hpp"
 #include "sim/io/open_run.hpp"
+#include "sim/io/terminal_text.hpp"
 #include "sim/io/whole_number.hpp"
 
 namespace fs = std::filesystem;
@@ -198,7 +199,8 @@ int print_external_status(const std::string& directory, bool json) {
                     {"detail", problem},
                     {"simulator", r.simulator},
                     {"source", r.source}});
-    if (!json && !problem.empty()) fmt::print("corrupt  {}: {}\n", r.name, problem);
+    if (!json && !problem.empty())
+      fmt::print("corrupt  {}: {}\n", visible(r.name), visible(problem));
   }
   int corrupt = 0;
   for (const auto& [key, counts] : ensembles) corrupt += counts.second;
@@ -217,13 +219,15 @@ int print_external_status(const std::string& directory, bool json) {
   fmt::print(
       "{} (external: {} runs imported, {} set aside; model dim {}, diameter ratio {}, {}, "
       "{})\n",
-      c.name, c.runs.size(), c.set_aside.size(), c.dim, c.diameter_ratio, c.contact, c.dynamics);
+      visible(c.name), c.runs.size(), c.set_aside.size(), c.dim, c.diameter_ratio,
+      visible(c.contact), visible(c.dynamics));
   for (const auto& [key, counts] : ensembles)
     fmt::print("  n {:>6}  phi_init {:<6g}  rate 1e{:<6g}  {} runs{}\n", std::get<0>(key),
                std::get<1>(key), std::get<2>(key), counts.first,
                counts.second ? fmt::format(", {} corrupt", counts.second) : "");
-  for (const auto& s : c.set_aside) fmt::print("set aside  {}: {}\n", s.file, s.reason);
-  for (const auto& path : unlisted) fmt::print("unlisted  {}: {}\n", path, kUnlisted);
+  for (const auto& s : c.set_aside)
+    fmt::print("set aside  {}: {}\n", visible(s.file), visible(s.reason));
+  for (const auto& path : unlisted) fmt::print("unlisted  {}: {}\n", visible(path), kUnlisted);
   return corrupt ? 1 : 0;
 }
 

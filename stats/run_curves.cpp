@@ -6,6 +6,7 @@
 #include "campaign/external_campaign.hpp"
 #include "campaign/run_plan.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/terminal_text.hpp"
 
 namespace jam::stats {
 
@@ -21,11 +22,13 @@ CampaignData read_external_runs(const std::string& directory) {
   data.dim = campaign.dim;
   data.phi_step = campaign.phi_step;
   for (const std::string& path : unlisted_run_files(directory, campaign))
-    fmt::print(stderr, "jam stats: warning: {} is not in external.toml: not averaged\n", path);
+    fmt::print(stderr, "jam stats: warning: {} is not in external.toml: not averaged\n",
+               visible(path));
   for (const ExternalRun& run : campaign.runs) {
     OpenRun r;
     if (const std::string why = stored_run_problem(directory, run, &r); !why.empty()) {
-      fmt::print(stderr, "jam stats: warning: corrupt run {} left out: {}\n", run.name, why);
+      fmt::print(stderr, "jam stats: warning: corrupt run {} left out: {}\n", visible(run.name),
+                 visible(why));
       data.skipped.push_back(fmt::format("{} (corrupt)", run.name));
       continue;
     }
@@ -64,7 +67,7 @@ CampaignData read_campaign_runs(const std::string& directory) {
     const RunStatus status = run_status(run, &detail);
     if (status == RunStatus::kCorrupt || status == RunStatus::kFailed) {
       fmt::print(stderr, "jam stats: warning: {} run {} left out: {}\n", to_string(status),
-                 run.name, detail);
+                 visible(run.name), visible(detail));
     }
     if (status != RunStatus::kDone) {
       data.skipped.push_back(fmt::format("{} ({})", run.name, to_string(status)));

@@ -117,6 +117,12 @@ def case_write_refused(work):
         (dict(packing_fraction=phi * (1 + 1e-4)), ("packing_fraction[0]", "rate")),
         (dict(packing_fraction=["a"] * 6), ("packing_fraction", "numbers")),
         (dict(pressure=-np.ones(6)), ("pressure[0] = -1.0",)),
+        # A masked array: its raw values behind the mask (here 5.0) must not be written.
+        (dict(pressure=np.ma.masked_array(np.full(6, 5.0), mask=[0, 0, 1, 0, 0, 0])),
+         ("pressure has a masked value", "index 2")),
+        (dict(contacts_per_particle=np.full(6, 1e300)),
+         ("contacts_per_particle[0] = 1e+300", "[0, 64]")),
+        (dict(sample=1 << 62), ("sample 4611686018427387904", "2^53")),
         (dict(pressure=np.where(np.arange(6) == 4, np.nan, 0.0)), ("pressure[4] = nan",)),
         (dict(pressure=np.zeros(5)), ("pressure has 5 values", "packing_fraction 6")),
         (dict(packing_fraction=phi[:1], pressure=[0.0], time=t[:1],

@@ -10,6 +10,7 @@ file, the field and the value.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -34,10 +35,17 @@ SERIES_UNITS = {"packing_fraction": "1", "pressure": "k_e/d_s^D", "contacts_per_
 REQUIRED_SERIES = ("packing_fraction", "pressure")
 # The frames file's datasets and their units.
 FRAMES_UNITS = {"box_length": "d_s", "positions": "d_s", "diameters": "d_s", "time": "t0"}
+# The format's numeric limits: one table, read by jam too (embedded at its build), so that both
+# refuse the same files (tests/test_open_run_agreement.py).
+with open(os.path.join(os.path.dirname(__file__), "open_run_limits.json"), encoding="utf-8") as _f:
+    LIMITS = json.load(_f)
+MAX_WHOLE = LIMITS["max_whole"]["value"]  # n and sample: 2^53
+MAX_POINTS = LIMITS["max_points"]["value"]
+MAX_CONTACTS = LIMITS["max_contacts_per_particle"]["value"]
 # The first packing may lie this far (relative) below phi_init: round-off.
-PHI_INIT_SLACK = 1e-9
+PHI_INIT_SLACK = LIMITS["phi_init_slack"]["value"]
 # phi(t) = phi_init exp(D rate t) must hold to this, relative.
-RATE_TOLERANCE = 1e-6
+RATE_TOLERANCE = LIMITS["rate_tolerance"]["value"]
 # The order of the root attributes in the format's table (and in a written file's listing).
 ATTRIBUTES = ("format", "format_version", "dim", "n", "diameter_ratio", "contact", "dynamics",
               "q", "protocol", "compression_rate", "phi_init", "simulator", "simulator_version",
@@ -95,15 +103,16 @@ def _dim(v):
 
 def _n(v):
     n = _integer("n", v)
-    if n < 2 or n % 2:
-        raise Invalid(f"n {n} must be even and >= 2 (half small, half big)")
+    if n < 2 or n % 2 or n > MAX_WHOLE:
+        raise Invalid(f"n {n} must be even, >= 2 (half small, half big) and at most 2^53")
     return n
 
 
 def _diameter_ratio(v):
     r = _number("diameter_ratio", v)
-    if not 1.0 <= r <= 2.0:
-        raise Invalid(f"diameter_ratio {shown(r)} must be in [1, 2]")
+    low, high = LIMITS["diameter_ratio"]["min"], LIMITS["diameter_ratio"]["max"]
+    if not low <= r <= high:
+        raise Invalid(f"diameter_ratio {shown(r)} must be in [{low:g}, {high:g}]")
     return r
 
 
@@ -123,8 +132,8 @@ def _simulator(v):
 
 def _sample(v):
     k = _integer("sample", v)
-    if k < 0:
-        raise Invalid(f"sample {k} must be >= 0")
+    if k < 0 or k > MAX_WHOLE:
+        raise Invalid(f"sample {k} must be >= 0 and at most 2^53")
     return k
 
 
@@ -141,9 +150,11 @@ def _q(dynamics, v, zero_is_absent=False):
 
 def _jamming_packing_fraction(v):
     x = _number("jamming_packing_fraction", v)
-    if not (math.isnan(x) or 0.0 < x < 1.0):
-        raise Invalid(f"jamming_packing_fraction {shown(x)} must be in (0, 1), or NaN when "
-                      "not found")
+    low = LIMITS["jamming_packing_fraction"]["above"]
+    high = LIMITS["jamming_packing_fraction"]["below"]
+    if not (math.isnan(x) or low < x < high):
+        raise Invalid(f"jamming_packing_fraction {shown(x)} must be in ({low:g}, {high:g}), or "
+                      "NaN when not found")
     return x
 
 
@@ -191,7 +202,13 @@ def _model(a):
 
 
 def _array(name, v, ndim=1):
-    """An array-like of numbers as float64 of `ndim` dimensions (checked before converting)."""
+    """An array-like of numbers as float64 of `ndim` dimensions (checked before converting).
+    A masked array with a masked value is refused: converting it would write the raw values
+    hidden behind its mask."""
+    if isinstance(v, np.ma.MaskedArray) and np.ma.getmaskarray(v).any():
+        k = int(np.flatnonzero(np.ma.getmaskarray(v))[0])
+        raise Invalid(f"{name} has a masked value (at flat index {k}): fill or drop masked "
+                      "points before writing")
     try:
         x = np.asarray(v)
     except (ValueError, TypeError) as e:
@@ -238,6 +255,8 @@ def _lengths(series):
                           "equal lengths")
     if m < 2:
         raise Invalid(f"{first} has {m} values; a run needs at least 2 points")
+    if m > MAX_POINTS:
+        raise Invalid(f"{first} has {m} values, at most {MAX_POINTS}")
     return m
 
 
@@ -281,6 +300,12 @@ def _series(data, model):
         if name in data:
             _finite(name, data[name])
             _not_negative(name, data[name])
+    if "contacts_per_particle" in data:
+        z = data["contacts_per_particle"]
+        k = _first_bad(z > MAX_CONTACTS)
+        if k is not None:
+            raise Invalid(f"contacts_per_particle[{k}] = {shown(float(z[k]))} must be in "
+                          f"[0, {MAX_CONTACTS:g}]")
     if "time" in data:
         _time(data["time"])
         _at_rate("packing_fraction", data["packing_fraction"], data["time"], model["phi_init"],

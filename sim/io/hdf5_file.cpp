@@ -255,7 +255,7 @@ bool File::has_dataset(const std::string& name) const {
 namespace {
 
 /// What a reader asks for: the HDF5 type classes it accepts, in words for its errors.
-enum class Kind { kInteger, kNumber, kString };
+enum class Kind { kInteger, kNumber, kFloat, kString };
 
 const char* expected_words(Kind kind) {
   switch (kind) {
@@ -263,6 +263,8 @@ const char* expected_words(Kind kind) {
       return "an integer";
     case Kind::kNumber:
       return "a number";
+    case Kind::kFloat:
+      return "floating point";
     case Kind::kString:
       return "a string";
   }
@@ -298,6 +300,8 @@ bool accepts(Kind kind, H5T_class_t cls) {
       return cls == H5T_INTEGER;
     case Kind::kNumber:  // an integer converts to a double; no other class converts safely
       return cls == H5T_INTEGER || cls == H5T_FLOAT;
+    case Kind::kFloat:
+      return cls == H5T_FLOAT;
     case Kind::kString:
       return cls == H5T_STRING;
   }
@@ -379,6 +383,16 @@ double File::read_attribute_double(const std::string& name, const std::string& o
 
 std::int64_t File::read_attribute_int(const std::string& name, const std::string& object) const {
   Handle attr = open_value(id(), path_, name, object, Kind::kInteger);
+  Handle type(H5Aget_type(attr.get()), H5Tclose);
+  if (H5Tget_sign(type.get()) == H5T_SGN_NONE && H5Tget_size(type.get()) >= 8) {
+    // HDF5 would clip an unsigned value beyond 2^63 - 1 to it: a number the file does not hold.
+    std::uint64_t u = 0;
+    check_status(H5Aread(attr.get(), H5T_NATIVE_UINT64, &u), path_ + ": cannot read " + name);
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      throw std::runtime_error(fmt::format("{}: {} = {} is beyond a signed 64-bit integer", path_,
+                                           attribute_label(name, object), u));
+    return static_cast<std::int64_t>(u);
+  }
   std::int64_t v = 0;
   check_status(H5Aread(attr.get(), H5T_NATIVE_INT64, &v), path_ + ": cannot read " + name);
   return v;
@@ -392,7 +406,11 @@ std::string File::read_attribute_string(const std::string& name, const std::stri
   // One fixed-length string of at most kMaxStringBytes (open_value): the buffer holds it.
   std::string v(H5Tget_size(type.get()), '\0');
   check_status(H5Aread(attr.get(), type.get(), v.data()), path_ + ": cannot read " + name);
-  v.resize(v.find('\0') == std::string::npos ? v.size() : v.find('\0'));
+  // NULs pad a fixed-length string at its end; one inside the text would cut it silently.
+  const std::size_t end = v.find('\0');
+  if (end != std::string::npos && v.find_first_not_of('\0', end) != std::string::npos)
+    throw std::runtime_error(what + " holds a NUL character inside its text");
+  v.resize(end == std::string::npos ? v.size() : end);
   return v;
 }
 
@@ -460,6 +478,11 @@ std::vector<T> read_array(const File& f, const std::string& name, Kind kind, hid
 
 std::vector<double> File::read_dataset(const std::string& name, const Extent& expected) const {
   return read_array<double>(*this, name, Kind::kNumber, H5T_NATIVE_DOUBLE, expected);
+}
+
+std::vector<double> File::read_float_dataset(const std::string& name,
+                                             const Extent& expected) const {
+  return read_array<double>(*this, name, Kind::kFloat, H5T_NATIVE_DOUBLE, expected);
 }
 
 std::vector<hsize_t> File::dataset_shape(const std::string& name) const {

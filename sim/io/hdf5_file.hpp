@@ -115,6 +115,9 @@ class File {
   std::string read_attribute_string(const std::string& name, const std::string& object = ".") const;
   /// Floating-point values, every rank flattened.
   std::vector<double> read_dataset(const std::string& name, const Extent& expected = {}) const;
+  /// As read_dataset, but only a floating-point dataset: an integer one is refused, not converted.
+  std::vector<double> read_float_dataset(const std::string& name,
+                                         const Extent& expected = {}) const;
   /// The extent of a dataset (its rank is the vector's length; {} for a scalar), read before
   /// any value so that a reader can refuse a table where it expects a list.
   std::vector<hsize_t> dataset_shape(const std::string& name) const;

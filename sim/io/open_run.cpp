@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -11,15 +12,13 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/open_run_limits.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/model/species.hpp"
 
 namespace jam {
 namespace {
-
-// The longest run a reader accepts (as jam's own run files: run_file.cpp).
-constexpr std::size_t kMaxPoints = std::size_t{1} << 26;
 
 // Each dataset of the format, the unit its `units` attribute must state, and whether it must be
 // there.
@@ -41,26 +40,55 @@ const Field kFields[] = {
   throw std::runtime_error(fmt::format("{}: {}", where, what));
 }
 
-void check_attributes(const OpenRun& r, const std::string& where) {
+bool blank(const std::string& s) {
+  return std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isspace(c); });
+}
+
+bool hex16(const std::string& s) {
+  return s.size() == 16 &&
+         std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c); });
+}
+
+void check_model(const OpenRun& r, const std::string& where) {
+  const OpenRunLimits& lim = open_run_limits();
   if (r.dim != 2 && r.dim != 3) refuse(where, fmt::format("dim {} must be 2 or 3", r.dim));
-  if (r.n < 2 || r.n % 2 != 0)
-    refuse(where, fmt::format("n {} must be even and >= 2 (half small, half big)", r.n));
-  if (!(r.diameter_ratio >= 1.0 && r.diameter_ratio <= 2.0))
-    refuse(where, fmt::format("diameter_ratio {} must be in [1, 2]", r.diameter_ratio));
+  if (r.n < 2 || r.n % 2 != 0 || r.n > lim.max_whole)
+    refuse(where,
+           fmt::format("n {} must be even, >= 2 (half small, half big) and at most 2^53", r.n));
+  if (!(r.diameter_ratio >= lim.diameter_ratio_min && r.diameter_ratio <= lim.diameter_ratio_max))
+    refuse(where, fmt::format("diameter_ratio {} must be in [{}, {}]", r.diameter_ratio,
+                              lim.diameter_ratio_min, lim.diameter_ratio_max));
   if (r.contact != "harmonic" && r.contact != "hertzian")
     refuse(where, fmt::format("contact '{}' must be harmonic or hertzian", r.contact));
   if (r.dynamics == "inertial") {
     if (!(r.q > 0.0 && std::isfinite(r.q)))
-      refuse(where, fmt::format("q {} must be > 0 for inertial dynamics", r.q));
+      refuse(where, fmt::format("q {} must be > 0 and finite for inertial dynamics", r.q));
   } else if (r.dynamics != "overdamped") {
     refuse(where, fmt::format("dynamics '{}' must be overdamped or inertial", r.dynamics));
+  } else if (r.q != 0.0) {
+    refuse(where,
+           fmt::format("q {} is only for dynamics 'inertial' (dynamics is 'overdamped')", r.q));
   }
+}
+
+void check_attributes(const OpenRun& r, const std::string& where) {
+  const OpenRunLimits& lim = open_run_limits();
+  check_model(r, where);
   if (!(r.compression_rate > 0.0 && std::isfinite(r.compression_rate)))
     refuse(where, fmt::format("compression_rate {} must be > 0 and finite", r.compression_rate));
   if (!(r.phi_init > 0.0 && r.phi_init < 1.0))
     refuse(where, fmt::format("phi_init {} must be in (0, 1)", r.phi_init));
-  if (r.simulator.empty()) refuse(where, "simulator is empty (name the code that ran it)");
-  if (r.sample < 0) refuse(where, fmt::format("sample {} must be >= 0", r.sample));
+  if (blank(r.simulator)) refuse(where, "simulator is empty (name the code that ran it)");
+  if (r.sample < 0 || r.sample > lim.max_whole)
+    refuse(where, fmt::format("sample {} must be >= 0 and at most 2^53", r.sample));
+  if (const auto& j = r.jamming_packing_fraction;
+      j && !std::isnan(*j) && !(*j > lim.jamming_above && *j < lim.jamming_below))
+    refuse(where, fmt::format("jamming_packing_fraction {} must be in ({}, {}), or NaN when not "
+                              "found",
+                              *j, lim.jamming_above, lim.jamming_below));
+  if (!r.source_checksum.empty() && !hex16(r.source_checksum))
+    refuse(where, fmt::format("source_checksum '{}' must be 16 hex digits (FNV-1a of the source)",
+                              r.source_checksum));
 }
 
 /// The spec's rule for each dataset's values, point by point.
@@ -73,10 +101,14 @@ void check_values(const OpenRun& r, const std::string& where) {
     if (v.size() != m)
       refuse(where, fmt::format("{} has {} points, packing_fraction {}", f.name, v.size(), m));
     for (std::size_t k = 0; k < m; ++k)
-      if (!std::isfinite(v[k])) refuse(where, fmt::format("{}[{}] = {} is not finite", f.name, k, v[k]));
+      if (!std::isfinite(v[k]))
+        refuse(where, fmt::format("{}[{}] = {} is not finite", f.name, k, v[k]));
   }
+  const OpenRunLimits& lim = open_run_limits();
+  if (m > static_cast<std::size_t>(lim.max_points))
+    refuse(where, fmt::format("packing_fraction has {} points, at most {}", m, lim.max_points));
   const auto& phi = r.packing_fraction;
-  if (!(phi[0] >= r.phi_init * (1 - 1e-9)))
+  if (!(phi[0] >= r.phi_init * (1 - lim.phi_init_slack)))
     refuse(where, fmt::format("packing_fraction[0] = {} is below phi_init {}", phi[0], r.phi_init));
   for (std::size_t k = 0; k < m; ++k) {
     if (!(phi[k] > 0.0 && phi[k] < 1.0))
@@ -86,12 +118,14 @@ void check_values(const OpenRun& r, const std::string& where) {
                                 phi[k], phi[k - 1]));
     if (r.pressure[k] < 0)
       refuse(where, fmt::format("pressure[{}] = {} is negative", k, r.pressure[k]));
-    if (!r.contacts_per_particle.empty() && r.contacts_per_particle[k] < 0)
-      refuse(where, fmt::format("contacts_per_particle[{}] = {} is negative", k,
-                                r.contacts_per_particle[k]));
+    if (!r.contacts_per_particle.empty() &&
+        !(r.contacts_per_particle[k] >= 0 &&
+          r.contacts_per_particle[k] <= lim.max_contacts_per_particle))
+      refuse(where, fmt::format("contacts_per_particle[{}] = {} must be in [0, {}]", k,
+                                r.contacts_per_particle[k], lim.max_contacts_per_particle));
     if (!r.energy_per_particle.empty() && r.energy_per_particle[k] < 0)
-      refuse(where, fmt::format("energy_per_particle[{}] = {} is negative", k,
-                                r.energy_per_particle[k]));
+      refuse(where,
+             fmt::format("energy_per_particle[{}] = {} is negative", k, r.energy_per_particle[k]));
   }
   if (r.time.empty()) return;
   for (std::size_t k = 0; k < m; ++k) {
@@ -99,7 +133,7 @@ void check_values(const OpenRun& r, const std::string& where) {
       refuse(where, fmt::format("time[{}] = {} is negative or does not increase", k, r.time[k]));
     // The protocol: L(t) = L0 exp(-rate t), so phi(t) = phi_init exp(D rate t).
     const double expected = r.phi_init * std::exp(r.dim * r.compression_rate * r.time[k]);
-    if (std::abs(phi[k] / expected - 1.0) > 1e-6)
+    if (!(std::abs(phi[k] / expected - 1.0) <= lim.rate_tolerance))
       refuse(where, fmt::format("packing_fraction[{}] = {:.9g} at time {:g}, but phi_init {:g} "
                                 "compressed at rate {:g} gives {:.9g}: the box does not shrink "
                                 "at the stated rate",
@@ -140,9 +174,10 @@ void read_datasets(const h5::File& f, OpenRun& r) {
     if (shape.size() != 1)
       throw std::runtime_error(fmt::format("{}: dataset '{}' has rank {}, expected a list (rank 1)",
                                            f.path(), field.name, shape.size()));
-    const std::size_t m =
-        r.packing_fraction.empty() ? kMaxPoints : r.packing_fraction.size();
-    r.*field.values = f.read_dataset(
+    const auto most = static_cast<std::size_t>(open_run_limits().max_points);
+    const std::size_t m = r.packing_fraction.empty() ? most : r.packing_fraction.size();
+    // Floating point only, as the format says: an integer series is refused, not converted.
+    r.*field.values = f.read_float_dataset(
         field.name, r.packing_fraction.empty() ? h5::at_most(m) : h5::exactly(m));
     if (f.has_attribute("units", field.name)) {
       const std::string unit = f.read_attribute_string("units", field.name);
@@ -189,7 +224,16 @@ OpenRun read_open_run(const std::string& path) {
     r.diameter_ratio = required_number(f, "diameter_ratio");
     r.contact = r.jam_native ? string_or(f, "contact", "harmonic") : required_string(f, "contact");
     r.dynamics = required_string(f, "dynamics");
-    if (r.dynamics == "inertial") r.q = required_number(f, "q");
+    if (r.dynamics == "inertial") {
+      r.q = required_number(f, "q");
+    } else if (f.has_attribute("q")) {
+      // jam's own run files store Q 0 for overdamped runs; an open run states q only when
+      // inertial (check_model refuses any other value).
+      r.q = f.read_attribute_double("q");
+      if (!r.jam_native && r.q == 0.0)
+        throw std::runtime_error(fmt::format(
+            "{}: q 0 is only for dynamics 'inertial' (dynamics is '{}')", path, r.dynamics));
+    }
     r.compression_rate = required_number(f, "compression_rate");
     r.phi_init = required_number(f, "phi_init");
     r.simulator = r.jam_native ? "jam" : required_string(f, "simulator");
@@ -270,9 +314,9 @@ std::string file_checksum(const std::string& path) {
 
 double packing_fraction_of(int dim, std::int64_t n, double diameter_ratio, double box_length) {
   const double half = static_cast<double>(n) / 2.0;
-  const double volume =
-      dim == 2 ? half * (sphere_volume<2>(1.0) + sphere_volume<2>(diameter_ratio))
-               : half * (sphere_volume<3>(1.0) + sphere_volume<3>(diameter_ratio));
+  const double volume = dim == 2
+                            ? half * (sphere_volume<2>(1.0) + sphere_volume<2>(diameter_ratio))
+                            : half * (sphere_volume<3>(1.0) + sphere_volume<3>(diameter_ratio));
   return volume / std::pow(box_length, dim);
 }
 
