@@ -221,8 +221,10 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
     const ImportOutcome out = import_runs(a.directory, a.import_files, a.import_options);
     for (const auto& s : out.set_aside)
       fmt::print(stderr, "set aside {}: {}\n", visible(s.file), visible(s.reason));
-    fmt::print("{}: {} runs imported, {} already there, {} set aside\n", visible(a.directory),
-               out.imported, out.already, out.set_aside.size());
+    for (const auto& note : out.notes) fmt::print("{}\n", visible(note));
+    fmt::print("{}: {} runs imported, {} already there, {} set aside{}\n", visible(a.directory),
+               out.imported, out.already, out.set_aside.size(),
+               out.repaired ? fmt::format(", {} repaired", out.repaired) : "");
     return out.set_aside.empty() ? 0 : 1;
   }
   if (campaign->got_subcommand("converge")) return write_convergence_campaign(a);

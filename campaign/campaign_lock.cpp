@@ -26,15 +26,22 @@ std::string owner_of(int fd) {
 
 namespace {
 
-/// Opens path and takes an flock of the given kind; throws CampaignError naming the holder.
-int lock_file(const std::string& path, const std::string& what, int kind) {
+/// Opens path and takes an flock of the given kind; throws CampaignError naming the holder, or
+/// (wait) says who holds it and waits for it.
+int lock_file(const std::string& path, const std::string& what, int kind, bool wait = false) {
   const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd < 0) {
     throw CampaignError(
         fmt::format("{}: cannot open the campaign's lock: {}", path, std::strerror(errno)));
   }
   if (::flock(fd, kind | LOCK_NB) != 0) {
-    const int error = errno;
+    int error = errno;
+    if (error == EWOULDBLOCK && wait) {
+      fmt::print(stderr, "{}: in use by {}; waiting for it\n", what, owner_of(fd));
+      // A signal ends the wait (EINTR) as an error: a waiting import stays interruptible.
+      if (::flock(fd, kind) == 0) return fd;
+      error = errno;
+    }
     const std::string owner = owner_of(fd);
     ::close(fd);
     if (error == EWOULDBLOCK) {
@@ -59,10 +66,10 @@ void note_owner(int fd) {
 
 }  // namespace
 
-CampaignLock::CampaignLock(const std::string& directory, const std::string& shard) {
+CampaignLock::CampaignLock(const std::string& directory, const std::string& shard, bool wait) {
   const std::string path = directory + "/.lock";
   if (shard.empty()) {
-    fd_ = lock_file(path, directory, LOCK_EX);
+    fd_ = lock_file(path, directory, LOCK_EX, wait);
     note_owner(fd_);
     return;
   }

@@ -16,8 +16,11 @@ namespace jam {
 class CampaignLock {
  public:
   /// Takes the lock of `directory` (which must exist) for the whole campaign (shard empty) or
-  /// for one share ("K-of-N"); throws CampaignError naming the owner when it is held.
-  explicit CampaignLock(const std::string& directory, const std::string& shard = "");
+  /// for one share ("K-of-N"); throws CampaignError naming the owner when it is held, or with
+  /// `wait` (imports, which take turns: campaign/external_import.cpp) says so on stderr and
+  /// waits until it is free.
+  explicit CampaignLock(const std::string& directory, const std::string& shard = "",
+                        bool wait = false);
   CampaignLock(const CampaignLock&) = delete;
   CampaignLock& operator=(const CampaignLock&) = delete;
   ~CampaignLock();

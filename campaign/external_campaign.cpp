@@ -6,17 +6,19 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
 
-#include "campaign/run_plan.hpp"
+#include "campaign/import_store.hpp"
 #include "campaign/toml_file.hpp"
-#include "sim/io/atomic_file.hpp"
 #include "sim/io/open_run.hpp"
-#include "sim/io/output_path.hpp"
+#include "sim/io/terminal_text.hpp"
 #include "sim/io/whole_number.hpp"
 
 namespace fs = std::filesystem;
@@ -25,6 +27,9 @@ namespace jam {
 namespace {
 
 constexpr const char* kFile = "external.toml";
+constexpr const char* kUnlisted =
+    "not in external.toml, so not averaged (an import adopts it only when it is a copy of the "
+    "file imported under its name; else move it away)";
 
 std::string text_of(const toml::table& t, const char* key, const std::string& where) {
   const auto v = t[key].value<std::string>();
@@ -56,7 +61,7 @@ std::int64_t whole_of(const toml::table& t, const char* key, const std::string& 
       fmt::format("{}: {} = {} is not a whole number in [{}, {}]", where, key, v, lo, hi));
 }
 
-void write_external(const std::string& directory, const ExternalCampaign& c) {
+std::string external_text(const ExternalCampaign& c) {
   toml::array runs, aside;
   for (const auto& r : c.runs)
     runs.push_back(toml::table{{"name", r.name},
@@ -84,57 +89,43 @@ void write_external(const std::string& directory, const ExternalCampaign& c) {
   text << "# An external campaign: runs imported by `jam campaign import` "
           "(docs/cross-simulator.md)\n"
        << toml_text(t) << "\n";
-  AtomicFile out((fs::path(directory) / kFile).string());
-  const std::string s = text.str();
-  if (std::fwrite(s.data(), 1, s.size(), out.stream()) != s.size())
-    throw WriteError(fmt::format("{}: cannot write {}", directory, kFile));
-  out.commit();
+  return text.str();
 }
 
-/// Why r cannot join campaign c ("" when it can); takes c's model from r when c has none yet.
-std::string model_mismatch(ExternalCampaign& c, const OpenRun& r) {
-  if (c.dim == 0) {
-    c.dim = r.dim, c.diameter_ratio = r.diameter_ratio, c.contact = r.contact;
-    c.dynamics = r.dynamics, c.q = r.q;
-    return "";
-  }
-  if (r.dim != c.dim) return fmt::format("dim {}, the campaign's {}", r.dim, c.dim);
-  if (std::abs(r.diameter_ratio - c.diameter_ratio) > 1e-12)
-    return fmt::format("diameter_ratio {}, the campaign's {}", r.diameter_ratio, c.diameter_ratio);
-  if (r.contact != c.contact) return fmt::format("contact {}, the campaign's {}", r.contact, c.contact);
-  if (r.dynamics != c.dynamics || std::abs(r.q - c.q) > 1e-12)
-    return fmt::format("dynamics {} (Q {}), the campaign's {} (Q {})", r.dynamics, r.q, c.dynamics,
-                       c.q);
-  return "";
-}
-
-/// The campaign directory to import into, made ready: an external campaign, or new.
-ExternalCampaign open_for_import(const fs::path& d, const ImportOptions& o) {
-  check_output_directory("directory", d.string());
-  if (o.phi_step && !(*o.phi_step > 0 && *o.phi_step <= 0.05))
-    throw std::runtime_error(fmt::format("--phi-step {}: must be in (0, 0.05]", *o.phi_step));
-  if (is_external_campaign(d.string())) {
-    ExternalCampaign c = read_external_campaign(d.string());
-    if (o.phi_step && std::abs(*o.phi_step - c.phi_step) > 1e-15)
-      throw std::runtime_error(fmt::format("--phi-step {}: the campaign's is {}", *o.phi_step,
-                                           c.phi_step));
-    return c;
-  }
-  if (fs::exists(d / "campaign.toml") || fs::exists(d / "manifest.toml"))
-    throw std::runtime_error(fmt::format(
-        "{}: a planned campaign (campaign.toml); import into a directory of its own", d.string()));
-  if (fs::exists(d) && !fs::is_empty(d))
-    throw std::runtime_error(fmt::format(
-        "{}: not empty and not an external campaign; import into a new directory", d.string()));
-  ExternalCampaign c;
-  c.name = o.name.empty() ? fs::absolute(d).lexically_normal().filename().string() : o.name;
-  if (c.name.empty()) c.name = "external";
-  c.phi_step = o.phi_step.value_or(0.0005);
-  fs::create_directories(d / "runs");
-  return c;
+/// Whether `name` is one of jam's temporaries, "<name>.<pid>-<tid>.partial"
+/// (AtomicFile::temporary_name): an import's own while it writes, not a run.
+bool is_temporary_name(const std::string& name) {
+  static const std::regex pattern(R"(.+\.[0-9]+-[0-9]+\.partial)");
+  return std::regex_match(name, pattern);
 }
 
 }  // namespace
+
+void write_external_campaign(const std::string& directory, const ExternalCampaign& c) {
+  const std::string path = (fs::path(directory) / kFile).string(), text = external_text(c);
+  std::error_code ec;
+  if (fs::symlink_status(path, ec).type() == fs::file_type::regular) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream existing;
+    existing << in.rdbuf();
+    if (in && existing.str() == text) return;
+  }
+  write_replacing(path, text);
+}
+
+std::vector<std::string> unlisted_run_files(const std::string& directory,
+                                            const ExternalCampaign& c) {
+  std::set<std::string> listed;
+  for (const auto& r : c.runs) listed.insert(r.name + ".h5");
+  std::vector<std::string> unlisted;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(fs::path(directory) / "runs", ec)) {
+    const std::string name = e.path().filename().string();
+    if (!listed.count(name) && !is_temporary_name(name)) unlisted.push_back(e.path().string());
+  }
+  std::sort(unlisted.begin(), unlisted.end());
+  return unlisted;
+}
 
 bool is_external_campaign(const std::string& directory) {
   return fs::exists(fs::path(directory) / kFile);
@@ -181,60 +172,6 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
   return c;
 }
 
-ImportOutcome import_runs(const std::string& directory, const std::vector<std::string>& files,
-                          const ImportOptions& options) {
-  const fs::path d(directory);
-  ExternalCampaign c = open_for_import(d, options);
-  ImportOutcome out;
-  auto aside = [&](const std::string& file, const std::string& reason) {
-    out.set_aside.push_back({file, reason});
-    c.set_aside.push_back({file, reason});
-  };
-  for (const std::string& file : files) {
-    OpenRun r;
-    std::string checksum;
-    try {
-      r = read_open_run(file);
-      checksum = file_checksum(file);
-    } catch (const std::exception& e) {
-      aside(file, e.what());
-      continue;
-    }
-    if (const std::string why = model_mismatch(c, r); !why.empty()) {
-      aside(file, why);
-      continue;
-    }
-    ExternalRun x{"", r.n, r.sample, r.phi_init, std::log10(r.compression_rate),
-                  fs::absolute(file).lexically_normal().string(), checksum, r.simulator,
-                  r.simulator_version, r.source};
-    // Its ensemble: the first run's nominal phi_init and rate, within what a run name tells.
-    for (const auto& e : c.runs)
-      if (e.n == x.n && std::abs(e.phi_init - x.phi_init) <= 1e-6 &&
-          std::abs(e.log10_rate - x.log10_rate) <= 1e-9) {
-        x.phi_init = e.phi_init, x.log10_rate = e.log10_rate;
-        break;
-      }
-    x.name = run_name(x.n, x.phi_init, x.log10_rate, x.sample);
-    const auto same = std::find_if(c.runs.begin(), c.runs.end(),
-                                   [&](const ExternalRun& e) { return e.name == x.name; });
-    if (same != c.runs.end()) {
-      if (same->source_checksum == checksum) {
-        ++out.already;
-      } else {
-        aside(file, fmt::format("sample {} of n {}, phi_init {:g}, rate 1e{:g} is already "
-                                "imported (from {}); give it another sample id",
-                                x.sample, x.n, x.phi_init, x.log10_rate, same->source));
-      }
-      continue;
-    }
-    copy_file_atomically(file, (d / "runs" / (x.name + ".h5")).string());
-    c.runs.push_back(std::move(x));
-    ++out.imported;
-  }
-  write_external(directory, c);
-  return out;
-}
-
 std::string stored_run_problem(const std::string& directory, const ExternalRun& run,
                                OpenRun* read) {
   try {
@@ -262,29 +199,35 @@ int print_external_status(const std::string& directory, bool json) {
                     {"detail", problem},
                     {"simulator", r.simulator},
                     {"source", r.source}});
-    if (!json && !problem.empty()) fmt::print("corrupt  {}: {}\n", r.name, problem);
+    if (!json && !problem.empty())
+      fmt::print("corrupt  {}: {}\n", visible(r.name), visible(problem));
   }
   int corrupt = 0;
   for (const auto& [key, counts] : ensembles) corrupt += counts.second;
+  const std::vector<std::string> unlisted = unlisted_run_files(directory, c);
   if (json) {
     nlohmann::json aside = nlohmann::json::array();
     for (const auto& s : c.set_aside) aside.push_back({{"file", s.file}, {"reason", s.reason}});
     fmt::print("{}\n", nlohmann::json{{"campaign", c.name},
                                       {"external", true},
                                       {"runs", runs},
-                                      {"set_aside", aside}}
+                                      {"set_aside", aside},
+                                      {"unlisted", unlisted}}
                            .dump(2));
     return corrupt ? 1 : 0;
   }
-  fmt::print("{} (external: {} runs imported, {} set aside; model dim {}, diameter ratio {}, {}, "
-             "{})\n",
-             c.name, c.runs.size(), c.set_aside.size(), c.dim, c.diameter_ratio, c.contact,
-             c.dynamics);
+  fmt::print(
+      "{} (external: {} runs imported, {} set aside; model dim {}, diameter ratio {}, {}, "
+      "{})\n",
+      visible(c.name), c.runs.size(), c.set_aside.size(), c.dim, c.diameter_ratio,
+      visible(c.contact), visible(c.dynamics));
   for (const auto& [key, counts] : ensembles)
     fmt::print("  n {:>6}  phi_init {:<6g}  rate 1e{:<6g}  {} runs{}\n", std::get<0>(key),
                std::get<1>(key), std::get<2>(key), counts.first,
                counts.second ? fmt::format(", {} corrupt", counts.second) : "");
-  for (const auto& s : c.set_aside) fmt::print("set aside  {}: {}\n", s.file, s.reason);
+  for (const auto& s : c.set_aside)
+    fmt::print("set aside  {}: {}\n", visible(s.file), visible(s.reason));
+  for (const auto& path : unlisted) fmt::print("unlisted  {}: {}\n", visible(path), kUnlisted);
   return corrupt ? 1 : 0;
 }
 

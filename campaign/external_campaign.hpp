@@ -9,7 +9,9 @@
 // A run joins only when it is a valid open run of the campaign's model (dim, diameter ratio,
 // contact law, dynamics and Q equal to the first run's) and its (N, phi_init, rate, sample) is
 // new; any other file is set aside with its reason, never silently averaged, and never copied.
-// Importing the same file again is a no-op. The source files are never changed.
+// Importing the same file again is a no-op. The source files are never changed. A file in
+// runs/ that external.toml does not list is never replaced, and imports take turns under the
+// campaign's lock (campaign/external_import.cpp says how an interrupted one resumes).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -50,6 +52,17 @@ bool is_external_campaign(const std::string& directory);
 /// Reads DIR/external.toml; throws naming the file and the field.
 ExternalCampaign read_external_campaign(const std::string& directory);
 
+/// Writes DIR/external.toml (never through a link: import_store.hpp), and not at all when it
+/// already holds this text: its time says when its content last changed (jam pipeline judges
+/// what is stale by such times).
+void write_external_campaign(const std::string& directory, const ExternalCampaign& c);
+
+/// The entries of DIR/runs that external.toml does not list (a file of someone's, or one an
+/// import killed before it listed it), jam's own temporaries aside, as paths: never averaged,
+/// never replaced, named by `status` and `stats`.
+std::vector<std::string> unlisted_run_files(const std::string& directory,
+                                            const ExternalCampaign& c);
+
 struct ImportOptions {
   std::string name;                // default: the directory's name (new campaigns)
   std::optional<double> phi_step;  // default 0.0005 (new campaigns); must match otherwise
@@ -57,12 +70,14 @@ struct ImportOptions {
 
 /// What one `jam campaign import` did.
 struct ImportOutcome {
-  int imported = 0, already = 0;
+  int imported = 0, already = 0, repaired = 0;
   std::vector<SetAside> set_aside;  // this import's
+  std::vector<std::string> notes;   // what else it did: sample ids given, files adopted, repairs
 };
 
 /// Imports `files` into `directory` (created when absent; else it must be an external
-/// campaign), then rewrites external.toml atomically.
+/// campaign, or what an interrupted first import left) under the campaign's lock, then rewrites
+/// external.toml atomically (campaign/external_import.cpp).
 ImportOutcome import_runs(const std::string& directory, const std::vector<std::string>& files,
                           const ImportOptions& options);
 

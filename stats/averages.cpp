@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "stats/grid_limit.hpp"
+
 namespace jam::stats {
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -39,12 +41,11 @@ std::vector<double> grid_between(double lo, double hi, double step) {
         lo, hi));
   }
   const double count = b - a + 1;
-  // A bound before anything is allocated: a step from a damaged run file (or a typo) must not
-  // ask for gigabytes. The campaigns' grids have a few thousand points.
-  if (!(count <= 1e6)) {
+  // A bound before anything is allocated (stats/grid_limit.hpp).
+  if (!(count <= kMaxGridPoints)) {
     throw std::runtime_error(
-        fmt::format("a grid of step {:g} from {:g} to {:g} has {:.3g} points (at most 10^6)", step,
-                    lo, hi, count));
+        fmt::format("a grid of step {:g} from {:g} to {:g} has {:.3g} points (at most {:g})", step,
+                    lo, hi, count, kMaxGridPoints));
   }
   if (count < 1) return g;
   const auto first = static_cast<long long>(a), last = static_cast<long long>(b);

@@ -21,6 +21,9 @@ CampaignData read_external_runs(const std::string& directory) {
   data.name = campaign.name;
   data.dim = campaign.dim;
   data.phi_step = campaign.phi_step;
+  for (const std::string& path : unlisted_run_files(directory, campaign))
+    fmt::print(stderr, "jam stats: warning: {} is not in external.toml: not averaged\n",
+               visible(path));
   for (const ExternalRun& run : campaign.runs) {
     OpenRun r;
     if (const std::string why = stored_run_problem(directory, run, &r); !why.empty()) {

@@ -401,6 +401,22 @@ class External(unittest.TestCase):
         os.unlink(path)
         self.assert_refused(copy, [path, "missing"])
 
+    def test_run_files_of_jam_sim_read_under_the_sample_ids_the_import_gave(self):
+        # `jam sim` writes no sample id; the import gives the second file sample 1 in
+        # external.toml (the file itself unchanged), and jamio reads it under that id.
+        made = tempfile.mkdtemp(dir=self.work, prefix="sim-")
+        files = []
+        for seed in (1, 2):
+            path = os.path.join(made, f"seed{seed}.h5")
+            run([ARGS.jam, "sim", "--quiet", "--n", "64", "--phi-init", "0.7", "--phi-stop",
+                 "0.72", "--rate", "1e-2", "--phi-step", "0.005", "--seed", str(seed), "--out",
+                 path], made)
+            files.append(path)
+        campaign = os.path.join(made, "c")
+        run([ARGS.jam, "campaign", "import", campaign, *files], made)
+        _, loaded = self.jamio.load_external_runs(campaign)
+        self.assertEqual([(e.sample, r.sample) for e, r in loaded], [(0, None), (1, None)])
+
 
 def main():
     global ARGS

@@ -177,7 +177,9 @@ def _imported_as(campaign, entry, run):
     """Why `run` (an OpenRun, validate_run of runs/<entry.name>.h5) is not the run external.toml
     lists under that name, or None: the model external.toml states, the entry's n, sample,
     simulator and version, and its phi_init and rate within what the import allows."""
-    sample = 0 if run.sample is None else run.sample  # a run file of jam's own without one
+    # A run file of jam's own without one (`jam sim`): the import gave it its id in
+    # external.toml (its checksum covers its attributes, so the file itself is not changed).
+    sample = entry.sample if run.sample is None else run.sample
     log10_rate = math.log10(run.compression_rate)
     checks = (("dim", run.dim, campaign.dim, run.dim == campaign.dim),
               ("diameter_ratio", run.diameter_ratio, campaign.diameter_ratio,

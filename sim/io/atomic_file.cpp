@@ -24,8 +24,6 @@ std::string write_failure(const std::string& path, int error) {
   return error != 0 ? std::strerror(error) : "I/O error";
 }
 
-namespace {
-/// Renames without replacing: 0, or the errno (EEXIST when `to` exists).
 int rename_no_replace(const std::string& from, const std::string& to) {
   if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) return 0;
   if (errno != EINVAL && errno != ENOSYS) return errno;
@@ -33,7 +31,6 @@ int rename_no_replace(const std::string& from, const std::string& to) {
   if (::link(from.c_str(), to.c_str()) != 0) return errno;
   return ::unlink(from.c_str()) == 0 ? 0 : errno;
 }
-}  // namespace
 
 std::string move_aside(const std::string& path, const std::string& suffix) {
   // A bounded search: ten thousand set-aside copies of one run mean something else is wrong.

@@ -23,6 +23,11 @@ struct WriteError : std::runtime_error {
 /// what it is, "No space left on device".
 std::string write_failure(const std::string& path, int error);
 
+/// Renames `from` to `to` only when nothing is at `to` (not even a dangling link): 0, or the
+/// errno (EEXIST when something is there). renameat2 with RENAME_NOREPLACE, or link and unlink
+/// where the file system lacks it.
+int rename_no_replace(const std::string& from, const std::string& to);
+
 /// Moves `path` aside to the first free name of `path + suffix`, `path + suffix + ".1"`, ".2", ...
 /// and returns it. Never replaces an existing file (renameat2 with RENAME_NOREPLACE, or link and
 /// unlink where the file system lacks it), so a file set aside earlier is never lost, even when
