@@ -124,6 +124,11 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
                        "Its campaign directory (default: <output>-convergence)");
   converge->add_option("--out", a.converge_out,
                        "The campaign file written (default: FILE's name with -convergence)");
+  CLI::App* output = campaign->add_subcommand(
+      "output",
+      "Print the campaign's directory (its 'output', as every jam command reads it) on one line, "
+      "for scripts; the file is checked as `campaign run` checks it");
+  output->add_option("file", a.file, "Campaign file (TOML)")->required();
   CLI::App* plan = campaign->add_subcommand(
       "plan", "Print the number of runs, particle-steps and estimated core-hours");
   plan->add_option("file", a.file, "Campaign file (TOML)")->required();
@@ -228,6 +233,11 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
     return out.set_aside.empty() ? 0 : 1;
   }
   if (campaign->got_subcommand("converge")) return write_convergence_campaign(a);
+  if (campaign->got_subcommand("output")) {
+    // A campaign string holds no control character (read_campaign refuses them): one line.
+    fmt::print("{}\n", read_campaign(a.file).output);
+    return 0;
+  }
   const Campaign c = read_campaign(a.file);
   // The variance model first, so that a bad --scatter-from is refused before any output.
   ScatterModel model;

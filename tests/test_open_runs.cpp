@@ -13,6 +13,7 @@
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/lammps_import.hpp"
 #include "sim/io/open_run.hpp"
+#include "sim/run/sim_config.hpp"
 
 namespace fs = std::filesystem;
 using jam::OpenRun;
@@ -180,6 +181,38 @@ BOOST_AUTO_TEST_CASE(frames_are_measured_to_the_analytic_pair) {
   BOOST_TEST(run.pressure[1] == (delta / dij) * r / (2 * later * later),
              boost::test_tools::tolerance(1e-12));
   BOOST_TEST(run.interpolation.find("measured by jam") != std::string::npos);
+}
+
+BOOST_AUTO_TEST_CASE(frames_in_a_box_jam_sim_refuses_are_refused) {
+  // One small and one big particle 1.1 apart in a box of 2.2: the pair touches two images of
+  // each other (p and Z twice one image's), which the minimum image counts once. jam sim
+  // refuses such a box: 2.2 is not above 2 x (1.4 + skin 0.3) = 3.4; frames import does too.
+  const fs::path d = scratch("frames_small_box");
+  {
+    jam::h5::File f = jam::h5::File::create((d / "frames.h5").string());
+    frames_attributes(f, jam::packing_fraction_of(2, 2, 1.4, 10.0));
+    f.write_dataset("box_length", std::vector<double>{10.0, 2.2});
+    f.write_dataset("diameters", std::vector<double>{1.0, 1.4});
+    f.write_dataset("positions", std::vector<double>{0, 0, 1.1, 0, 0, 0, 1.1, 0}, {2, 2, 2});
+    f.close();
+  }
+  try {
+    jam::import_frames((d / "frames.h5").string(), (d / "run.h5").string());
+    BOOST_FAIL("frames in a box of 2.2 were imported");
+  } catch (const std::runtime_error& e) {
+    BOOST_TEST(std::string(e.what()).find("frame 1: box length 2.2 is not larger than twice the "
+                                          "interaction range 2 x (1.4 + skin 0.3) = 3.4") !=
+                   std::string::npos,
+               e.what());
+  }
+  BOOST_TEST(!fs::exists(d / "run.h5"));
+  // The same rule as jam sim's, at the same bound.
+  jam::SimConfig c;
+  c.n = 2;
+  BOOST_CHECK_THROW(jam::validate_box(c, 2.2, 1.4), jam::ConfigError);
+  BOOST_CHECK_NO_THROW(jam::validate_box(c, 3.41, 1.4));
+  BOOST_TEST(jam::minimum_image_box_length(1.4, c.skin) == 3.4,
+             boost::test_tools::tolerance(1e-15));
 }
 
 BOOST_AUTO_TEST_CASE(frames_of_another_model_are_refused) {

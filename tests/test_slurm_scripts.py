@@ -16,7 +16,10 @@ set (SLURM_JOB_ID, SLURM_ARRAY_TASK_ID/COUNT/MIN/MAX/STEP, ...) on the tiny CI c
     one to jam (Slurm's --signal without B: signals the job step) stops it with checkpoints; it
     is resubmitted and completes (on the CI campaign with one sample per ensemble);
   - the chain step's decisions on planted states: failed runs stop it, a complete campaign
-    submits nothing, every task done but runs missing resubmits every share.
+    submits nothing, every task done but runs missing resubmits every share;
+  - a campaign file hiding `output = "<decoy>"` in a multi-line string: the scripts take the
+    directory from `jam campaign output`, so submit.sh cleans and the finishing job judges the
+    real one and the decoy's files stay; a job told another directory refuses to run.
 Where shellcheck is installed, the scripts are also checked with it.
 `jam check` and `jam report` are recorded, not run (they take a minute on the CI campaign;
 test_report runs them); every other jam command is the real one.
@@ -301,7 +304,8 @@ class SlurmScripts(unittest.TestCase):
         rc, log = chain.run_job(finish, {"SLURM_JOB_ID": finish["job"]})
         self.assertEqual(rc, 0, log)
         commands = [c["argv"] for c in chain.calls("jam")[jam_before:]]
-        self.assertEqual(commands, [["campaign", "status", chain.campaign_dir],
+        self.assertEqual(commands, [["campaign", "output", chain.file],
+                                    ["campaign", "status", chain.campaign_dir],
                                     ["stats", chain.campaign_dir],
                                     ["check", "all", chain.campaign_dir],
                                     ["report", chain.campaign_dir]], log)
@@ -469,6 +473,57 @@ class SlurmScripts(unittest.TestCase):
         rc, log = chain.run_job(step, job, env={"FAKE_JAM_STATUS": "2"})
         self.assertEqual(rc, 2, log)
         self.assertEqual(len(chain.calls("sbatch")), 9, log)
+
+    def test_output_hidden_in_a_multi_line_string_is_not_taken(self):
+        chain = Chain(self, "hidden")
+        decoy = os.path.join(chain.dir, "decoy")
+        os.makedirs(os.path.join(decoy, "slurm"))
+        planted = ["array", "share-1", "mpi"]
+        for name in planted:
+            with open(os.path.join(decoy, "slurm", name), "w") as f:
+                f.write("1 0\n")
+        with open(chain.file) as f:
+            text = f.read()
+        # A valid campaign file: the line-ending backslashes make the string one line for TOML
+        # ("zeta: a note output = ... # "), while a line regex sees a top-level output key first.
+        quotes = '"' * 3
+        hidden = (f'expected_failures = [{quotes}zeta: a note \\\n'
+                  f'output = "{decoy}" # \\\n'
+                  f'{quotes}]\n')
+        text = text.replace('output = "runs/ci"', hidden + 'output = "runs/ci"')
+        with open(chain.file, "w") as f:
+            f.write(text)
+        self.assertIn(f'\noutput = "{decoy}" # \\\n', text)
+        plan = subprocess.run([self.jam, "campaign", "plan", chain.file], cwd=chain.dir,
+                              capture_output=True, text=True, timeout=120)
+        self.assertEqual(plan.returncode, 0, "jam reads it as a campaign: " + plan.stderr)
+
+        r = chain.submit("array", "ci.toml", "--array=0-1")
+        for name in planted:
+            self.assertTrue(os.path.exists(os.path.join(decoy, "slurm", name)),
+                            f"submit.sh removed the decoy's {name}: {r.stdout}{r.stderr}")
+        self.assertTrue(os.path.exists(os.path.join(chain.campaign_dir, "slurm", "chain.log")))
+        work, finish, step = self.submitted(chain, 0)
+        for call in (work, finish, step):
+            self.assertEqual(call["env"]["JAM_CAMPAIGN_DIR"], chain.campaign_dir)
+
+        # The finishing job judges the real directory (incomplete: it stops there).
+        jam_before = len(chain.calls("jam"))
+        rc, log = chain.run_job(finish, {"SLURM_JOB_ID": finish["job"]})
+        self.assertEqual(rc, 1, log)
+        self.assertIn("campaign not complete", log)
+        self.assertEqual([c["argv"] for c in chain.calls("jam")[jam_before:]],
+                         [["campaign", "output", chain.file],
+                          ["campaign", "status", chain.campaign_dir]], log)
+
+        # A job told another directory than jam's refuses before doing anything.
+        jam_before = len(chain.calls("jam"))
+        rc, log = chain.run_job(finish, {"SLURM_JOB_ID": finish["job"]},
+                                env={"JAM_CAMPAIGN_DIR": decoy})
+        self.assertEqual(rc, 2, log)
+        self.assertIn(f"JAM_CAMPAIGN_DIR '{decoy}' is not the output of", log)
+        self.assertEqual([c["argv"][:2] for c in chain.calls("jam")[jam_before:]],
+                         [["campaign", "output"]], log)
 
 
 class Headers(unittest.TestCase):

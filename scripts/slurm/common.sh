@@ -27,19 +27,18 @@ jam_slurm_whole() {
   [[ "$2" =~ ^[0-9]+$ ]] || jam_slurm_die "$1 must be a whole number, not '$2'"
 }
 
-# The top-level `output` of a campaign file ("..." or '...'), as written in it.
-jam_slurm_output_of() {
-  local line
-  local basic='^[[:space:]]*output[[:space:]]*=[[:space:]]*"([^"\\]*)"[[:space:]]*(#.*)?$'
-  local literal="^[[:space:]]*output[[:space:]]*=[[:space:]]*'([^']*)'[[:space:]]*(#.*)?\$"
-  while IFS= read -r line || [[ -n "$line" ]]; do
-    [[ "$line" =~ ^[[:space:]]*\[ ]] && break # a table: the top-level keys are over
-    if [[ "$line" =~ $basic || "$line" =~ $literal ]]; then
-      printf '%s\n' "${BASH_REMATCH[1]}"
-      return 0
-    fi
-  done <"$1"
-  return 1
+# The campaign's output directory as jam itself reads it from FILE (`jam campaign output`: the
+# file is never parsed here, so a string that looks like a key cannot mislead), made absolute
+# against the current directory (a relative `output` is relative to where the jobs run).
+# Sets jam_dir; dies with jam's error when jam cannot read the file.
+jam_slurm_read_output() {
+  local out
+  out=$("$jam_bin" campaign output "$jam_file") ||
+    jam_slurm_die "jam cannot read the campaign file '$jam_file' (its error above)"
+  # jam refuses control characters in campaign strings: the one line it prints is the path
+  [[ -n "$out" ]] || jam_slurm_die "jam campaign output printed nothing for '$jam_file'"
+  [[ "$out" == /* ]] || out=$PWD/$out
+  jam_dir=$out
 }
 
 # jam_slurm_setup FILE [jam campaign run options...]  (jam_slurm_dir: this directory)
@@ -51,6 +50,7 @@ jam_slurm_setup() {
   jam_file=$1
   shift
   [[ -f "$jam_file" && -r "$jam_file" ]] || jam_slurm_die "campaign file '$jam_file' cannot be read"
+  [[ "$jam_file" == /* ]] || jam_file=$PWD/$jam_file # never read as an option
   jam_run_args=("$@")
   jam_jobs_given=0
   local a
@@ -74,10 +74,16 @@ jam_slurm_setup() {
   fi
   [[ -n "$jam_bin" && -x "$jam_bin" ]] || jam_slurm_die "no jam executable: set JAM=/path/to/jam"
 
-  jam_dir=${JAM_CAMPAIGN_DIR:-}
-  if [[ -z "$jam_dir" ]]; then
-    jam_dir=$(jam_slurm_output_of "$jam_file") ||
-      jam_slurm_die "no top-level 'output = \"...\"' in $jam_file: set JAM_CAMPAIGN_DIR"
+  jam_slurm_read_output
+  # JAM_CAMPAIGN_DIR (submit.sh passes its answer on to the jobs) must name the same directory:
+  # else the finishing job and the chain step would judge one directory while the work jobs
+  # fill another (a job started elsewhere, a value of the user's).
+  if [[ -n "${JAM_CAMPAIGN_DIR:-}" ]]; then
+    local given=$JAM_CAMPAIGN_DIR
+    [[ "$given" == /* ]] || given=$PWD/$given
+    if [[ "$given" != "$jam_dir" ]] && ! [[ -e "$given" && "$given" -ef "$jam_dir" ]]; then
+      jam_slurm_die "JAM_CAMPAIGN_DIR '$given' is not the output of $jam_file, '$jam_dir' (jam campaign output): unset it, or run the jobs where the chain was submitted"
+    fi
   fi
   jam_state=${JAM_SLURM_STATE:-$jam_dir/slurm}
 }

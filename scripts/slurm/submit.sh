@@ -20,8 +20,12 @@
 #      campaign is complete, a run failed, or JAM_SLURM_MAX_RESUBMIT resubmissions (default 10).
 # JAM_RUN_OPTIONs go to every `jam campaign run` of the chain (not --shard, --until-decided).
 #
+# The campaign directory is the file's `output` as jam itself reads it (`jam campaign output
+# FILE`; the scripts never parse the file), relative to the current directory; every job of the
+# chain asks jam again and refuses to run on a different directory.
+#
 # Environment: JAM (jam executable; default build/jam of this checkout, else jam on PATH),
-# JAM_CAMPAIGN_DIR (default: the file's `output`), JAM_SLURM_MAX_RESUBMIT, JAM_REPORT_DIR
+# JAM_SLURM_MAX_RESUBMIT, JAM_REPORT_DIR
 # (report directory of the finishing job), and Slurm's own SBATCH_ACCOUNT, SBATCH_PARTITION, ...
 # for every job. The chain's record:
 # <campaign dir>/slurm/chain.log. Stop a chain with scancel on its jobs (squeue --me).
@@ -97,5 +101,5 @@ Submitted the chain of $jam_file:
   work job       $jam_work_job ($mode)
   finishing job  $jam_finish_job (afterok: jam stats, check, report)
   chain step     $jam_chain_job (afterany: resubmits unfinished tasks, at most ${JAM_SLURM_MAX_RESUBMIT} times)
-Follow it with: squeue --me; cat $jam_state/chain.log; $jam_bin campaign status $jam_dir
+Follow it with: squeue --me; cat $(printf '%q' "$jam_state/chain.log"); $(printf '%q ' "$jam_bin" campaign status "$jam_dir")
 EOF

@@ -13,6 +13,7 @@
 #include "sim/io/output_path.hpp"
 #include "sim/model/contact_laws.hpp"
 #include "sim/observables/observables.hpp"
+#include "sim/run/sim_config.hpp"
 
 namespace jam {
 namespace {
@@ -90,8 +91,18 @@ void measure_frames(const h5::File& f, OpenRun& r, const std::vector<double>& bo
                                          f.path(), fmt::join(shape, ", "), m, n, D));
   const std::vector<double> x = f.read_dataset("positions", h5::exactly(m * n * D));
   const Species<D> species(r.diameter_ratio);
+  // jam sim's skin and its rule: a box below twice the interaction range would count one image
+  // of a pair that touches two (N = 2 in a small box: half the pressure, Z 1 instead of 2).
+  const double skin = SimConfig{}.skin;
+  const double bound = minimum_image_box_length(species.max_contact_distance, skin);
   for (std::size_t k = 0; k < m; ++k) {
     const double length = box_length[k];
+    if (!(length > bound))
+      throw std::runtime_error(fmt::format(
+          "{}: frame {}: box length {:.6g} is not larger than twice the interaction range 2 x "
+          "({:g} + skin {:g}) = {:.6g}, which jam sim requires (a particle would touch two "
+          "images of another); frames of more particles are needed",
+          f.path(), k, length, species.max_contact_distance, skin, bound));
     ParticleData<D> p;
     p.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -108,7 +119,7 @@ void measure_frames(const h5::File& f, OpenRun& r, const std::vector<double>& bo
     CompressingBox<D> box;
     box.initial_length = length;
     box.particle_volume = total_particle_volume(p, species);
-    System<D, Contact> sys(std::move(p), species, box, 0.3);
+    System<D, Contact> sys(std::move(p), species, box, skin);
     const Observables<D> o = measure(sys, 0.0, false);
     r.packing_fraction.push_back(o.packing_fraction);
     r.pressure.push_back(o.pressure);

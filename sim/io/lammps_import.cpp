@@ -11,6 +11,7 @@
 
 #include "sim/initial_state.hpp"
 #include "sim/io/lammps_data.hpp"
+#include "sim/io/lammps_deform.hpp"
 #include "sim/io/lammps_log.hpp"
 #include "sim/io/open_run.hpp"
 #include "sim/io/output_path.hpp"
@@ -53,6 +54,9 @@ LammpsThermo read_lammps_thermo(const std::string& path) {
   if (!log.timestep) throw std::runtime_error(fmt::format("{}: no 'timestep' line", path));
   if (!log.rate)
     throw std::runtime_error(fmt::format("{}: no 'fix ... deform ... trate -rate' line", path));
+  // phi follows from the start's box, the time and this rate: one run under one deform.
+  check_isotropic_deforms(log.deforms, *log.dim, path);
+  check_packing_from_time(log.deforms, log.runs, log.lines.front(), path);
   LammpsThermo d;
   d.dim = *log.dim;
   d.dt = *log.timestep;
@@ -202,6 +206,8 @@ void import_lammps_log(const LammpsImport& r) {
   auto column = [&](const char* f) { return log.columns.at(r.columns.at(f)); };
   OpenRun run;
   run.dim = agreed<int>(r.dim, log.dim, "--dim", "dimension", r.log);
+  // The model is an isotropic compression at one rate, whatever gives the packing.
+  check_isotropic_deforms(log.deforms, run.dim, r.log);
   run.compression_rate = agreed<double>(r.rate, log.rate, "--rate", "fix deform trate", r.log);
   run.n = agreed<std::int64_t>(r.n, log.atoms, "--n", "atoms", r.log);
   run.diameter_ratio = *r.diameter_ratio;
@@ -247,6 +253,7 @@ void import_lammps_log(const LammpsImport& r) {
       throw std::runtime_error("--phi-init: missing (the packing follows from it and the time)");
     if (run.time.empty())
       throw std::runtime_error(fmt::format("{}: no timestep line to turn steps into times", r.log));
+    check_packing_from_time(log.deforms, log.runs, log.lines.front(), r.log);
     run.phi_init = *r.phi_init;
     for (double t : run.time)
       run.packing_fraction.push_back(run.phi_init * std::exp(run.dim * run.compression_rate * t));

@@ -7,7 +7,8 @@
 // thermo line under a header with the columns Step, Time, c_virial (virial pressure), PotEng
 // (energy per atom) and v_Z (contacts per particle). Read from the start's data file: N, the
 // box and the species, hence phi_init; phi(t) = phi_init exp(D rate t). Q follows from the mass
-// of type 1, m_s = Q^2 (2/D)^2. LAMMPS evaluates its thermo with the forces of the step before
+// of type 1, m_s = Q^2 (2/D)^2; so the log must be of one run under one isotropic deform
+// (lammps_deform.hpp). LAMMPS evaluates its thermo with the forces of the step before
 // the box deformation and the volume after it; the pressures are stored as LAMMPS printed them.
 #include <cstdint>
 #include <map>
@@ -48,7 +49,9 @@ const std::vector<std::string>& lammps_import_fields();
 /// from the request and from what the log states literally (dimension, fix deform trate, the
 /// atoms created or read), which must agree. The packing at each row: the packing_fraction
 /// column, else the volume column (N/2 small and N/2 big particles of the diameter ratio), else
-/// phi_init exp(D rate t); with a volume and a time the box must shrink at the stated rate.
+/// phi_init exp(D rate t), which needs a log of one run under one fix deform showing its trate;
+/// with a volume and a time the box must shrink at the stated rate. Every fix deform of the log
+/// must be an isotropic compression at one rate, whichever column gives the packing.
 void import_lammps_log(const LammpsImport& request);
 
 }  // namespace jam

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "sim/io/output_path.hpp"
 #include "sim/io/process.hpp"
@@ -28,9 +29,23 @@ void add_atoms(std::int64_t atoms, const std::string& where, LammpsLog& log) {
   log.atoms = total;
 }
 
+/// A fix deform command; the echo of the same command after a substitution (the line right
+/// after, same fix ID) replaces it.
+void add_deform(LammpsDeform d, int previous_line, LammpsLog& log) {
+  if (!log.deforms.empty() && log.deforms.back().line == previous_line &&
+      log.deforms.back().id == d.id)
+    log.deforms.back() = std::move(d);
+  else
+    log.deforms.push_back(std::move(d));
+  for (const LammpsDeform& c : log.deforms)
+    if (!c.trates.empty()) log.rate = -c.trates.begin()->second;
+}
+
 /// The settings a log states literally (a value given through a variable is echoed with it
-/// substituted when LAMMPS runs with `-echo log`, and not otherwise).
-void read_setting(const std::vector<std::string>& w, const std::string& where, LammpsLog& log) {
+/// substituted when LAMMPS runs with `-echo log`, and not otherwise). `previous_line`: the
+/// line number of the last non-blank line before this one.
+void read_setting(const std::vector<std::string>& w, const std::string& where, int line,
+                  int previous_line, LammpsLog& log) {
   if (w[0] == "dimension" && w.size() == 2 && literal(w[1])) {
     const double dim = lammps_number(w[1], where, "dimension");
     if (dim != 2 && dim != 3)
@@ -40,16 +55,8 @@ void read_setting(const std::vector<std::string>& w, const std::string& where, L
     log.timestep = lammps_number(w[1], where, "timestep");
     if (!(*log.timestep > 0))
       throw std::runtime_error(fmt::format("{}: timestep {} (must be > 0)", where, w[1]));
-  } else if (w[0] == "fix" && w.size() > 5 && w[3] == "deform") {
-    for (std::size_t k = 4; k + 2 < w.size(); ++k) {
-      if (w[k + 1] != "trate" || !literal(w[k + 2])) continue;
-      const double rate = -lammps_number(w[k + 2], where, "trate");
-      // The rates jam simulates (log10 in [-12, 0]); a compression, so trate is negative.
-      if (!(rate >= 1e-12 && rate <= 1.0))
-        throw std::runtime_error(fmt::format(
-            "{}: trate {} (must be a compression, -1 <= trate <= -1e-12)", where, w[k + 2]));
-      log.rate = rate;
-    }
+  } else if (auto deform = parse_lammps_deform(w, line, where)) {
+    add_deform(std::move(*deform), previous_line, log);
   } else if (w.size() == 3 && w[0] == "Created" && w[2] == "atoms") {
     add_atoms(lammps_count(w[1], where, "created atoms"), where, log);
   } else if (w.size() == 2 && w[1] == "atoms" &&
@@ -142,19 +149,25 @@ LammpsLog read_lammps_log(std::istream& in, const std::string& path,
   std::vector<std::size_t> index;   // of each named column in it
   std::optional<double> last_step;
   std::size_t rows_in_block = 0;
+  int header_line = 0, previous_line = 0;
   std::string line;
   for (int line_no = 1; std::getline(in, line); ++line_no) {
     const auto w = lammps_words(line);
     if (w.empty()) continue;
+    const int previous = std::exchange(previous_line, line_no);
     const std::string where = fmt::format("{}:{}", path, line_no);
+    // The end of a run whose rows are not read (a run's own end is taken below).
+    const bool loop = w[0] == "Loop" && w.size() > 1 && w[1] == "time";
+    if (loop && (header.empty() || rows_in_block == 0)) log.runs.push_back(line_no);
     if (line_no == 1 && w[0] == "LAMMPS" && line.find('(') != std::string::npos) {
       const auto open = line.find('('), close = line.rfind(')');
       log.version = line.substr(open + 1, close > open ? close - open - 1 : std::string::npos);
     }
     if (header.empty()) {
-      read_setting(w, where, log);
+      read_setting(w, where, line_no, previous, log);
       if (has_all(w, columns) && !std::isdigit(static_cast<unsigned char>(w[0][0]))) {
         header = w;
+        header_line = line_no;
         index.clear();
         for (const auto& c : columns)
           index.push_back(static_cast<std::size_t>(std::find(w.begin(), w.end(), c) - w.begin()));
@@ -176,13 +189,13 @@ LammpsLog read_lammps_log(std::istream& in, const std::string& path,
     });
     if (rows_in_block == 0 && (w.size() != header.size() || !numbers)) {
       header.clear();
-      read_setting(w, where, log);
+      read_setting(w, where, line_no, previous, log);
       continue;
     }
     if (w.size() != header.size())
       throw std::runtime_error(fmt::format("{}: thermo row has {} columns, its header {}", where,
                                            w.size(), header.size()));
-    if (++rows_in_block == 1) log.header = header;
+    if (++rows_in_block == 1) log.header = header, log.runs.push_back(header_line);
     // The first row of a run repeats the last of the run before it.
     const auto step = std::find(header.begin(), header.end(), "Step");
     if (step != header.end()) {

@@ -1,9 +1,14 @@
 #pragma once
 // A LAMMPS log of any input, as a table: the thermo columns a caller names, every thermo row
 // under a header that has them (all runs of the log, the row LAMMPS repeats at the boundary of
-// two runs taken once), and the settings the log states literally: its version, `dimension`,
-// `timestep`, the `trate` of `fix deform` and the atoms created or read. Values must be whole
-// finite numbers; anything else is one line naming the file, line, column and value.
+// two runs taken once), the runs it reports, and the settings the log states literally: its
+// version, `dimension`, `timestep`, each `fix deform` (lammps_deform.hpp) and the atoms created
+// or read. Values must be whole finite numbers; anything else is one line naming the file, line,
+// column and value.
+//
+// LAMMPS echoes a command as written and, with a variable in it, once more after each
+// substitution, on the lines right after: consecutive `fix deform` lines of one fix ID are one
+// command, the last of them the one LAMMPS ran.
 #include <cstdint>
 #include <filesystem>
 #include <istream>
@@ -12,17 +17,23 @@
 #include <string>
 #include <vector>
 
+#include "sim/io/lammps_deform.hpp"
+
 namespace jam {
 
 struct LammpsLog {
   std::string version;  // "2 Aug 2023 - Update 3" from the first line "LAMMPS (...)"
   std::optional<int> dim;
   std::optional<double> timestep;
-  std::optional<double> rate;         // -trate of fix deform (a compression: > 0)
+  std::optional<double> rate;         // -trate of the last fix deform showing it (> 0)
   std::optional<std::int64_t> atoms;  // "Created N atoms" or read_data's "N atoms"
   std::vector<std::string> header;    // the thermo header the rows were read under
   std::map<std::string, std::vector<double>> columns;  // the named columns, one entry per row
   std::vector<int> lines;                              // the log line of each row
+  std::vector<LammpsDeform> deforms;                   // every fix deform, in the log's order
+  // Each run the log reports: the line of its thermo header when its rows were read, else of
+  // its "Loop time" line (a run under another header, a minimization).
+  std::vector<int> runs;
 };
 
 /// The blank-separated words of a line.

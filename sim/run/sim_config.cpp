@@ -278,13 +278,17 @@ std::string relaxation_fingerprint(const SimConfig& c) {
   return "relaxation" + identity_words(c, words, Phase::relaxation);
 }
 
+double minimum_image_box_length(double max_contact_distance, double skin) {
+  return 2.0 * (max_contact_distance + skin);
+}
+
 void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance) {
-  const double range = max_contact_distance + c.skin;
-  if (!(box_length_at_stop > 2.0 * range)) {
+  const double bound = minimum_image_box_length(max_contact_distance, c.skin);
+  if (!(box_length_at_stop > bound)) {
     throw ConfigError(fmt::format(
         "--n {}: box length {:.4g} at --phi-stop {:g} is not larger than twice the "
         "interaction range 2 x ({:g} + skin {:g}) = {:.4g}",
-        c.n, box_length_at_stop, c.phi_stop, max_contact_distance, c.skin, 2.0 * range));
+        c.n, box_length_at_stop, c.phi_stop, max_contact_distance, c.skin, bound));
   }
 }
 

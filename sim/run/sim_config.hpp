@@ -194,8 +194,13 @@ std::string fingerprint(const SimConfig& c);
 /// Every parameter that changes the relaxed start (the key of a start cache).
 std::string relaxation_fingerprint(const SimConfig& c);
 
-/// Checks that the box at phi_stop is at least twice the interaction range (contact distance
-/// plus neighbor skin), so that the minimum image convention holds; throws ConfigError.
+/// The length a periodic box must exceed for the minimum image convention to hold: twice the
+/// interaction range, 2 (contact distance + neighbor skin). Below it a particle can touch two
+/// images of another, and the forces and contacts of one image alone are wrong. The one rule of
+/// `jam sim` (validate_box) and `jam import frames`.
+double minimum_image_box_length(double max_contact_distance, double skin);
+
+/// Checks that the box at phi_stop is longer than minimum_image_box_length; throws ConfigError.
 void validate_box(const SimConfig& c, double box_length_at_stop, double max_contact_distance);
 
 }  // namespace jam

@@ -1,7 +1,8 @@
 // libFuzzer target: the LAMMPS log reader (sim/io/lammps_log.hpp) on arbitrary text, with the
-// columns of the bundled input and of the generic import. Any input must end in a table or a
-// std::runtime_error naming the log; nothing else may escape, and the sanitizers must stay
-// silent. An accepted table has one value per row in every column, all finite.
+// columns of the bundled input and of the generic import, then the checks of its deforms and
+// runs. Any input must end in a table or a std::runtime_error naming the log; nothing else may
+// escape, and the sanitizers must stay silent. An accepted table has one value per row in every
+// column, all finite, and a run holding them.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -23,6 +24,10 @@ void read(const std::string& text, const std::vector<std::string>& columns) {
       for (double v : values)
         if (!std::isfinite(v)) std::abort();
     }
+    if (log.runs.empty()) std::abort();  // rows were read: they belong to a run
+    // What the imports conclude from the log's deforms and runs (lammps_deform.hpp).
+    jam::check_isotropic_deforms(log.deforms, log.dim.value_or(2), "fuzz.log");
+    jam::check_packing_from_time(log.deforms, log.runs, log.lines.front(), "fuzz.log");
   } catch (const std::runtime_error& e) {
     if (std::string(e.what()).rfind("fuzz.log", 0) != 0) std::abort();
   }
