@@ -17,6 +17,7 @@
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
 #include "sim/io/install_paths.hpp"
+#include "sim/run/stop_signal.hpp"
 #include "sim/simd.hpp"
 #include "sim/version.hpp"
 
@@ -111,6 +112,10 @@ int main(int argc, char** argv) {
                print_failed ? "cannot write to standard output: " + e.code().message() : what);
     jam::abort_ranks(2);
     return 2;
+  } catch (const jam::Interrupted& e) {
+    // A stop asked for (SIGINT, SIGTERM) before an output was published: nothing written.
+    fmt::print(stderr, "jam: {}\n", e.what());
+    return 130;
   } catch (const std::exception& e) {
     // The tool could not do what was asked (bad input, a missing or unreadable file, a full
     // disk): exit status 2 in every subcommand, apart from the results a command reports
