@@ -15,6 +15,8 @@
 #include "checks/stats_data.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/run/stop_signal.hpp"
+#include "stats/stats_inputs.hpp"
 
 namespace jam {
 namespace {
@@ -52,6 +54,28 @@ CampaignPart campaign_part(const std::string& directory) {
          campaign.compare_with};
   }
   return c;
+}
+
+/// Refuses DIR/stats.h5 when it no longer describes DIR's runs (stats_inputs.hpp: runs
+/// imported, finished or replaced since `jam stats`): verdicts on the averages of other runs
+/// would be taken for verdicts on these.
+void require_current_stats(const std::string& directory) {
+  if (const std::string why = stats::stale_stats_reason(directory); !why.empty())
+    throw std::runtime_error(fmt::format("{}: out of date: {}; run `jam stats {}`",
+                                         (std::filesystem::path(directory) / "stats.h5").string(),
+                                         why, directory));
+}
+
+/// Every campaign whose stats.h5 the checks will read: DIR (unless only lmp runs), the
+/// --against directory and, for `all`, the campaigns of compare_with.
+void require_current_inputs(const CheckArgs& a, const CampaignPart& campaign) {
+  const checks::CheckEntry* e = checks::find_check(a.name);
+  if (!e || !std::holds_alternative<checks::LammpsCheck>(e->run))
+    require_current_stats(a.directory);
+  if (!a.against.empty()) require_current_stats(a.against);
+  if (a.name == "all")
+    for (const std::string& other : campaign.compare_with)
+      if (std::filesystem::is_directory(other)) require_current_stats(other);
 }
 
 /// The table (checks/verdict_table.cpp), or one line of counts when another table follows
@@ -133,6 +157,8 @@ void write_verdict_files(const std::string& directory, const std::string& name,
                          const std::vector<checks::Verdict>& verdicts,
                          const std::string& campaign_name, double seconds,
                          const nlohmann::json& options) {
+  // A stop asked for while judging (`jam pipeline`, `--until-decided`): nothing is written.
+  throw_if_stop_requested("checks.json");
   const std::filesystem::path dir(directory);
   const std::string stem = name == "all" ? "checks" : "checks-" + name;
   for (const auto& [file, text] :
@@ -194,6 +220,7 @@ int run_check_command(const CheckArgs& a) {
   }
   // Margins and expected failures: the campaign file's, then --margin.
   const CampaignPart campaign = campaign_part(a.directory);
+  require_current_inputs(a, campaign);
   checks::CheckOptions o = check_options(a.judging, a.name, campaign.margins, campaign.regions);
   if (!a.set_a.empty() || !a.set_b.empty()) {
     if (a.set_a.empty() || a.set_b.empty())

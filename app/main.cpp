@@ -19,6 +19,7 @@
 #include "app/validate_command.hpp"
 #include "sim/io/install_paths.hpp"
 #include "sim/io/terminal_text.hpp"
+#include "sim/run/stop_signal.hpp"
 #include "sim/simd.hpp"
 #include "sim/version.hpp"
 
@@ -117,6 +118,10 @@ int main(int argc, char** argv) {
                             : jam::visible(what));
     jam::abort_ranks(2);
     return 2;
+  } catch (const jam::Interrupted& e) {
+    // A stop asked for (SIGINT, SIGTERM) before an output was published: nothing written.
+    fmt::print(stderr, "jam: {}\n", e.what());
+    return 130;
   } catch (const std::exception& e) {
     // The tool could not do what was asked (bad input, a missing or unreadable file, a full
     // disk): exit status 2 in every subcommand, apart from the results a command reports

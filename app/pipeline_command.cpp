@@ -12,6 +12,8 @@
 #include "app/stats_command.hpp"
 #include "campaign/campaign_file.hpp"
 #include "campaign/campaign_runner.hpp"
+#include "sim/run/stop_signal.hpp"
+#include "stats/stats_inputs.hpp"
 
 namespace jam {
 namespace fs = std::filesystem;
@@ -23,17 +25,6 @@ Time modified(const fs::path& p) {
   std::error_code ec;
   const Time t = fs::last_write_time(p, ec);
   return ec ? Time::min() : t;
-}
-
-/// The newest of the campaign's run files, its campaign file and manifest.
-Time newest_input(const fs::path& dir) {
-  Time t = std::max({modified(dir / "campaign.toml"), modified(dir / "manifest.toml"),
-                     modified(dir / "external.toml")});
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir / "runs", ec)) {
-    if (e.path().extension() == ".h5") t = std::max(t, modified(e.path()));
-  }
-  return t;
 }
 
 /// Whether `output` is missing or older than `input`.
@@ -64,7 +55,8 @@ void judge_unless_up_to_date(const fs::path& dir, const JudgingArgs& judging,
   check.table = false;  // the report's summary prints it, with a headline per check
   const fs::path checks_json = dir / "checks.json";
   Time input = std::max(modified(dir / "stats.h5"), modified(dir / "campaign.toml"));
-  for (const auto& other : compare_with) input = std::max(input, modified(fs::path(other) / "stats.h5"));
+  for (const auto& other : compare_with)
+    input = std::max(input, modified(fs::path(other) / "stats.h5"));
   const bool inputs_newer = stale(checks_json, input);
   if (!inputs_newer && recorded_options(checks_json) == check_record(check)) {
     fmt::print("checks: {} is up to date\n", checks_json.string());
@@ -92,14 +84,36 @@ void add_pipeline_command(CLI::App& app, PipelineArgs& a) {
       "2 a tool error, 130 interrupted.");
 }
 
-int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
-  validate_judging(a.judging);  // a bad check option: one line, before any run
-  const Campaign campaign = read_campaign(a.file);
-  CampaignRunOptions run;
-  run.jobs = a.jobs;
-  const int status = run_campaign(campaign, run, ranks);
-  if (status != 0 || ranks.rank != 0) return status;
+namespace {
 
+/// Throws Interrupted when a stop was asked for: between stages, before the next one begins.
+void stage_boundary(const char* next) {
+  throw_if_stop_requested(next);
+}
+
+/// stats.h5 of each averaged campaign, unless it still describes that campaign's runs
+/// (stats_inputs.hpp: the same definition `jam check` refuses by).
+void average_unless_current(const std::vector<fs::path>& averaged) {
+  for (const fs::path& d : averaged) {
+    stage_boundary("stats.h5");
+    const fs::path stats_file = d / "stats.h5";
+    const bool present = fs::exists(fs::symlink_status(stats_file));
+    const std::string why = present ? stats::stale_stats_reason(d.string()) : std::string();
+    if (present && why.empty()) {
+      fmt::print("stats: {} is up to date\n", stats_file.string());
+      continue;
+    }
+    if (present)
+      fmt::print("stats: {} is out of date ({}): averaging again\n", stats_file.string(), why);
+    StatsArgs stats;
+    stats.directory = d.string();
+    run_stats_command(stats);
+  }
+}
+
+/// Stats, checks and the report, each only when its inputs changed; a stop asked for ends it
+/// at the next stage (Interrupted) or sooner, with nothing of the stage published.
+int judge_and_draw(const Campaign& campaign, const PipelineArgs& a) {
   const fs::path dir(campaign.output);
   const fs::path report =
       a.report.empty() ? fs::path("reports") / campaign.name : fs::path(a.report);
@@ -107,16 +121,10 @@ int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
   // other simulators' runs, imported).
   std::vector<fs::path> averaged = {dir};
   for (const auto& other : campaign.compare_with) averaged.emplace_back(other);
-  for (const fs::path& d : averaged) {
-    if (stale(d / "stats.h5", newest_input(d))) {
-      StatsArgs stats;
-      stats.directory = d.string();
-      run_stats_command(stats);
-    } else {
-      fmt::print("stats: {} is up to date\n", (d / "stats.h5").string());
-    }
-  }
+  average_unless_current(averaged);
+  stage_boundary("checks.json");
   judge_unless_up_to_date(dir, a.judging, campaign.compare_with);
+  stage_boundary("the report");
   const Time report_input = std::max(modified(dir / "checks.json"), modified(dir / "stats.h5"));
   // What jam printed comes before the report's own output (both on standard output).
   std::fflush(stdout);
@@ -124,11 +132,35 @@ int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
     ReportArgs r;
     r.directory = dir.string();
     r.out = report.string();
-    if (const int shown = run_report_command(r); shown != 0) return shown;
+    // A stop is passed on to the report's Python, which removes its temporary directory.
+    const int shown = run_report_command(r);
+    stage_boundary("the report");
+    if (shown != 0) return shown;
   } else {
     fmt::print("report: {} is up to date\n", (report / "index.html").string());
   }
   return 0;
+}
+
+}  // namespace
+
+int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
+  validate_judging(a.judging);  // a bad check option: one line, before any run
+  const Campaign campaign = read_campaign(a.file);
+  // The campaign's handlers (stop_signal.hpp), installed before it begins: the first SIGINT or
+  // SIGTERM, in any stage, ends the pipeline with 130 (a second one at once).
+  install_stop_handlers();
+  CampaignRunOptions run;
+  run.jobs = a.jobs;
+  const int status = run_campaign(campaign, run, ranks);
+  if (status != 0 || ranks.rank != 0) return status;
+  try {
+    return judge_and_draw(campaign, a);
+  } catch (const Interrupted& e) {
+    std::fflush(stdout);
+    fmt::print(stderr, "jam pipeline: {}; run it again to go on\n", e.what());
+    return 130;
+  }
 }
 
 }  // namespace jam

@@ -53,7 +53,12 @@ int run_report_command(const ReportArgs& a) {
     args.push_back(a.out);
   }
   if (a.quiet) args.push_back("--quiet");
-  return run_program(args);
+  // Under `jam pipeline` a stop is passed on as SIGINT: the Python removes its temporary
+  // directory and exits 130, so no half-drawn report is left (without the handlers installed,
+  // as for `jam report`, there is never one to pass on).
+  ProcessOptions o;
+  o.pass_stop_on = true;
+  return run_program(args, o);
 }
 
 }  // namespace jam

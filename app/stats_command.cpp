@@ -8,6 +8,7 @@
 
 #include "sim/io/output_path.hpp"
 #include "sim/model/paper_values.hpp"
+#include "stats/stats_inputs.hpp"
 
 namespace jam {
 
@@ -72,8 +73,12 @@ int run_stats_command(const StatsArgs& a) {
   const std::string out =
       output_file_target((std::filesystem::path(a.directory) / "stats.h5").string());
   const auto started = std::chrono::steady_clock::now();
+  // What the runs are, taken before they are read: a run finished meanwhile leaves the file
+  // out of date, never taken for averaged (stats_inputs.hpp). A refit keeps the earlier file's.
+  const std::string inputs = a.refit ? std::string() : stats::inputs_checksum(a.directory);
   stats::CampaignStats s = a.refit ? stats::refit_campaign_stats(a.directory, o)
                                    : stats::compute_campaign_stats(a.directory, o);
+  if (!a.refit) s.inputs_checksum = inputs;
   s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   stats::write_stats_file(out, s, o);
   fmt::print("{}", stats::format_stats_summary(s));

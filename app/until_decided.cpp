@@ -14,6 +14,7 @@
 
 #include "app/check_command.hpp"
 #include "app/stats_command.hpp"
+#include "app/until_decided_options.hpp"
 #include "campaign/added_samples.hpp"
 #include "campaign/campaign_dir.hpp"
 #include "campaign/run_plan.hpp"
@@ -83,6 +84,7 @@ struct State {
   SampleCounts next;              // the samples the runs of the next look need
   bool finished = false;
   std::string outcome;
+  json options;  // what its looks are judged with (until_decided_options.hpp); null: not recorded
 };
 
 std::string state_path(const Campaign& c) {
@@ -102,6 +104,7 @@ State read_state(const Campaign& c) {
     s.decided = j.at("decided");
     s.finished = j.at("finished").get<bool>();
     s.outcome = j.at("outcome").get<std::string>();
+    s.options = j.value("options", json());
     for (const auto& e : j.at("samples")) {
       s.next[{e.at("n").get<std::int64_t>(), e.at("phi_init").get<double>(),
               e.at("log10_rate").get<double>()}] = e.at("samples").get<std::int64_t>();
@@ -122,11 +125,8 @@ void write_state(const Campaign& c, const State& s) {
                        {"log10_rate", id.log10_rate},
                        {"samples", count}});
   }
-  const json j{{"looks", s.looks},
-               {"decided", s.decided},
-               {"samples", samples},
-               {"finished", s.finished},
-               {"outcome", s.outcome}};
+  const json j{{"looks", s.looks},       {"decided", s.decided}, {"samples", samples},
+               {"finished", s.finished}, {"outcome", s.outcome}, {"options", s.options}};
   AtomicFile out(state_path(c));
   std::fputs((j.dump(1) + "\n").c_str(), out.stream());
   out.commit();
@@ -184,19 +184,22 @@ int stored_exit_status(const Campaign& c) {
 /// Judges the look, updates the state, and says whether another look follows.
 bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
                 std::vector<checks::Verdict>* final_verdicts) {
+  throw_if_stop_requested("stats.h5");  // a stop while the runs ended: no look is judged
   const int look = static_cast<int>(s.looks.size()) + 1;
   const double alpha = checks::look_alpha(o.alpha, look);
   StatsArgs stats;
   stats.directory = c.output;
   if (const int status = run_stats_command(stats); status != 0)
     throw std::runtime_error(fmt::format("until-decided: jam stats exited {}", status));
-  checks::CheckOptions options;
+  // The campaign's margins and regions (recorded in the state: until_decided_options.hpp).
+  checks::CheckOptions options = sequence_check_options(c);
   options.alpha = alpha;
-  options.margins = c.margins;
   // Undecided verdicts are judged again at the next look's alpha: the samples aim at it.
   options.estimate_alpha = checks::look_alpha(o.alpha, look + 1);
   std::vector<checks::Verdict> verdicts =
       checks::run_check("all", checks::read_stats(c.output), options);
+  // A stop asked for while judging: the look is judged again when the command is run again.
+  throw_if_stop_requested("until-decided.json");
 
   // Verdicts decided at an earlier look stand; the others are this look's.
   std::vector<checks::Verdict> merged;
@@ -364,6 +367,50 @@ bool wait_for_plan(const Campaign& c, const UntilDecidedOptions& o, const Sample
   }
 }
 
+/// Refuses to go on with a sequence begun with other options (until_decided_options.hpp): its
+/// looks and verdicts hold only for those. A state written before options were recorded takes
+/// this invocation's, and says so.
+void require_same_options(const Campaign& c, const UntilDecidedOptions& o, State& s) {
+  const json now = sequence_record(c, o.alpha);
+  if (s.options.is_null()) {
+    if (!s.looks.empty())
+      fmt::print(
+          "until-decided: {} records no options (begun by an earlier jam): taking "
+          "these\n",
+          state_path(c));
+    s.options = now;
+    return;
+  }
+  if (const std::string why = sequence_difference(s.options, now); !why.empty())
+    throw std::runtime_error(fmt::format(
+        "until-decided: {}: {}; give the recorded value to go on with it, or move it away to "
+        "begin a new sequence",
+        state_path(c), why));
+}
+
+/// The exit status of the verdicts decided so far, the others undecided: 1 when one failed,
+/// else 3.
+int decided_so_far(const State& s) {
+  for (const auto& [key, v] : s.decided.items())
+    if (v.value("status", "") == "fail") return 1;
+  return 3;
+}
+
+/// "" when the runs of the state's next batch fit what is left of the budget (or cannot be
+/// costed yet: nothing measured); otherwise why not. Checked before every batch, a resumed one
+/// too: a smaller --budget given to go on stops the sequence before its runs.
+std::string over_budget(const Campaign& c, const UntilDecidedOptions& o, const State& s) {
+  const Cost cost = measured_cost(plan_runs(c, s.next));
+  const double seconds = batch_seconds(c, s.next, cost);
+  if (!(std::isfinite(seconds) && seconds > 0)) return "";
+  const double budget = o.budget_core_hours * 3600.0;
+  if (cost.spent_seconds + seconds <= budget) return "";
+  return fmt::format(
+      "the next batch (about {:.3g} core-hours) would exceed the --budget of {:g} core-hours "
+      "({:.3g} spent): not run; a larger --budget goes on with it",
+      seconds / 3600, o.budget_core_hours, cost.spent_seconds / 3600);
+}
+
 }  // namespace
 
 void validate_until_decided(const UntilDecidedOptions& o) {
@@ -373,14 +420,21 @@ void validate_until_decided(const UntilDecidedOptions& o) {
   }
 }
 
-int run_until_decided(const Campaign& c, const CampaignRunOptions& run,
-                      const UntilDecidedOptions& o, const Ranks& ranks) {
-  validate_until_decided(o);
+namespace {
+
+/// The looks, from the state on: runs, judges, adds samples, until decided or out of budget.
+int run_looks(const Campaign& c, const CampaignRunOptions& run, const UntilDecidedOptions& o,
+              const Ranks& ranks) {
   const bool decider = ranks.rank == 0 && run.shard == 1;
   std::vector<checks::Verdict> verdicts;
-  for (;;) {
+  for (bool first = true;; first = false) {
     State s = read_state(c);
+    if (first) require_same_options(c, o, s);
     if (s.finished) break;
+    if (const std::string why = over_budget(c, o, s); !why.empty()) {
+      fmt::print("until-decided: {}\n", why);
+      return decided_so_far(s);
+    }
     // Restores added-samples.toml from the state (a new directory has neither yet).
     if (decider && fs::is_directory(c.output)) write_state(c, s);
     barrier();
@@ -394,11 +448,12 @@ int run_until_decided(const Campaign& c, const CampaignRunOptions& run,
     std::int64_t more = 0;
     if (decider) {
       more = judge_look(c, o, s, &verdicts) ? 1 : 0;
+      // The verdicts before the state that says they are final: a stop or a kill between the
+      // two leaves the look to be judged again, never a finished state without checks.json.
+      if (!more) write_verdict_files(c.output, "all", verdicts, c.name, 0.0);
+      throw_if_stop_requested("until-decided.json");
       write_state(c, s);
-      if (!more) {
-        write_verdict_files(c.output, "all", verdicts, c.name, 0.0);
-        fmt::print("until-decided: {}\n", s.outcome);
-      }
+      if (!more) fmt::print("until-decided: {}\n", s.outcome);
     } else if (run.shards > 1) {
       // Shard 1 judges: wait for its state to move past this look.
       for (;;) {
@@ -420,6 +475,23 @@ int run_until_decided(const Campaign& c, const CampaignRunOptions& run,
     return stored_exit_status(c);
   }
   return checks::exit_status(verdicts);
+}
+
+}  // namespace
+
+int run_until_decided(const Campaign& c, const CampaignRunOptions& run,
+                      const UntilDecidedOptions& o, const Ranks& ranks) {
+  validate_until_decided(o);
+  // The first SIGINT or SIGTERM stops it between runs (the runs by their checkpoints) or
+  // between a look's stages, with nothing of the look written: run again, it goes on.
+  install_stop_handlers();
+  try {
+    return run_looks(c, run, o, ranks);
+  } catch (const Interrupted& e) {
+    std::fflush(stdout);
+    fmt::print(stderr, "until-decided: {}; run it again to go on\n", e.what());
+    return 130;
+  }
 }
 
 }  // namespace jam

@@ -10,6 +10,7 @@
 #include "checks/margin.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "stats/sample_ids.hpp"
+#include "stats/stats_inputs.hpp"
 
 namespace jam::checks {
 namespace {
@@ -105,6 +106,7 @@ StatsData read_stats(const std::string& directory) {
         fmt::format("{}: no stats.h5; run `jam stats {}` first", directory, directory));
   }
   const h5::File f = h5::File::open_read(path);
+  stats::check_stats_checksum(f, directory);  // a table changed by hand is not judged
   StatsData d;
   d.campaign = f.read_attribute_string("campaign");
   d.dim = read_dim(f);

@@ -170,6 +170,10 @@ def main(argv=None):
         return fail(str(e))
     except OSError as e:
         return fail(f"{e.filename}: {cause(e)}" if e.filename else cause(e))
+    except KeyboardInterrupt:
+        # SIGINT (a terminal's Ctrl-C, or `jam pipeline` passing a stop on): the temporary
+        # directory is already removed (staging), the old report untouched.
+        return fail(f"{a.directory}: interrupted; no report written", 130)
     except Exception as e:  # noqa: BLE001 - one line, not a traceback, whatever the input held
         if os.environ.get("JAM_REPORT_TRACEBACK"):
             raise

@@ -97,6 +97,9 @@ struct CampaignStats {
   std::int64_t fit_size = 0;  // 0: pooled
   std::int64_t runs_averaged = 0, runs_skipped = 0;
   std::string refit_from;  // when refitted from an earlier stats.h5: says so
+  // The digest of the runs it was computed from (stats_inputs.hpp), taken before they were
+  // read; a refit carries over the earlier file's. "": not known.
+  std::string inputs_checksum;
   double wall_time = 0.0;  // seconds spent reading and averaging (provenance for reports)
 };
 

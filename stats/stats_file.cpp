@@ -6,10 +6,12 @@
 #include <sstream>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/content_checksum.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/model/paper_values.hpp"
+#include "sim/run/stop_signal.hpp"
 #include "sim/version.hpp"
 #include "stats/campaign_stats.hpp"
 
@@ -221,6 +223,7 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
     f.write_attribute("runs", s.runs_averaged);
     f.write_attribute("runs_skipped", s.runs_skipped);
     if (!s.refit_from.empty()) f.write_attribute("refit_from", s.refit_from);
+    if (!s.inputs_checksum.empty()) f.write_attribute("inputs_checksum", s.inputs_checksum);
     f.write_attribute("pooled_sizes", std::int64_t{o.pool_sizes});
     f.write_attribute("z_step", o.z_step);
     f.write_attribute("constant_z_without_rattlers", std::int64_t{o.no_rattlers});
@@ -284,7 +287,12 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
       write_scan(f, group + "/scan", *scan);
     }
     write_families(f, s, o.order);
+    // The checksum of everything above (inputs_checksum with it), verified by every reader:
+    // a table changed by hand is refused, not judged (content_checksum.hpp).
+    seal(f);
     f.close();
+    // A stop asked for meanwhile (`jam pipeline`, `--until-decided`): nothing is published.
+    throw_if_stop_requested("stats.h5");
     AtomicFile::publish(path);
   } catch (...) {
     std::remove(temporary.c_str());

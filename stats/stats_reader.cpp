@@ -9,6 +9,7 @@
 #include "sim/io/hdf5_file.hpp"
 #include "stats/campaign_stats.hpp"
 #include "stats/sample_ids.hpp"
+#include "stats/stats_inputs.hpp"
 
 namespace jam::stats {
 namespace {
@@ -49,7 +50,11 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
   s.refit_from = "the averages of an earlier stats.h5 (jam stats --refit)";
   {
     const h5::File f = h5::File::open_read(path);
+    check_stats_checksum(f, directory);
     s.data.name = f.read_attribute_string("campaign");
+    // The averages are the earlier file's: so are the runs they were computed from.
+    if (f.has_attribute("inputs_checksum"))
+      s.inputs_checksum = f.read_attribute_string("inputs_checksum");
     const std::int64_t dim = f.read_attribute_int("dim");
     if (dim != 2 && dim != 3) {
       throw std::runtime_error(fmt::format("{}: attribute 'dim' = {}, expected 2 or 3", path, dim));

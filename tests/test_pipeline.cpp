@@ -146,3 +146,71 @@ BOOST_AUTO_TEST_CASE(check_prints_one_table_per_check_with_whole_case_names) {
   }
   for (const auto& c : checks) BOOST_TEST(headings[c] == 1, c << "\n" << o.output);
 }
+
+namespace {
+
+/// Waits (at most two minutes) until `ready()` or the process has ended; true when ready.
+template <class Ready>
+bool wait_until(Ready ready, pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (ready()) return true;
+    siginfo_t info{};  // WNOWAIT: the process stays to be reaped by wait_for
+    if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+        info.si_pid == pid)
+      return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return false;
+}
+
+/// Whether `file` is absent or was last written before `signalled`.
+bool not_written_since(const fs::path& file, fs::file_time_type signalled) {
+  return !fs::exists(file) || fs::last_write_time(file) < signalled;
+}
+
+/// The report's temporary directories (`<report>.partial-*`) left in kDir.
+std::size_t partial_reports(const std::string& report) {
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(kDir))
+    if (e.path().filename().string().rfind(report + ".partial-", 0) == 0) ++n;
+  return n;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(the_first_sigterm_after_the_campaign_ends_it_with_130_writing_nothing) {
+  const fs::path file = kDir / "sig.toml", output = kDir / "sig", report = kDir / "sig-report";
+  std::ofstream(file) << campaign_text(output);
+  const pid_t pid = jam::test::spawn_jam("pipeline " + file.string() +
+                                         " --jobs 2 --no-lmp --report " + report.string());
+  // manifest.toml is written once, when the campaign stage ends: then stats begins.
+  BOOST_TEST_REQUIRE(wait_until([&] { return fs::exists(output / "manifest.toml"); }, pid));
+  const auto signalled = fs::file_time_type::clock::now();
+  ::kill(pid, SIGTERM);
+  BOOST_TEST(jam::test::wait_for(pid) == 130);
+  BOOST_TEST(not_written_since(output / "stats.h5", signalled));
+  BOOST_TEST(!fs::exists(output / "checks.json"));
+  BOOST_TEST(!fs::exists(report));
+  BOOST_TEST(partial_reports("sig-report") == 0u);
+  // Run again, it goes on from there.
+  const auto again = jam::test::run_jam_logged(
+      kDir / "sig.txt",
+      "pipeline " + file.string() + " --jobs 2 --no-lmp --report " + report.string());
+  BOOST_TEST(again.status == 0, again.output);
+  BOOST_TEST(fs::exists(report / "index.html"));
+}
+
+BOOST_AUTO_TEST_CASE(a_sigint_while_the_report_is_drawn_leaves_no_report) {
+  // Stats and checks of p are up to date (the first case): the report is the one stage left.
+  const fs::path report = kDir / "int-report";
+  const pid_t pid = jam::test::spawn_jam("pipeline " + (kDir / "p.toml").string() +
+                                         " --jobs 2 --no-lmp --report " + report.string());
+  BOOST_TEST_REQUIRE(wait_until([&] { return partial_reports("int-report") > 0; }, pid));
+  const auto checks = fs::last_write_time(kDir / "p" / "checks.json");
+  ::kill(pid, SIGINT);
+  BOOST_TEST(jam::test::wait_for(pid) == 130);
+  BOOST_TEST(!fs::exists(report));
+  BOOST_TEST(partial_reports("int-report") == 0u);
+  BOOST_TEST((fs::last_write_time(kDir / "p" / "checks.json") == checks));
+}

@@ -199,6 +199,15 @@ BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
                         "d = f['ensembles/n128_phi0.7000_r-3.00/constant_phi/pressure_samples']\n"
                         "d[1, 5] = d[1, 5] * 1.01\n",
                         (changed / "stats.h5").string()}) == 0);
+  // The edit breaks the file's checksum: refused, not judged.
+  BOOST_TEST(run_jam("check regression " + dir + " --against " + changed.string(), &out) == 2, out);
+  BOOST_TEST(out.find("changed since `jam stats` wrote it") != std::string::npos, out);
+  // Without a checksum (a file written before stats.h5 carried one) it is judged: the changed
+  // sample is caught.
+  BOOST_TEST_REQUIRE(jam::run_program({"/usr/bin/python3", "-c",
+                                       "import h5py, sys\n"
+                                       "del h5py.File(sys.argv[1], 'r+').attrs['checksum']\n",
+                                       (changed / "stats.h5").string()}) == 0);
   BOOST_TEST(run_jam("check regression " + dir + " --against " + changed.string(), &out) == 1, out);
   for (const char* bad : {"0", "-0.1", "nan", "inf"}) {
     BOOST_TEST(run_jam("check finite_size " + dir + " --margin " + bad, &out) == 2, out);

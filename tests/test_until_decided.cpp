@@ -3,14 +3,19 @@
 // until its verdicts are decided, and the same command in another directory gives the same
 // verdicts and added samples; killed (SIGKILL) in the middle of a later look and run again it
 // ends with the same files; two shards run at once, and under mpirun two ranks, end with the
-// same verdicts too; a tight budget stops it and says so.
+// same verdicts too; a tight budget stops it and says so. Run again with another alpha or
+// margin it refuses, naming both values; resumed with a smaller budget it runs none of the
+// pending batch; a SIGTERM while a look is judged ends it with 130 and nothing of the look.
 #include <signal.h>
+#include <sys/wait.h>
 
 #include <boost/test/unit_test.hpp>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <string>
+#include <thread>
 
 #include "process.hpp"
 #include "sim/io/process.hpp"
@@ -151,4 +156,92 @@ BOOST_AUTO_TEST_CASE(a_tight_budget_stops_and_says_so) {
   BOOST_TEST(o.status == 3, o.output);
   BOOST_TEST(o.output.find("budget spent at look 1") != std::string::npos, o.output);
   BOOST_TEST(fs::exists(kDir / "tight" / "checks.json"));
+}
+
+namespace {
+
+/// Waits (at most two minutes) until `ready()` or the process has ended; true when ready.
+template <class Ready>
+bool wait_until(Ready ready, pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (ready()) return true;
+    siginfo_t info{};  // WNOWAIT: the process stays to be reaped by wait_for
+    if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+        info.si_pid == pid)
+      return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return false;
+}
+
+std::size_t run_files(const std::string& name) {
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(kDir / name / "runs"))
+    if (e.path().extension() == ".h5") ++n;
+  return n;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(a_finished_sequence_refuses_other_options_naming_both_values) {
+  const Outcome& a = uninterrupted();
+  BOOST_TEST_REQUIRE((a.status == 0 || a.status == 3), a.output);
+  const auto before = fs::last_write_time(kDir / "a" / "checks.json");
+  const std::string file = (kDir / "a.toml").string();
+  const Outcome alpha = run_jam("campaign run " + file +
+                                " --until-decided --budget 1 --alpha 0.001 --jobs 1 --quiet");
+  BOOST_TEST(alpha.status == 2, alpha.output);
+  BOOST_TEST(std::count(alpha.output.begin(), alpha.output.end(), '\n') == 1, alpha.output);
+  BOOST_TEST(alpha.output.find("--alpha 0.001 differs from the 0.05") != std::string::npos,
+             alpha.output);
+  BOOST_TEST(alpha.output.find("every verdict decided") == std::string::npos, alpha.output);
+  // The margin 10x tighter in the campaign file: refused, naming the check and both margins.
+  const fs::path tight = kDir / "a-tight.toml";
+  std::string text = slurp(file);
+  text.replace(text.find("finite_size = 0.15"), 18, "finite_size = 0.015");
+  std::ofstream(tight) << text;
+  const Outcome margin = run_jam("campaign run " + tight.string() + kArgs);
+  BOOST_TEST(margin.status == 2, margin.output);
+  BOOST_TEST(margin.output.find("the margin of finite_size (the campaign file's [margins]) "
+                                "0.015 differs from the 0.15") != std::string::npos,
+             margin.output);
+  BOOST_TEST((fs::last_write_time(kDir / "a" / "checks.json") == before));
+}
+
+BOOST_AUTO_TEST_CASE(a_resumed_batch_is_held_to_the_budget_given_then) {
+  const Outcome& a = uninterrupted();
+  BOOST_TEST_REQUIRE((a.status == 0 || a.status == 3), a.output);
+  const fs::path file = write_campaign("budget");
+  const pid_t pid = jam::test::spawn_jam("campaign run " + file.string() + kArgs);
+  const fs::path state = kDir / "budget" / "until-decided.json";
+  BOOST_TEST_REQUIRE(wait_until([&] { return fs::exists(state); }, pid));
+  kill(pid, SIGTERM);  // the second look's runs stop at their checkpoints
+  BOOST_TEST(jam::test::wait_for(pid) == 130);
+  const std::size_t done = run_files("budget");
+  const Outcome tiny = run_jam("campaign run " + file.string() +
+                               " --until-decided --budget 1e-300 --jobs 1 --quiet");
+  BOOST_TEST((tiny.status == 1 || tiny.status == 3), tiny.output);
+  BOOST_TEST(
+      tiny.output.find("would exceed the --budget of 1e-300 core-hours") != std::string::npos,
+      tiny.output);
+  BOOST_TEST(run_files("budget") == done);  // not one run of the batch
+  // The budget it was planned with goes on with it, to the uninterrupted sequence's end.
+  const Outcome resumed = run_jam("campaign run " + file.string() + kArgs);
+  BOOST_TEST(resumed.status == a.status, resumed.output);
+  BOOST_TEST(outcome("budget") == outcome("a"));
+}
+
+BOOST_AUTO_TEST_CASE(a_stop_while_a_look_is_judged_writes_nothing_of_the_look) {
+  const fs::path file = write_campaign("stop");
+  const pid_t pid = jam::test::spawn_jam("campaign run " + file.string() + kArgs);
+  // manifest.toml is first written when the first look's runs have ended: then it judges.
+  BOOST_TEST_REQUIRE(wait_until([&] { return fs::exists(kDir / "stop" / "manifest.toml"); }, pid));
+  const auto signalled = fs::file_time_type::clock::now();
+  kill(pid, SIGTERM);
+  BOOST_TEST(jam::test::wait_for(pid) == 130);
+  BOOST_TEST(!fs::exists(kDir / "stop" / "until-decided.json"));
+  BOOST_TEST(!fs::exists(kDir / "stop" / "checks.json"));
+  const fs::path stats = kDir / "stop" / "stats.h5";
+  BOOST_TEST((!fs::exists(stats) || fs::last_write_time(stats) < signalled));
 }

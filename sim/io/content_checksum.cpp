@@ -200,6 +200,12 @@ std::uint64_t content_checksum(const h5::File& f, const std::vector<std::string>
   return walk.hash.h;
 }
 
+std::uint64_t bytes_checksum(const std::string& bytes) {
+  Hash hash;
+  hash.bytes(bytes.data(), bytes.size());
+  return hash.h;
+}
+
 std::string checksum_text(std::uint64_t h) {
   return fmt::format("{:016x}", h);
 }

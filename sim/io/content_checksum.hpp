@@ -17,6 +17,10 @@ namespace jam {
 
 std::uint64_t content_checksum(const h5::File& f, const std::vector<std::string>& skip);
 
+/// The same hash of a run of bytes (a digest of a list of names and checksums: stats.h5's
+/// inputs_checksum, stats/stats_inputs.hpp).
+std::uint64_t bytes_checksum(const std::string& bytes);
+
 /// The checksum as stored: 16 lowercase hex digits.
 std::string checksum_text(std::uint64_t h);
 

@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -16,6 +17,7 @@
 #include <thread>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/run/stop_signal.hpp"
 
 extern char** environ;
 
@@ -108,8 +110,20 @@ int run_program(const std::vector<std::string>& argv, const ProcessOptions& o) {
     throw std::runtime_error(fmt::format("cannot start {}: {}", argv[0], std::strerror(error)));
   }
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error(fmt::format("waiting for {} failed", argv[0]));
+  // Passing a stop on: polled, so that a signal that comes between a look at the flag and a
+  // blocking wait is not missed until the child ends by itself.
+  bool passed = false;
+  for (;;) {
+    const pid_t got = waitpid(pid, &status, o.pass_stop_on ? WNOHANG : 0);
+    if (got == pid) break;
+    if (got < 0 && errno != EINTR)
+      throw std::runtime_error(fmt::format("waiting for {} failed", argv[0]));
+    if (!o.pass_stop_on) continue;
+    if (!passed && stop_was_requested()) {
+      ::kill(pid, SIGINT);
+      passed = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);

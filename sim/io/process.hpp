@@ -19,6 +19,10 @@ struct ProcessOptions {
   // under ctest -j). Two benchmark runs at once, or a Slurm job's tasks on one node, would hit
   // it at random.
   bool mpi_program = false;
+  // A stop asked for while it runs (the first SIGINT or SIGTERM, sim/run/stop_signal.hpp) is
+  // passed on to it as SIGINT, once, and the wait goes on until it has ended: `jam pipeline`'s
+  // report stage, whose Python cleans up its temporary directory on SIGINT.
+  bool pass_stop_on = false;
 };
 
 /// A new, empty directory of its own under the temporary directory, "<prefix>-XXXXXX"

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <string>
 
 namespace jam {
 namespace {
@@ -26,6 +27,15 @@ const std::atomic<bool>& install_stop_handlers() {
   ::sigaction(SIGINT, &action, nullptr);
   ::sigaction(SIGTERM, &action, nullptr);
   return stop_requested;
+}
+
+bool stop_was_requested() {
+  return stop_requested.load();
+}
+
+void throw_if_stop_requested(const char* what) {
+  if (stop_requested.load())
+    throw Interrupted(std::string("interrupted: ") + what + " not written");
 }
 
 }  // namespace jam

@@ -1,0 +1,74 @@
+#include "app/until_decided_options.hpp"
+
+#include <fmt/format.h>
+
+#include <variant>
+
+#include "app/check_options.hpp"
+#include "checks/check_registry.hpp"
+
+namespace jam {
+namespace {
+
+using nlohmann::json;
+
+/// A recorded value as the messages show it: numbers as %g, null as "none".
+std::string shown(const json& v) {
+  if (v.is_null()) return "none";
+  if (v.is_number()) return fmt::format("{:g}", v.get<double>());
+  if (v.is_array()) {
+    std::string out;
+    for (const auto& e : v) out += (out.empty() ? "" : ", ") + shown(e);
+    return "[" + out + "]";
+  }
+  return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+/// "" when equal; else "<what> <now> differs from the recorded <recorded>".
+std::string differs(const std::string& what, const json& recorded, const json& now) {
+  if (recorded == now) return "";
+  return fmt::format("{} {} differs from the {} it was begun with", what, shown(now),
+                     shown(recorded));
+}
+
+}  // namespace
+
+checks::CheckOptions sequence_check_options(const Campaign& c) {
+  return check_options(JudgingArgs{}, "all", c.margins, c.regions);
+}
+
+json sequence_record(const Campaign& c, double alpha) {
+  const checks::CheckOptions o = sequence_check_options(c);
+  json margins = json::object(), judged = json::array();
+  for (const auto& e : checks::check_registry()) {
+    margins[std::string(e.name)] = o.margin(std::string(e.name));
+    // What checks::run_check("all") runs: the statistical checks of `all` and their parts.
+    if (e.in_all && !std::holds_alternative<checks::LammpsCheck>(e.run))
+      judged.push_back(std::string(e.name));
+  }
+  return {{"alpha", alpha},
+          {"margins", margins},
+          {"regions",
+           {{"phi_j", o.phi_j ? json(*o.phi_j) : json(nullptr)},
+            {"near", o.regions.near},
+            {"far", o.regions.far}}},
+          {"checks", judged}};
+}
+
+std::string sequence_difference(const json& recorded, const json& now) {
+  if (auto why = differs("--alpha", recorded.value("alpha", json()), now.at("alpha")); !why.empty())
+    return why;
+  const json margins = recorded.value("margins", json::object());
+  for (const auto& [check, margin] : now.at("margins").items()) {
+    const std::string what = fmt::format("the margin of {} (the campaign file's [margins])", check);
+    if (auto why = differs(what, margins.value(check, json()), margin); !why.empty()) return why;
+  }
+  const json regions = recorded.value("regions", json::object());
+  for (const auto& [key, value] : now.at("regions").items()) {
+    const std::string what = fmt::format("[regions] {}", key);
+    if (auto why = differs(what, regions.value(key, json()), value); !why.empty()) return why;
+  }
+  return differs("the checks judged", recorded.value("checks", json()), now.at("checks"));
+}
+
+}  // namespace jam
