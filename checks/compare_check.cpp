@@ -35,6 +35,7 @@
 #include "checks/pooled_verdict.hpp"
 #include "checks/regression_check.hpp"
 #include "checks/relative_difference.hpp"
+#include "checks/same_campaign.hpp"
 #include "checks/window_scatter.hpp"
 
 namespace jam::checks {
@@ -360,6 +361,7 @@ GridMatch match_grids(const std::vector<double>& grid_dir,
 
 std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
                                    const CheckOptions& o, const RegressionOptions&) {
+  refuse_same_campaign(dir, ref);
   if (dir.dim != ref.dim)
     return {inconclusive("compare", "all",
                          fmt::format("DIR is {}D, REF {}D: nothing to compare", dir.dim, ref.dim))};
