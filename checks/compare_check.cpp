@@ -8,7 +8,10 @@
 //    the pressure checks judge (checks/pooled_verdict.hpp: the inverse-variance weighted mean
 //    over a stated range, its permutation null from relabelling whole runs, plus the pointwise
 //    rule), relative to REF because REF is the standard. The range: --phi-min/--phi-max, else
-//    REF's scaling-fit window, else where both sets are past their compression transients.
+//    REF's scaling-fit window, else from where both sets are past their compression transients
+//    up to where half of REF's runs end; never shrunk to a short run's end: runs that end short
+//    of it are left out by name, a pass over less than half of it is inconclusive, and output
+//    far coarser than the grid is judged past the transient (checks/compare_coverage.hpp).
 //    The grids: the values both share (multiples of a step) when there are at least two in the
 //    range, else DIR's samples interpolated linearly onto REF's grid; the reason says which.
 //    Detection at alpha / (comparisons), Bonferroni as finite_size; each pass a two one-sided
@@ -18,6 +21,7 @@
 //  compare_fit, compare_fit_phi_j: the per-(N, phi_init) fits of stats.h5 fit/families, beta
 //    and y relative to REF's and phi_J as a packing difference, judged with Student's t as
 //    fit_parameters judges them (checks/parameter_difference.hpp).
+//  DIR and REF that are one campaign are refused (checks/same_campaign.hpp).
 #include "checks/compare_check.hpp"
 
 #include <fmt/format.h>
