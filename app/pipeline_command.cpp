@@ -147,6 +147,11 @@ int judge_and_draw(const Campaign& campaign, const PipelineArgs& a) {
 int run_pipeline_command(const PipelineArgs& a, const Ranks& ranks) {
   validate_judging(a.judging);  // a bad check option: one line, before any run
   const Campaign campaign = read_campaign(a.file);
+  // A compare_with campaign that is not there is a mistake in the file: said now, naming it,
+  // not after the runs as a campaign file that cannot be read.
+  for (const auto& other : campaign.compare_with)
+    if (!fs::is_directory(other))
+      throw std::runtime_error(fmt::format("compare_with: {}: no such campaign directory", other));
   // The campaign's handlers (stop_signal.hpp), installed before it begins: the first SIGINT or
   // SIGTERM, in any stage, ends the pipeline with 130 (a second one at once).
   install_stop_handlers();

@@ -8,7 +8,10 @@
 //    the pressure checks judge (checks/pooled_verdict.hpp: the inverse-variance weighted mean
 //    over a stated range, its permutation null from relabelling whole runs, plus the pointwise
 //    rule), relative to REF because REF is the standard. The range: --phi-min/--phi-max, else
-//    REF's scaling-fit window, else where both sets are past their compression transients.
+//    REF's scaling-fit window, else from where both sets are past their compression transients
+//    up to where half of REF's runs end; never shrunk to a short run's end: runs that end short
+//    of it are left out by name, a pass over less than half of it is inconclusive, and output
+//    far coarser than the grid is judged past the transient (checks/compare_coverage.hpp).
 //    The grids: the values both share (multiples of a step) when there are at least two in the
 //    range, else DIR's samples interpolated linearly onto REF's grid; the reason says which.
 //    Detection at alpha / (comparisons), Bonferroni as finite_size; each pass a two one-sided
@@ -18,6 +21,7 @@
 //  compare_fit, compare_fit_phi_j: the per-(N, phi_init) fits of stats.h5 fit/families, beta
 //    and y relative to REF's and phi_J as a packing difference, judged with Student's t as
 //    fit_parameters judges them (checks/parameter_difference.hpp).
+//  DIR and REF that are one campaign are refused (checks/same_campaign.hpp).
 #include "checks/compare_check.hpp"
 
 #include <fmt/format.h>
@@ -29,11 +33,13 @@
 #include <tuple>
 
 #include "checks/checks.hpp"
+#include "checks/compare_coverage.hpp"
 #include "checks/margin.hpp"
 #include "checks/parameter_difference.hpp"
 #include "checks/pooled_verdict.hpp"
 #include "checks/regression_check.hpp"
 #include "checks/relative_difference.hpp"
+#include "checks/same_campaign.hpp"
 #include "checks/window_scatter.hpp"
 
 namespace jam::checks {
@@ -80,7 +86,7 @@ std::string grid_words(const GridMatch& m, const std::string& variable) {
 }
 
 /// The pressure verdicts of one pair at constant phi or Z: pooled, and in the regions around
-/// REF's phi_J.
+/// REF's phi_J; over REF's range, never shrunk to a short run's end (compare_coverage.hpp).
 std::vector<Verdict> pressure_verdicts(const Pair& p, bool at_z, Levels levels,
                                        const StatsData& ref, const CheckOptions& o,
                                        const JammingReference& jamming) {
@@ -102,26 +108,43 @@ std::vector<Verdict> pressure_verdicts(const Pair& p, bool at_z, Levels levels,
                                                                      : "REF");
     return {v};
   }
+  // Every run's data, also beyond where the shortest run ends.
+  const EnsembleTables dir_all = widened(*p.dir), ref_all = widened(*p.ref);
   // From where the compression, not the start, sets the pressure in both sets.
-  const double from = at_z ? std::max(p.dir->compressed_from_z, p.ref->compressed_from_z)
-                           : std::max(p.dir->compressed_from_phi, p.ref->compressed_from_phi);
+  double from = at_z ? std::max(p.dir->compressed_from_z, p.ref->compressed_from_z)
+                     : std::max(p.dir->compressed_from_phi, p.ref->compressed_from_phi);
   v.values["compared_from"] = from;
   PoolRange range =
-      at_z ? z_range(ref, o, *p.dir, *p.ref, from) : *phi_range(ref, o, from, false, nullptr);
+      at_z ? z_range(ref, o, dir_all, ref_all, from) : *phi_range(ref, o, from, false, nullptr);
   range.why = of_ref(range.why);
   const double from_phi = std::max(p.dir->compressed_from_phi, p.ref->compressed_from_phi);
-  range.pointwise_from = pointwise_start(at_z, *p.dir, *p.ref, from_phi);
+  range.pointwise_from = pointwise_start(at_z, dir_all, ref_all, from_phi);
+  const std::string coarse = past_coarse_output(range, &from, at_z, dir_all, ref_all, from_phi, v);
+  // REF's range ends where half of REF's runs end, not where its shortest does.
+  const std::vector<double>& ref_grid = at_z ? ref_all.z_grid : ref_all.phi_grid;
+  const double ref_end = typical_end(ref_all, at_z);
+  if (std::isfinite(ref_end) && (at_z ? range.max > ref_end : !std::isfinite(range.max))) {
+    range.max = ref_end;
+    range.why +=
+        fmt::format(", up to REF's end ({} {:.4g}, where half its runs reach)", variable, ref_end);
+  }
+  const CoveringRuns d = covering_runs(dir_all, at_z, range.min, range.max),
+                     r = covering_runs(ref_all, at_z, range.min, range.max);
+  v.values["left_out_dir"] = static_cast<double>(d.left_out.size());
+  v.values["left_out_ref"] = static_cast<double>(r.left_out.size());
+  const std::string left_out = left_out_words(d, r, range);
   const std::vector<Region> names = regions_around(jamming, o.regions);
   const std::vector<PoolRange> regions =
-      region_ranges(names, jamming, at_z, *p.dir, *p.ref, from, range.pointwise_from);
+      region_ranges(names, jamming, at_z, d.tables, r.tables, from, range.pointwise_from);
   // Each range matches the grids within itself: another code's coarser grid is interpolated
   // onto REF's only where the two share too few values there.
   std::map<std::string, std::string> words;  // by region
-  const RangeData data = [&](const PoolRange& r, Verdict& x) {
-    const GridMatch m = at_z ? match_grids(p.dir->z_grid, p.dir->pressure_at_z, p.ref->z_grid,
-                                           p.ref->pressure_at_z, r.min, r.max)
-                             : match_grids(p.dir->phi_grid, p.dir->pressure_at_phi, p.ref->phi_grid,
-                                           p.ref->pressure_at_phi, r.min, r.max);
+  const RangeData data = [&](const PoolRange& x_range, Verdict& x) {
+    const GridMatch m =
+        at_z ? match_grids(d.tables.z_grid, d.tables.pressure_at_z, r.tables.z_grid,
+                           r.tables.pressure_at_z, x_range.min, x_range.max)
+             : match_grids(d.tables.phi_grid, d.tables.pressure_at_phi, r.tables.phi_grid,
+                           r.tables.pressure_at_phi, x_range.min, x_range.max);
     x.values["interpolated"] = m.interpolated ? 1.0 : 0.0;
     x.values["shared_points"] = static_cast<double>(m.shared);
     x.values["step_dir"] = m.step_dir;
@@ -129,15 +152,25 @@ std::vector<Verdict> pressure_verdicts(const Pair& p, bool at_z, Levels levels,
     const std::string samples =
         fmt::format("DIR {} samples, REF {}", m.aligned.a.size(), m.aligned.b.size());
     words[x.region] = fmt::format("{}; {}", samples, grid_words(m, variable));
+    for (const auto& more : {left_out, coarse})
+      if (!more.empty()) words[x.region] += "; " + more;
     if (m.aligned.a.size() < 2 || m.aligned.b.size() < 2) return Aligned{};
     return m.aligned;
   };
   v.statistic_name = "|weighted mean (p_DIR - p_REF) / p_REF|";
   std::vector<Verdict> out = judge_by_region(v, data, range, names, regions, levels,
                                              o.margin("compare"), o.permutations, 3, RelativeTo::b);
-  for (auto& x : out) {
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    auto& x = out[k];
     x.statistic_name = v.statistic_name;
     x.reason += fmt::format(" ({})", words[x.region]);
+    // The range asked of this verdict, within REF's data: a pass needs most of it judged.
+    const PoolRange& asked = k == 0 ? range : regions[k - 1];
+    const double asked_min = ref_grid.empty() ? asked.min : std::max(asked.min, ref_grid.front());
+    const double asked_max = std::isfinite(ref_end) ? std::min(asked.max, ref_end) : asked.max;
+    if (std::isfinite(asked_min)) x.values["asked_min"] = asked_min;
+    if (std::isfinite(asked_max)) x.values["asked_max"] = asked_max;
+    never_pass_narrow(x, asked_min, asked_max);
   }
   return out;
 }
@@ -332,6 +365,7 @@ GridMatch match_grids(const std::vector<double>& grid_dir,
 
 std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
                                    const CheckOptions& o, const RegressionOptions&) {
+  refuse_same_campaign(dir, ref);
   if (dir.dim != ref.dim)
     return {inconclusive("compare", "all",
                          fmt::format("DIR is {}D, REF {}D: nothing to compare", dir.dim, ref.dim))};

@@ -61,6 +61,52 @@ void read_constant_z(const h5::File& f, const std::string& g, EnsembleTables& e)
     e.phi_at_z = f.read_dataset(z + "/packing_fraction_mean", h5::exactly(e.z_grid.size()));
 }
 
+/// The mean over the finite values of each column (NaN where there is none).
+std::vector<double> column_means(const std::vector<std::vector<double>>& rows, std::size_t m) {
+  std::vector<double> sum(m, 0.0), count(m, 0.0);
+  for (const auto& row : rows)
+    for (std::size_t k = 0; k < m; ++k)
+      if (std::isfinite(row[k])) sum[k] += row[k], count[k] += 1;
+  for (std::size_t k = 0; k < m; ++k) sum[k] = count[k] > 0 ? sum[k] / count[k] : NAN;
+  return sum;
+}
+
+/// ensembles/<name>/coverage/ of stats.h5 (stats/run_coverage.hpp) into e.coverage; its rows
+/// must be e's samples in e's order, as constant Z's.
+void read_coverage(const h5::File& f, const std::string& c, EnsembleTables& e) {
+  const std::size_t rows = e.sample_ids.size();
+  auto same_samples = [&](const std::string& group) {
+    if (stats::read_sample_ids(f, group) != e.sample_ids) {
+      throw std::runtime_error(fmt::format(
+          "{}: dataset '{}/sample_ids' does not list the samples of the ensemble's constant_phi "
+          "in their order",
+          f.path(), group));
+    }
+  };
+  same_samples(c);
+  e.coverage.output_step = f.read_dataset(c + "/packing_fraction_step", h5::exactly(rows));
+  if (f.has_dataset(c + "/constant_phi")) {
+    const std::string g = c + "/constant_phi";
+    same_samples(g);
+    e.coverage.phi_grid = f.read_dataset(g + "/packing_fraction");
+    e.coverage.pressure_at_phi =
+        table(f, g + "/pressure_samples", rows, e.coverage.phi_grid.size());
+  }
+  if (f.has_dataset(c + "/constant_z")) {
+    const std::string g = c + "/constant_z";
+    same_samples(g);
+    const auto names = f.list_group(g);
+    e.coverage.z_grid = f.read_dataset(
+        g + "/" +
+        (std::find(names.begin(), names.end(), "contacts_per_particle") != names.end()
+             ? "contacts_per_particle"
+             : "contacts_per_particle_no_rattlers"));
+    const std::size_t m = e.coverage.z_grid.size();
+    e.coverage.pressure_at_z = table(f, g + "/pressure_samples", rows, m);
+    e.coverage.phi_at_z = column_means(table(f, g + "/packing_fraction_samples", rows, m), m);
+  }
+}
+
 EnsembleTables read_ensemble(const h5::File& f, const std::string& name) {
   const std::string g = "ensembles/" + name;
   const std::string phi = g + "/constant_phi";
@@ -81,6 +127,7 @@ EnsembleTables read_ensemble(const h5::File& f, const std::string& name) {
       e, f.has_dataset(z_name) ? table(f, z_name, rows, m) : std::vector<std::vector<double>>{});
   if (f.has_dataset(g + "/jamming"))
     e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples");
+  if (f.has_dataset(g + "/coverage")) read_coverage(f, g + "/coverage", e);
   return e;
 }
 
@@ -108,6 +155,7 @@ StatsData read_stats(const std::string& directory) {
   const h5::File f = h5::File::open_read(path);
   stats::check_stats_checksum(f, directory);  // a table changed by hand is not judged
   StatsData d;
+  d.directory = directory;
   d.campaign = f.read_attribute_string("campaign");
   d.dim = read_dim(f);
   d.pooled = f.read_attribute_int("pooled_sizes") != 0;

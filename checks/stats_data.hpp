@@ -26,6 +26,18 @@ struct EnsembleTables {
   // phi'_init of a chained rate (0: a relaxed start): the start carries the faster rate's
   // pressure, and the transient is its decay (margin.hpp, first_chained_compression_point).
   double chain_phi_init = 0;
+  // What each run covers (stats.h5 coverage/, stats/run_coverage.hpp; empty in files written
+  // before it), for the compare check: the median spacing of each row's output packings, and
+  // the tables again over the grid any run reaches (NaN beyond a run's end) where that grid is
+  // longer than the common one above.
+  struct Coverage {
+    std::vector<double> output_step;  // [sample]
+    std::vector<double> phi_grid;
+    std::vector<std::vector<double>> pressure_at_phi;
+    std::vector<double> z_grid;
+    std::vector<std::vector<double>> pressure_at_z;
+    std::vector<double> phi_at_z;  // mean over the runs that reach each Z
+  } coverage;
 };
 
 /// An ensemble's identity across campaigns: size, phi_init, log10 rate.
@@ -48,6 +60,7 @@ struct FamilyParameters {
 };
 
 struct StatsData {
+  std::string directory;  // where it was read from (empty: made in memory)
   std::string campaign;
   int dim = 2;
   bool pooled = false;

@@ -86,12 +86,14 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
   return y[i - 1] + t * (y[i] - y[i - 1]);
 }
 
-GridAverage average_at_constant_phi(const std::vector<RunCurves>& samples, double phi_step) {
+GridAverage average_at_constant_phi(const std::vector<RunCurves>& samples, double phi_step,
+                                    Span span) {
   if (samples.empty()) throw std::invalid_argument("average: no samples");
   double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
+  if (span == Span::any_sample) hi = lo;
   for (const auto& r : samples) {
     lo = std::max(lo, r.phi.front());
-    hi = std::min(hi, r.phi.back());
+    hi = span == Span::any_sample ? std::max(hi, r.phi.back()) : std::min(hi, r.phi.back());
   }
   GridAverage a;
   a.grid_name = "packing_fraction";
@@ -123,7 +125,7 @@ GridAverage average_at_constant_phi(const std::vector<RunCurves>& samples, doubl
 }
 
 GridAverage average_at_constant_z(const std::vector<RunCurves>& samples, double z_step,
-                                  bool no_rattlers) {
+                                  bool no_rattlers, Span span) {
   if (samples.empty()) throw std::invalid_argument("average: no samples");
   auto z_of = [&](const RunCurves& r) -> const std::vector<double>& {
     if (no_rattlers && r.contacts_no_rattlers.empty()) {
@@ -135,12 +137,15 @@ GridAverage average_at_constant_z(const std::vector<RunCurves>& samples, double 
       throw std::invalid_argument("average at constant Z: a run stored no contacts_per_particle");
     return no_rattlers ? r.contacts_no_rattlers : r.contacts;
   };
-  // Common range: above every run's start, below every run's largest Z.
+  // Common range: above every run's start, below every run's largest Z (any_sample: below the
+  // largest Z of any run; a run that never reaches a grid value has NaN there).
   double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
+  if (span == Span::any_sample) hi = lo;
   for (const auto& r : samples) {
     const auto& z = z_of(r);
     lo = std::max(lo, z.front());
-    hi = std::min(hi, *std::max_element(z.begin(), z.end()));
+    const double top = *std::max_element(z.begin(), z.end());
+    hi = span == Span::any_sample ? std::max(hi, top) : std::min(hi, top);
   }
   GridAverage a;
   a.grid_name = no_rattlers ? "contacts_per_particle_no_rattlers" : "contacts_per_particle";

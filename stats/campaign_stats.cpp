@@ -48,6 +48,8 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
     } catch (const std::invalid_argument&) {
       if (o.no_rattlers) throw;
     }
+    e.coverage =
+        run_coverage(runs, s.data.phi_step, o.z_step, o.no_rattlers, e.constant_phi, e.constant_z);
     if (std::all_of(runs.begin(), runs.end(),
                     [](const RunCurves& r) { return r.jamming_point.has_value(); })) {
       std::vector<double> points;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "stats/averages.hpp"
+#include "stats/run_coverage.hpp"
 #include "stats/run_curves.hpp"
 #include "stats/scaling_fit.hpp"
 
@@ -38,6 +39,8 @@ struct EnsembleStats {
   GridAverage constant_phi;
   std::optional<GridAverage> constant_z;
   std::optional<JammingStats> jamming;
+  // What each run covers (run_coverage.hpp); absent in a refit of a file written before it.
+  std::optional<RunCoverage> coverage;
   // phi'_init of a chained rate (its runs start from the faster rate's configuration there);
   // 0: started from the relaxed random start.
   double chain_phi_init = 0.0;

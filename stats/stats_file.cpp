@@ -75,6 +75,18 @@ void write_average(h5::File& f, const std::string& group, const GridAverage& a) 
   f.write_attribute("error_method", std::string(SampleMean::kMethod), group);
 }
 
+/// ensembles/<name>/coverage/ (run_coverage.hpp): each run's last output packing and output
+/// spacing, and the tables over the grid any run reaches when it is longer than the common one.
+void write_coverage(h5::File& f, const std::string& group, const RunCoverage& c) {
+  f.create_group(group);
+  write_dataset(f, group + "/sample_ids",
+                std::vector<double>(c.sample_ids.begin(), c.sample_ids.end()), kDimensionless);
+  write_dataset(f, group + "/packing_fraction_last", c.phi_last, kDimensionless);
+  write_dataset(f, group + "/packing_fraction_step", c.output_step, kDimensionless);
+  if (c.constant_phi) write_average(f, group + "/constant_phi", *c.constant_phi);
+  if (c.constant_z) write_average(f, group + "/constant_z", *c.constant_z);
+}
+
 void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r, const ScanRow& row,
                int order);
 
@@ -265,6 +277,7 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
         f.write_attribute("spread", e.jamming->spread, jg);
         f.write_attribute("found", static_cast<std::int64_t>(e.jamming->mean.samples), jg);
       }
+      if (e.coverage) write_coverage(f, g + "/coverage", *e.coverage);
     }
     for (const auto& [group, scan] :
          {std::pair{std::string("fit"), &s.fit}, std::pair{std::string("fit_z"), &s.fit_z}}) {

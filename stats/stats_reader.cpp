@@ -38,6 +38,29 @@ GridAverage read_average(const h5::File& f, const std::string& group, const std:
   return a;
 }
 
+/// The grid a constant-Z group names: with rattlers or without.
+std::string z_grid_name(const h5::File& f, const std::string& group) {
+  const auto names = f.list_group(group);
+  return std::find(names.begin(), names.end(), std::string("contacts_per_particle_no_rattlers")) !=
+                 names.end()
+             ? "contacts_per_particle_no_rattlers"
+             : "contacts_per_particle";
+}
+
+/// ensembles/<name>/coverage/, carried over as it was stored (run_coverage.hpp).
+RunCoverage read_coverage(const h5::File& f, const std::string& group) {
+  RunCoverage c;
+  c.sample_ids = read_sample_ids(f, group);
+  const auto rows = h5::exactly(c.sample_ids.size());
+  c.phi_last = f.read_dataset(group + "/packing_fraction_last", rows);
+  c.output_step = f.read_dataset(group + "/packing_fraction_step", rows);
+  if (f.has_dataset(group + "/constant_phi"))
+    c.constant_phi = read_average(f, group + "/constant_phi", "packing_fraction");
+  if (f.has_dataset(group + "/constant_z"))
+    c.constant_z = read_average(f, group + "/constant_z", z_grid_name(f, group + "/constant_z"));
+  return c;
+}
+
 }  // namespace
 
 CampaignStats refit_campaign_stats(const std::string& directory, const StatsOptions& o) {
@@ -73,15 +96,9 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
       if (f.has_attribute("chain_phi_init", g))
         e.chain_phi_init = f.read_attribute_double("chain_phi_init", g);
       e.constant_phi = read_average(f, g + "/constant_phi", "packing_fraction");
-      if (f.has_dataset(g + "/constant_z")) {
-        const auto names = f.list_group(g + "/constant_z");
-        const bool no_rattlers =
-            std::find(names.begin(), names.end(),
-                      std::string("contacts_per_particle_no_rattlers")) != names.end();
-        e.constant_z = read_average(
-            f, g + "/constant_z",
-            no_rattlers ? "contacts_per_particle_no_rattlers" : "contacts_per_particle");
-      }
+      if (f.has_dataset(g + "/constant_z"))
+        e.constant_z = read_average(f, g + "/constant_z", z_grid_name(f, g + "/constant_z"));
+      if (f.has_dataset(g + "/coverage")) e.coverage = read_coverage(f, g + "/coverage");
       if (f.has_dataset(g + "/jamming")) {
         // The runs' jamming points carry over as they were stored.
         const std::string jg = g + "/jamming";
