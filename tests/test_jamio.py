@@ -235,8 +235,10 @@ def stats_flat(s):
     put_attrs(out, "/paper", s.paper)
     for name, e in s.ensembles.items():
         put_attrs(out, f"/ensembles/{name}", e.attrs)
-        for sub in ("constant_phi", "constant_z", "jamming"):
+        for sub in ("constant_phi", "constant_z", "jamming", "coverage"):
             put_group(out, f"/ensembles/{name}/{sub}", getattr(e, sub))
+        for sub in ("constant_phi", "constant_z"):
+            put_group(out, f"/ensembles/{name}/coverage/{sub}", getattr(e, "coverage_" + sub))
     for key, fit in (("fit", s.fit), ("fit_z", s.fit_z)):
         if fit is not None:
             put_attrs(out, f"/{key}", fit.attrs)

@@ -8,8 +8,8 @@ from typing import NamedTuple
 
 import h5py
 
-from .hdf5 import (Group, array, attrs, member, members, optional_group, read_hdf5, require,
-                   units)
+from .hdf5 import (Group, array, attrs, group, member, members, optional_group, read_hdf5,
+                   require, units)
 
 # The root attributes every stats.h5 has.
 REQUIRED = ("campaign", "dim", "version")
@@ -33,13 +33,20 @@ _SAME = 1e-12
 class Ensemble:
     """`ensembles/<name>/`: one (size, phi_init, rate) average. `attrs`: `n`, `phi_init`,
     `log10_rate`, `compression_rate`, `samples`; `constant_phi`, `constant_z`, `jamming`: Groups
-    (dicts of arrays with `.attrs` and `.units`), None where the file has no such group."""
+    (dicts of arrays with `.attrs` and `.units`), None where the file has no such group.
+    `coverage` (what each run covers: `sample_ids`, `packing_fraction_last`,
+    `packing_fraction_step`) and `coverage_constant_phi`, `coverage_constant_z` (the tables over
+    the grid any run reaches, NaN beyond a run's end; only when some run reaches past the
+    others): the groups `jam check compare` reads, None where absent (reference/schema.md)."""
 
     name: str
     attrs: dict
     constant_phi: Group | None
     constant_z: Group | None
     jamming: Group | None
+    coverage: Group | None = None
+    coverage_constant_phi: Group | None = None
+    coverage_constant_z: Group | None = None
 
     @property
     def key(self):
@@ -168,8 +175,13 @@ def _ensemble(name, g):
     # (frames.py) take them: an n of 64.5 is refused here, not cut to 64 there.
     a = require(attrs(g), g.name, numbers=("phi_init", "log10_rate", "compression_rate"),
                 integers=("n", "samples"))
+    coverage = member(g, "coverage")
+    coverage = coverage if isinstance(coverage, h5py.Group) else None
     return Ensemble(name, a, optional_group(g, "constant_phi"),
-                    optional_group(g, "constant_z"), optional_group(g, "jamming"))
+                    optional_group(g, "constant_z"), optional_group(g, "jamming"),
+                    None if coverage is None else group(coverage),
+                    None if coverage is None else optional_group(coverage, "constant_phi"),
+                    None if coverage is None else optional_group(coverage, "constant_z"))
 
 
 def _coefficients(g):
