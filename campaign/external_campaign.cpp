@@ -4,7 +4,9 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -127,6 +129,14 @@ std::vector<std::string> unlisted_run_files(const std::string& directory,
   return unlisted;
 }
 
+bool is_plain_campaign_name(const std::string& name) {
+  const auto word = [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || std::strchr("._+-", ch) != nullptr;
+  };
+  return !name.empty() && name.size() <= 255 && std::all_of(name.begin(), name.end(), word) &&
+         (std::isalnum(static_cast<unsigned char>(name[0])) || name[0] == '_');
+}
+
 bool is_external_campaign(const std::string& directory) {
   return fs::exists(fs::path(directory) / kFile);
 }
@@ -142,8 +152,20 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
   c.contact = text_of(t, "contact", path);
   c.dynamics = text_of(t, "dynamics", path);
   c.q = number_of(t, "q", path);
+  if (!is_plain_campaign_name(c.name))
+    throw std::runtime_error(fmt::format(
+        "{}: name '{}' is not one plain word (letters, digits and . _ + -)", path, c.name));
   if (!(c.phi_step > 0 && c.phi_step <= 0.05))
     throw std::runtime_error(fmt::format("{}: phi_step {} must be in (0, 0.05]", path, c.phi_step));
+  // The model and each run's n by the open run format's own rules (open_run_limits.json).
+  OpenRun model;
+  model.dim = c.dim;
+  model.n = 2;
+  model.diameter_ratio = c.diameter_ratio;
+  model.contact = c.contact;
+  model.dynamics = c.dynamics;
+  model.q = c.q;
+  validate_open_run_model(model, path);
   if (const auto* runs = t["run"].as_array()) {
     for (std::size_t k = 0; k < runs->size(); ++k) {
       const auto* r = (*runs)[k].as_table();
@@ -154,7 +176,12 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
       if (x.name.find('/') != std::string::npos || x.name.find("..") != std::string::npos)
         throw std::runtime_error(fmt::format("{}: name '{}' is not a run name", where, x.name));
       x.n = whole_of(*r, "n", where, 1, kMaxExactWhole);
+      model.n = x.n;
+      validate_open_run_model(model, where);
       x.phi_init = number_of(*r, "phi_init", where);
+      if (!(x.phi_init > 0 && x.phi_init < 1))
+        throw std::runtime_error(
+            fmt::format("{}: phi_init {} must be in (0, 1)", where, x.phi_init));
       x.log10_rate = number_of(*r, "log10_rate", where);
       x.sample = whole_of(*r, "sample", where, 0, kMaxExactWhole);
       x.source = text_of(*r, "source", where);

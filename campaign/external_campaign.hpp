@@ -46,6 +46,10 @@ struct ExternalCampaign {
   std::vector<SetAside> set_aside;
 };
 
+/// One word of letters, digits and . _ + - that begins with a letter, digit or _, at most 255
+/// bytes: a campaign's name names the report's directory, so it is never a path.
+bool is_plain_campaign_name(const std::string& name);
+
 /// True when `directory` holds external.toml.
 bool is_external_campaign(const std::string& directory);
 

@@ -64,14 +64,7 @@ Candidate read_candidate(const std::string& file) {
 
 /// A campaign name names the report's directory: one plain word, never a path.
 void check_name(const std::string& name) {
-  const bool plain =
-      !name.empty() && name.size() <= 255 &&
-      std::all_of(name.begin(), name.end(),
-                  [](char ch) {
-                    return std::isalnum(static_cast<unsigned char>(ch)) || std::strchr("._+-", ch);
-                  }) &&
-      (std::isalnum(static_cast<unsigned char>(name[0])) || name[0] == '_');
-  if (!plain)
+  if (!is_plain_campaign_name(name))
     throw std::runtime_error(fmt::format(
         "--name '{}': must be one word of letters, digits and . _ + - that begins with a letter, "
         "digit or _ (it names the report's directory)",

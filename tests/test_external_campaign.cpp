@@ -162,7 +162,15 @@ BOOST_AUTO_TEST_CASE(counts_of_an_edited_external_file_are_whole_numbers) {
            // beyond 2^53: judged as written, not rounded to 2^53
            {"n = 64", "n = 9007199254740993", "n = 9007199254740993 is not"},
            {"sample = 0", "sample = 0.5", "sample = 0.5 is"},
-           {"dim = 2", "dim = 7", "dim = 7 is not"}}) {
+           {"dim = 2", "dim = 7", "dim = 7 is not"},
+           // The open run format's own rules (open_run_limits.json), as on import: a record
+           // edited past them is refused, not averaged.
+           {"n = 64", "n = 63", "n 63 must be even"},
+           {"name = 'c'", "name = '../../x'", "name '../../x' is not one plain word"},
+           {"diameter_ratio = 1.3999999999999999", "diameter_ratio = 5.0",
+            "diameter_ratio 5 must be in [1, 2]"},
+           {"dynamics = 'overdamped'", "dynamics = 'brownian'", "dynamics 'brownian'"},
+           {"phi_init = 0.80000000000000004", "phi_init = 5.0", "phi_init 5 must be in (0, 1)"}}) {
     const std::string &from = edit[0], &to = edit[1], &message = edit[2];
     BOOST_TEST_CONTEXT(to) {
       std::string edited = text;

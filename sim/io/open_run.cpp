@@ -49,7 +49,9 @@ bool hex16(const std::string& s) {
          std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c); });
 }
 
-void check_model(const OpenRun& r, const std::string& where) {
+}  // namespace
+
+void validate_open_run_model(const OpenRun& r, const std::string& where) {
   const OpenRunLimits& lim = open_run_limits();
   if (r.dim != 2 && r.dim != 3) refuse(where, fmt::format("dim {} must be 2 or 3", r.dim));
   if (r.n < 2 || r.n % 2 != 0 || r.n > lim.max_whole)
@@ -71,9 +73,11 @@ void check_model(const OpenRun& r, const std::string& where) {
   }
 }
 
+namespace {
+
 void check_attributes(const OpenRun& r, const std::string& where) {
   const OpenRunLimits& lim = open_run_limits();
-  check_model(r, where);
+  validate_open_run_model(r, where);
   if (!(r.compression_rate > 0.0 && std::isfinite(r.compression_rate)))
     refuse(where, fmt::format("compression_rate {} must be > 0 and finite", r.compression_rate));
   if (!(r.phi_init > 0.0 && r.phi_init < 1.0))

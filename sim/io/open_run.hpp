@@ -38,6 +38,10 @@ struct OpenRun {
 /// Checks r against the spec; throws std::runtime_error "<where>: <field> <value> ...".
 void validate_open_run(const OpenRun& r, const std::string& where);
 
+/// The model's part of it alone (dim, n, diameter_ratio, contact, dynamics, q), for records
+/// that hold a run's model without its series (external.toml).
+void validate_open_run_model(const OpenRun& r, const std::string& where);
+
 /// Reads and checks an open run, or a run file of jam's own (recognised by its `checksum`,
 /// which is verified; simulator "jam"). Throws std::runtime_error naming file and field.
 OpenRun read_open_run(const std::string& path);
