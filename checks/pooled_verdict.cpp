@@ -177,15 +177,26 @@ std::vector<Verdict> judge_by_region(const Verdict& base, const RangeData& data,
     const Aligned part = data(range, v);
     try {
       if (!(range.min < range.max)) {
-        throw std::invalid_argument(fmt::format(
-            "nothing to judge: {} lies outside what both sets compress ({} from {:.4g})", range.why,
-            range.variable, range.min));
+        throw std::invalid_argument(
+            std::isfinite(range.min)
+                ? fmt::format(
+                      "nothing to judge: {} lies outside what both sets compress ({} from {:.4g})",
+                      range.why, range.variable, range.min)
+                : fmt::format("nothing to judge: no {} of both sets lies in {}", range.variable,
+                              range.why));
       }
       if (part.grid.size() < 2) {
         // data() may say in the reason which range the compared data cover.
-        throw std::invalid_argument(fmt::format(
-            "fewer than 2 common points in {} [{:.4g}, {:.4g}]{}", range.variable, range.min,
-            range.max, v.reason.empty() ? "" : ": the compared data cover [" + v.reason + "]"));
+        // An empty span (no Z of both sets whose mean packing lies in the window) has no
+        // finite ends: said in words, never as "[inf, -inf]".
+        const std::string where =
+            std::isfinite(range.min) && std::isfinite(range.max)
+                ? fmt::format("in {} [{:.4g}, {:.4g}]", range.variable, range.min, range.max)
+                : fmt::format("in {}: no {} of both sets lies in the range asked ({})",
+                              range.variable, range.variable, range.why);
+        throw std::invalid_argument(
+            fmt::format("fewer than 2 common points {}{}", where,
+                        v.reason.empty() ? "" : ": the compared data cover [" + v.reason + "]"));
       }
       judge_pooled(v, part, range, levels, margin, permutations, seed, relative_to);
     } catch (const std::invalid_argument& e) {

@@ -166,3 +166,27 @@ BOOST_AUTO_TEST_CASE(verdict_states_its_range_and_where_the_weights_lie) {
   BOOST_TEST(v.reason.find("the synthetic grid") != std::string::npos, v.reason);
   BOOST_TEST(v.reason.find("80% of them in") != std::string::npos, v.reason);
 }
+
+// A span with no finite ends (no Z of both sets whose mean packing lies in the window asked:
+// z_span gives [inf, -inf]) is said in words, never as "[inf, -inf]" or "from inf".
+BOOST_AUTO_TEST_CASE(an_empty_span_is_said_in_words) {
+  std::mt19937_64 rng(3);
+  Aligned al;
+  al.a = runs(6, 0.0, rng, 60, 0.1);
+  al.b = runs(6, 0.0, rng, 60, 0.1);
+  for (std::size_t k = 0; k < al.a.front().size(); ++k) al.grid.push_back(4.0 + 0.01 * k);
+  PoolRange pooled;
+  pooled.variable = "Z";
+  pooled.min = HUGE_VAL, pooled.max = -HUGE_VAL;
+  pooled.why = "the Z whose mean packing lies in the scaling fit's window";
+  Verdict base;
+  base.check = "finite_size";
+  const auto out = judge_by_region(base, al, pooled, {}, {}, Levels{0.05, 0.05}, kMargin, 100, 1,
+                                   RelativeTo::b);
+  BOOST_TEST_REQUIRE(!out.empty());
+  for (const Verdict& v : out) {
+    BOOST_TEST(v.status == "inconclusive");
+    BOOST_TEST(v.reason.find("inf") == std::string::npos, v.reason);
+    BOOST_TEST(v.reason.find("no Z of both sets lies in") != std::string::npos, v.reason);
+  }
+}
