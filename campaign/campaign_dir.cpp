@@ -84,6 +84,11 @@ void remove_stale_temporaries(const std::string& directory) {
 }
 
 Campaign stored_campaign(const std::string& directory) {
+  // A directory that is not there is a mistyped path, not a damaged campaign: said so, as
+  // `jam check` says it.
+  std::error_code ec;
+  if (!fs::is_directory(directory, ec))
+    throw std::runtime_error(fmt::format("{}: no such campaign directory", directory));
   return read_campaign((fs::path(directory) / "campaign.toml").string());
 }
 

@@ -511,7 +511,7 @@ def _read_campaign_text(directory):
 def load_campaign(directory):
     """Everything the report draws, read from DIR. Raises ReportInputError naming the file."""
     if not os.path.isdir(directory):
-        raise ReportInputError(f"{directory}: not a campaign directory", NOT_READY)
+        raise ReportInputError(f"{directory}: no such campaign directory", NOT_READY)
     stats_attrs, ensembles, fit = _read_stats(os.path.join(directory, "stats.h5"))
     verdicts, checks_attrs = _read_checks(os.path.join(directory, "checks.json"))
     manifest, run_wall = _read_manifest(directory)

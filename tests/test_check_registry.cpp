@@ -121,6 +121,14 @@ BOOST_AUTO_TEST_CASE(jam_check_accepts_every_registered_name_and_refuses_others)
   }
   const auto all = jam_stderr(dir, "check all " + missing);
   BOOST_TEST(all.output.find("no such campaign directory") != std::string::npos, all.output);
+  // The other commands that take a campaign directory say the same, not "cannot read campaign
+  // file" (a mistyped path is not a damaged campaign).
+  for (const std::string command : {"stats ", "campaign status ", "report "}) {
+    const auto o = jam_stderr(dir, command + missing);
+    BOOST_TEST(o.status == 2, command << o.output);
+    BOOST_TEST(o.output.find("no such campaign directory") != std::string::npos,
+               command << o.output);
+  }
   const auto refused = jam_stderr(dir, "check no_such_check " + missing);
   BOOST_TEST(refused.status == 2);
   BOOST_TEST(lines(refused.output) == 1u, refused.output);
