@@ -45,9 +45,10 @@ int lock_file(const std::string& path, const std::string& what, int kind, bool w
     const std::string owner = owner_of(fd);
     ::close(fd);
     if (error == EWOULDBLOCK) {
-      throw CampaignError(fmt::format(
-          "{}: in use by {} (another `jam campaign run`); wait for it to finish or stop it", what,
-          owner));
+      throw CampaignError(
+          fmt::format("{}: in use by {} (another `jam campaign run` or import); wait for it to "
+                      "finish or stop it",
+                      what, owner));
     }
     throw CampaignError(fmt::format("{}: cannot lock: {}", path, std::strerror(error)));
   }
