@@ -21,7 +21,7 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=None \
   -DJAM_FUZZ_SECONDS="$seconds" -DJAM_FUZZ_SEED="$seed" >/dev/null
 targets=(jam fuzz_campaign_file fuzz_lammps_data fuzz_checkpoint fuzz_run_file_shapes
   fuzz_stats_file_shapes fuzz_checkpoint_shapes fuzz_chain_start_shapes fuzz_lammps_log
-  fuzz_open_run_shapes fuzz_external_toml)
+  fuzz_open_run_shapes fuzz_external_toml fuzz_import)
 while read -r t; do targets+=("$t"); done < <(
   ctest --test-dir build-asan -N -L sanitize | sed -n 's/^ *Test *#[0-9]*: //p')
 cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
