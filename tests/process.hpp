@@ -77,6 +77,21 @@ inline bool wrote_since(const std::filesystem::path& dir, std::filesystem::file_
   return false;
 }
 
+/// Waits (at most two minutes) until `ready()` or the process has ended; true when ready.
+template <class Ready>
+bool wait_until(Ready ready, pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (ready()) return true;
+    siginfo_t info{};  // WNOWAIT: the process stays to be reaped by wait_for
+    if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+        info.si_pid == pid)
+      return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return false;
+}
+
 /// Exit status, or minus the signal that ended the process.
 inline int wait_for(pid_t pid) {
   int status = 0;

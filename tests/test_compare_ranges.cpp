@@ -21,6 +21,7 @@
 #include "checks/checks.hpp"
 #include "checks/regression_check.hpp"
 #include "checks/stats_data.hpp"
+#include "open_run_fixture.hpp"
 #include "sim/io/open_run.hpp"
 #include "stats/campaign_stats.hpp"
 
@@ -41,13 +42,7 @@ struct Design {
 /// eps an Ornstein-Uhlenbeck process (5% unless given, correlation length 0.005); Z rising
 /// from 3.5.
 jam::OpenRun synthetic_run(int sample, const Design& d, std::mt19937_64& rng) {
-  jam::OpenRun r;
-  r.dim = 2;
-  r.n = 64;
-  r.compression_rate = 1e-4;
-  r.phi_init = 0.80;
-  r.simulator = "other-code";
-  r.sample = sample;
+  jam::OpenRun r = jam::test::open_run_of(64, 1e-4, 0.80, sample);
   std::normal_distribution<double> g(0.0, 1.0);
   const double rho = std::exp(-0.001 / 0.005), scatter = d.scatter;
   double eps = scatter * g(rng);

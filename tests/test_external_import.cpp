@@ -15,6 +15,7 @@
 
 #include "campaign/external_campaign.hpp"
 #include "campaign/run_plan.hpp"
+#include "open_run_fixture.hpp"
 #include "process.hpp"
 #include "sim/io/open_run.hpp"
 
@@ -32,13 +33,7 @@ fs::path scratch(const std::string& name) {
 
 /// An open run of N 64 at rate 1e-3 from phi 0.8 with the given sample id.
 std::string write_run(const fs::path& dir, std::int64_t sample, double offset = 0) {
-  jam::OpenRun r;
-  r.dim = 2;
-  r.n = 64;
-  r.compression_rate = 1e-3;
-  r.phi_init = 0.8;
-  r.simulator = "other-code";
-  r.sample = sample;
+  jam::OpenRun r = jam::test::open_run_of(64, 1e-3, 0.8, sample);
   for (double phi = 0.8; phi < 0.86; phi += 0.0003) {
     r.packing_fraction.push_back(phi);
     r.pressure.push_back(std::max(0.0, phi - 0.83) * (1 + 0.01 * static_cast<double>(sample)) +

@@ -149,20 +149,7 @@ BOOST_AUTO_TEST_CASE(check_prints_one_table_per_check_with_whole_case_names) {
 
 namespace {
 
-/// Waits (at most two minutes) until `ready()` or the process has ended; true when ready.
-template <class Ready>
-bool wait_until(Ready ready, pid_t pid) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (ready()) return true;
-    siginfo_t info{};  // WNOWAIT: the process stays to be reaped by wait_for
-    if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
-        info.si_pid == pid)
-      return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return false;
-}
+using jam::test::wait_until;
 
 /// Whether `file` is absent or was last written before `signalled`.
 bool not_written_since(const fs::path& file, fs::file_time_type signalled) {

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "../open_run_fixture.hpp"
 #include "campaign/external_campaign.hpp"
 #include "hdf5_recipe.hpp"
 #include "sim/io/open_run.hpp"
@@ -36,13 +37,7 @@ const std::string& template_bytes(int sample) {
   static std::vector<std::string> bytes = [] {
     std::vector<std::string> out;
     for (int s = 0; s < 3; ++s) {
-      jam::OpenRun r;
-      r.dim = 2;
-      r.n = 64;
-      r.compression_rate = 1e-3;
-      r.phi_init = 0.8;
-      r.simulator = "fuzz";
-      r.sample = s;
+      jam::OpenRun r = jam::test::open_run_of(64, 1e-3, 0.8, s, "fuzz");
       for (int k = 0; k < 8; ++k) {
         r.time.push_back(2.0 * k);
         r.packing_fraction.push_back(0.8 * std::exp(2e-3 * 2.0 * k));
