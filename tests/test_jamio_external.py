@@ -212,6 +212,16 @@ class External(unittest.TestCase):
 
     # ---- the runs --------------------------------------------------------------------------
 
+    def test_load_run_of_an_open_run_names_its_reader(self):
+        # An imported open run has no seed or dt: load_run says which reader it needs, rather
+        # than "attribute 'seed' missing".
+        path = self.jamio.run_files(self.dir)[0]
+        with self.assertRaises(self.jamio.JamioError) as e:
+            self.jamio.load_run(path)
+        self.assertIn("validate_run", str(e.exception))
+        self.assertNotIn("'seed' missing", str(e.exception))
+        self.assertEqual(self.jamio.validate_run(path).n, N)
+
     def test_load_runs_has_the_files_values(self):
         table = self.jamio.load_runs(self.dir)
         self.assertEqual(list(table.columns),

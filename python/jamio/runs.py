@@ -18,8 +18,8 @@ import h5py
 import numpy as np
 
 from .campaign import is_external, load_external
-from .errors import JamioError, optional_module, reading
-from .hdf5 import array, attrs, members, read_hdf5, require, units
+from .errors import JamioError, optional_module, reading, shown
+from .hdf5 import array, attrs, members, read_hdf5, require, units, value
 from .open_run import REQUIRED_SERIES, SERIES_UNITS, validate_run
 
 # The datasets every run file has (one entry per output point) and those only some have.
@@ -104,6 +104,11 @@ def _check(run):
 
 
 def _read_run(path, f):
+    if "format" in f.attrs:
+        # An open run (another simulator's, or an import's copy) has no seed, dt or phi_step:
+        # its reader is validate_run, not this one.
+        raise ValueError(f"an open run (format {shown(value(f.attrs['format']))}), not a run file "
+                         "of jam's own: read it with jamio.validate_run")
     datasets = {k: v for k, v in members(f).items() if isinstance(v, h5py.Dataset)}
     run = Run(path, attrs(f), {k: array(v) for k, v in datasets.items()}, units(datasets))
     _check(run)
