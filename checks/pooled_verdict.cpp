@@ -283,6 +283,8 @@ void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels 
     const SamplesNeeded n =
         samples_needed(w.difference, scatter.a, scatter.b, 1, 1, n_a, n_b, levels, margin);
     v.samples_needed = n.equal;
+    v.values["samples_needed_a"] = n.a;
+    v.values["samples_needed_b"] = n.b;
     v.reason += samples_words(n, "A", "B", false);
   }
   v.values["range_min"] = grid.front();

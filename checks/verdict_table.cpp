@@ -126,8 +126,22 @@ std::string effect_text(const std::string& unit, double x, bool sign) {
 }
 
 std::string short_reason(const Verdict& v) {
-  if (v.status == "inconclusive" && std::isfinite(v.samples_needed))
+  if (v.status == "inconclusive" && std::isfinite(v.samples_needed)) {
+    // The cheapest split per side, with what each side has now: "129 per set" read alone
+    // sends a user to run 127 more of each where one more of one side would do.
+    const auto at = [&v](const char* key) {
+      const auto it = v.values.find(key);
+      return it == v.values.end() ? NAN : it->second;
+    };
+    const double a = at("samples_needed_a"), b = at("samples_needed_b"), has_a = at("samples_a"),
+                 has_b = at("samples_b");
+    if (std::isfinite(a) && std::isfinite(b) && std::isfinite(has_a) && std::isfinite(has_b))
+      return fmt::format(
+          "about {:.0f} samples per set would decide; cheapest: {:.0f} of the first set (has "
+          "{:.0f}), {:.0f} of the second (has {:.0f})",
+          v.samples_needed, a, has_a, b, has_b);
     return fmt::format("about {:.0f} samples per set would decide", v.samples_needed);
+  }
   std::size_t end = v.reason.size();
   for (const char* clause_end : {": ", "; ", " (", " | "})
     end = std::min(end, v.reason.find(clause_end));

@@ -137,6 +137,15 @@ BOOST_AUTO_TEST_CASE(reasons_give_relative_effects_in_percent) {
   Verdict estimate = decided("finite_size", "a vs b", false, 0.172, 0.1);
   estimate.samples_needed = 93;
   BOOST_TEST(short_reason(estimate) == "about 93 samples per set would decide");
+  // With the cheapest split known, each side's count beside what it has: a cheap set of 3 and
+  // a reference of 129 need one more of the first, not about 127 more of each.
+  estimate.values["samples_needed_a"] = 4;
+  estimate.values["samples_needed_b"] = 129;
+  estimate.values["samples_a"] = 3;
+  estimate.values["samples_b"] = 129;
+  BOOST_TEST(short_reason(estimate) ==
+             "about 93 samples per set would decide; cheapest: 4 of the first set (has 3), 129 of "
+             "the second (has 129)");
 }
 
 BOOST_AUTO_TEST_CASE(a_check_judged_pooled_only_says_so_under_its_heading) {
