@@ -345,7 +345,14 @@ def short_reason(v):
     needs, else the reason's first clause."""
     if v.status == "inconclusive" and _is_number(v.samples_needed) and \
             math.isfinite(v.samples_needed):
-        return f"about {v.samples_needed:.0f} samples per set would decide"
+        words = f"about {v.samples_needed:.0f} samples per set would decide"
+        # The cheapest split per side beside what each side has (checks/verdict_table.cpp).
+        split = [v.values.get(k) for k in ("samples_needed_a", "samples_a", "samples_needed_b",
+                                           "samples_b")]
+        if all(_is_number(x) and math.isfinite(x) for x in split):
+            words += (f"; cheapest: {split[0]:.0f} of the first set (has {split[1]:.0f}), "
+                      f"{split[2]:.0f} of the second (has {split[3]:.0f})")
+        return words
     end = len(v.reason)
     for clause_end in (": ", "; ", " (", " | "):
         k = v.reason.find(clause_end)
