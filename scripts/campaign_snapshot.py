@@ -102,6 +102,15 @@ def save(run_dir, dest, jam, max_partial_bytes=None):
     check_dest(dest)
     text, status = campaign_status(jam, run_dir)
     runs = status["run"]
+    # A status with corrupt runs is not one to replace a snapshot's partial products by: run
+    # from another directory, a campaign's relative paths (chain_starts_from: the parent's
+    # chained starts) do not hold and every chained run reads as another run's.
+    corrupt = sorted(name for name, run in runs.items() if run["status"] == "corrupt")
+    if corrupt:
+        detail = runs[corrupt[0]].get("detail", "")
+        fail(f"RUN_DIR {run_dir}: {len(corrupt)} runs corrupt by `jam campaign status` (the "
+             f"first, {corrupt[0]}: {detail}); nothing saved: run from the directory where the "
+             f"campaign's relative paths hold, or move the corrupt files aside")
     copied = kept = 0
     for name, run in sorted(runs.items()):
         if run["status"] != "done":

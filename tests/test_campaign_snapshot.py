@@ -251,6 +251,29 @@ class Snapshot(unittest.TestCase):
         self.assertIn("partial/ holds notes.txt", result.stderr)
         self.assertEqual(slurp(notes), "mine")
 
+    def test_save_refuses_a_status_with_corrupt_runs(self):
+        # From the wrong directory a chained campaign's runs all read as corrupt: the snapshot's
+        # partial products must not be replaced by what such a status says.
+        run_dir = os.path.join(self.dir, "run")
+        os.makedirs(os.path.join(run_dir, "runs"))
+        dest = os.path.join(self.dir, "results")
+        os.makedirs(os.path.join(dest, "partial"))
+        kept = os.path.join(dest, "partial", "n64_s001.h5.checkpoint")
+        with open(kept, "w") as f:
+            f.write("checkpoint")
+        with open(os.path.join(dest, "status.json"), "w") as f:
+            f.write('{"run": {}}')
+        fake = os.path.join(self.dir, "fake-jam")
+        with open(fake, "w") as f:
+            f.write(f"#!{sys.executable}\nimport json\nprint(json.dumps({{'run': {{'n64_s001': "
+                    "{'status': 'corrupt', 'detail': 'run file belongs to another run'}, "
+                    "'n64_s000': {'status': 'done', 'detail': ''}}}))\n")
+        os.chmod(fake, 0o755)
+        result = self.snapshot("save", run_dir, dest, "--jam", fake)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("1 runs corrupt", result.stderr)
+        self.assertEqual(slurp(kept), "checkpoint")
+
     def test_no_hang_on_a_fifo(self):
         dest = os.path.join(self.dir, "kept")
         os.makedirs(os.path.join(dest, "runs"))
