@@ -143,6 +143,14 @@ RunStatus run_status(const PlannedRun& run, std::string* detail) {
       return RunStatus::kDone;
     }
     if (detail) *detail = problem;
+    // A run started from another campaign's chained start (chain_starts_from) whose campaign
+    // is not found from here has no planned start to be judged by: said so, not left as a
+    // bare mismatch against an empty identity.
+    if (detail && run.config.start_identity.empty() && !run.config.read_start.empty())
+      *detail = fmt::format(
+          "{}; its start cannot be judged from here: the campaign of {} is not found (a "
+          "relative chain_starts_from holds from the directory the campaign runs in)",
+          problem, run.config.read_start);
     return RunStatus::kCorrupt;
   }
   if (fs::exists(checkpoint_path(file))) return RunStatus::kPartial;

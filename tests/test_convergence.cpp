@@ -139,5 +139,10 @@ BOOST_AUTO_TEST_CASE(default_tolerance_passes_and_a_loose_one_fails) {
                      out);
   BOOST_TEST(run_jam("campaign run " + again.string(), &out) == 2, out);
   BOOST_TEST(out.find("reads its own starts from") != std::string::npos, out);
+  // The parent campaign not found (moved; or a relative chain_starts_from read from another
+  // directory): the chained runs' starts cannot be judged, and status says so by name.
+  fs::rename(kDir / "runs" / "default", kDir / "runs" / "default-moved");
+  run_jam("campaign status " + (kDir / "runs" / "default-convergence").string(), &out);
+  BOOST_TEST(out.find("its start cannot be judged from here") != std::string::npos, out);
   fs::remove_all(kDir);
 }
