@@ -1,14 +1,16 @@
 // External campaigns (campaign/external_campaign.hpp): runs jam did not plan join a campaign
 // directory only when they are open runs of its model, each set-aside file keeps its reason,
 // nothing the user had is touched, and the statistics average what was imported.
-#include <boost/test/unit_test.hpp>
 #include <fmt/format.h>
+
 #include <array>
+#include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "campaign/external_campaign.hpp"
+#include "open_run_fixture.hpp"
 #include "process.hpp"
 #include "sim/io/open_run.hpp"
 #include "stats/campaign_stats.hpp"
@@ -28,17 +30,12 @@ fs::path scratch(const std::string& name) {
 /// and a sample-dependent offset, on an output grid of its own (spacing 0.0003).
 std::string write_run(const fs::path& dir, double log10_rate, std::int64_t sample,
                       double diameter_ratio = 1.4) {
-  jam::OpenRun r;
-  r.dim = 2;
-  r.n = 64;
+  jam::OpenRun r = jam::test::open_run_of(64, std::pow(10.0, log10_rate), 0.8, sample);
   r.diameter_ratio = diameter_ratio;
-  r.compression_rate = std::pow(10.0, log10_rate);
-  r.phi_init = 0.8;
-  r.simulator = "other-code";
-  r.sample = sample;
   for (double phi = 0.8; phi < 0.86; phi += 0.0003) {
     r.packing_fraction.push_back(phi);
-    r.pressure.push_back(std::max(0.0, phi - 0.83) * (1 + 0.01 * static_cast<double>(sample)) + 1e-6);
+    r.pressure.push_back(std::max(0.0, phi - 0.83) * (1 + 0.01 * static_cast<double>(sample)) +
+                         1e-6);
   }
   const std::string path =
       (dir / fmt::format("run_r{}_s{}_d{}.h5", log10_rate, sample, diameter_ratio)).string();
@@ -63,9 +60,9 @@ BOOST_AUTO_TEST_CASE(runs_of_the_model_join_and_others_are_set_aside_with_a_reas
   const jam::ImportOutcome out = jam::import_runs(dir.string(), files, {});
   BOOST_TEST(out.imported == 4);
   BOOST_REQUIRE(out.set_aside.size() == 2u);
-  BOOST_TEST(out.set_aside[0].reason.find("diameter_ratio 1.35, the campaign's 1.4") !=
-                 std::string::npos,
-             out.set_aside[0].reason);
+  BOOST_TEST(
+      out.set_aside[0].reason.find("diameter_ratio 1.35, the campaign's 1.4") != std::string::npos,
+      out.set_aside[0].reason);
   BOOST_TEST(out.set_aside[1].reason.find("notes.h5") != std::string::npos,
              out.set_aside[1].reason);
   BOOST_TEST((fs::last_write_time(files[0]) == before));  // the sources are never changed
@@ -143,7 +140,8 @@ BOOST_AUTO_TEST_CASE(nothing_of_the_users_is_touched) {
   std::ofstream(file) << "name = \"c\"\ndim = 2\nsizes = [64]\nphi_init = [0.8]\n"
                       << "log10_rates = [-3.0]\nsamples = 1\nphi_stop = 0.81\nseed = 1\n"
                       << "output = \"" << ext.string() << "\"\n";
-  const auto o = jam::test::run_jam_stderr(file.parent_path() / "err", "campaign run " + file.string());
+  const auto o =
+      jam::test::run_jam_stderr(file.parent_path() / "err", "campaign run " + file.string());
   BOOST_TEST(o.status == 2);
   BOOST_TEST(o.output.find("external campaign") != std::string::npos, o.output);
 }

@@ -207,7 +207,7 @@ class Chain:
                 self.wait_for_a_run(p, p.term_after)
                 # jam is held (SIGSTOP) until the script has passed the SIGTERM on, so the
                 # signal cannot come after jam finished its last run on a fast machine.
-                jam, = children(p.pid)
+                jam = campaign_run_child(p.pid, self.test)
                 os.kill(jam, signal.SIGSTOP)
                 p.send_signal(signal.SIGTERM)
                 deadline = time.time() + 30
@@ -257,6 +257,26 @@ def children(pid):
             if int(fields[1]) == pid:
                 out.append(int(entry))
     return out
+
+
+def campaign_run_child(pid, test):
+    """The one child of pid that runs the campaign (an argument `run`), once it is there: the
+    scripts first ask `jam campaign output`, a child of their own that must not be taken for
+    it (a SIGSTOP there would hold the wrong process)."""
+    deadline = time.time() + 60
+    while True:
+        runs = []
+        for child in children(pid):
+            try:
+                with open(f"/proc/{child}/cmdline", "rb") as f:
+                    if b"run" in f.read().split(b"\0"):
+                        runs.append(child)
+            except OSError:
+                continue
+        if len(runs) == 1:
+            return runs[0]
+        test.assertLess(time.time(), deadline, f"no single campaign run under {pid}: {runs}")
+        time.sleep(0.01)
 
 
 def option(argv, name):
@@ -401,7 +421,7 @@ class SlurmScripts(unittest.TestCase):
         self.assertIsNone(option(work["argv"], "array"))
         p = chain.job(work, {"SLURM_JOB_ID": work["job"], "SLURM_CPUS_PER_TASK": 2})
         chain.wait_for_a_run(p, 0.2)
-        jam, = children(p.pid)  # the fake srun is jam (exec)
+        jam = campaign_run_child(p.pid, self)  # the fake srun is jam (exec)
         # Held (SIGSTOP) so that it cannot finish the campaign while the test looks.
         os.kill(jam, signal.SIGSTOP)
         # A SIGTERM to the batch shell is not passed on: srun would SIGKILL the ranks.

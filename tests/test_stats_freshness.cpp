@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "open_run_fixture.hpp"
 #include "process.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/open_run.hpp"
@@ -31,14 +32,7 @@ BOOST_GLOBAL_FIXTURE(Cleanup);
 /// common curve (with a small sample-dependent scatter).
 std::string write_run(const std::string& stem, double log10_rate, std::int64_t sample,
                       double factor) {
-  jam::OpenRun r;
-  r.dim = 2;
-  r.n = 64;
-  r.diameter_ratio = 1.4;
-  r.compression_rate = std::pow(10.0, log10_rate);
-  r.phi_init = 0.8;
-  r.simulator = "other-code";
-  r.sample = sample;
+  jam::OpenRun r = jam::test::open_run_of(64, std::pow(10.0, log10_rate), 0.8, sample);
   for (double phi = 0.8; phi < 0.86; phi += 0.0005) {
     r.packing_fraction.push_back(phi);
     const double scatter = 1 + 0.02 * std::sin(3.0 * static_cast<double>(sample) + 40 * phi);
