@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """The batch scripts of scripts/slurm/ run as far as a machine without Slurm allows.
 
-`sbatch`, `srun`, `scancel` and `scontrol` are fakes on PATH that record their arguments (and
-the JAM* environment a job would inherit) in calls.jsonl; sbatch hands out job ids, srun runs
-its command. The test then plays Slurm: it runs each recorded job with the variables Slurm would
+`sbatch`, `srun`, `scancel` and `scontrol` are fakes on PATH (slurm_fixture.py, shared with
+test_slurm_resources.py) that record their arguments (and the JAM* environment a job would
+inherit) in calls.jsonl; sbatch hands out job ids, srun runs its command. The test then plays
+Slurm: it runs each recorded job with the variables Slurm would
 set (SLURM_JOB_ID, SLURM_ARRAY_TASK_ID/COUNT/MIN/MAX/STEP, ...) on the tiny CI campaign:
   - a 0-based array of 2 tasks (one of them from a spool copy, as sbatch runs scripts) and a
     1-based array with a step complete the campaign (`jam campaign status` exits 0); the chain
@@ -27,318 +28,19 @@ test_report runs them); every other jam command is the real one.
 Usage (ctest runs it): test_slurm_scripts.py --jam build/jam --source . [--scripts DIR]
 """
 
-import argparse
-import json
 import os
 import re
 import shutil
 import signal
-import stat
 import subprocess
-import sys
-import tempfile
 import time
 import unittest
 
-ARGS = None
-
-FAKE_SBATCH = r'''#!/usr/bin/python3
-import fcntl, json, os, sys
-d = os.environ["FAKE_SLURM_DIR"]
-with open(os.path.join(d, "lock"), "a+") as lock:
-    fcntl.flock(lock, fcntl.LOCK_EX)
-    counter = os.path.join(d, "next_job_id")
-    job = int(open(counter).read()) if os.path.exists(counter) else 1000
-    with open(counter, "w") as f:
-        f.write(str(job + 1))
-    env = {k: v for k, v in os.environ.items() if k.startswith("JAM")}
-    with open(os.path.join(d, "calls.jsonl"), "a") as f:
-        f.write(json.dumps({"tool": "sbatch", "argv": sys.argv[1:], "env": env, "job": job,
-                            "cwd": os.getcwd()}) + "\n")
-print(job if "--parsable" in sys.argv[1:] else f"Submitted batch job {job}")
-'''
-
-# Records, then: srun runs its command (after its options); scontrol shows a job whose Command
-# is FAKE_SCONTROL_COMMAND; scancel does nothing more.
-FAKE_TOOL = r'''#!/usr/bin/python3
-import fcntl, json, os, sys
-tool = os.path.basename(sys.argv[0])
-d = os.environ["FAKE_SLURM_DIR"]
-with open(os.path.join(d, "lock"), "a+") as lock:
-    fcntl.flock(lock, fcntl.LOCK_EX)
-    with open(os.path.join(d, "calls.jsonl"), "a") as f:
-        f.write(json.dumps({"tool": tool, "argv": sys.argv[1:]}) + "\n")
-if tool == "srun":
-    args = sys.argv[1:]
-    while args and args[0].startswith("-"):
-        args = args[1:]
-    os.execvp(args[0], args)
-if tool == "scontrol":
-    print(f"JobId={sys.argv[-1]} JobName=x\n   Command={os.environ['FAKE_SCONTROL_COMMAND']}\n")
-'''
-
-# jam as the jobs see it: records the command; `check` and `report` stop there (check: 3,
-# inconclusive, as on the CI campaign), everything else is the real jam (exec: same pid, so a
-# signal to it reaches jam). FAKE_JAM_STATUS set: `campaign status` only exits with it.
-JAM_WRAPPER = r'''#!/usr/bin/python3
-import fcntl, json, os, sys
-d = os.environ["FAKE_SLURM_DIR"]
-with open(os.path.join(d, "lock"), "a+") as lock:
-    fcntl.flock(lock, fcntl.LOCK_EX)
-    with open(os.path.join(d, "calls.jsonl"), "a") as f:
-        f.write(json.dumps({"tool": "jam", "argv": sys.argv[1:],
-                            "task": os.environ.get("SLURM_ARRAY_TASK_ID")}) + "\n")
-args = sys.argv[1:]
-if args[:1] == ["check"]:
-    sys.exit(3)
-if args[:1] == ["report"]:
-    sys.exit(0)
-if args[:2] == ["campaign", "status"] and os.environ.get("FAKE_JAM_STATUS"):
-    sys.exit(int(os.environ["FAKE_JAM_STATUS"]))
-os.execv(os.environ["REAL_JAM"], [os.environ["REAL_JAM"]] + args)
-'''
+import slurm_fixture as fx
+from slurm_fixture import Chain, campaign_run_child, option, script_of, signal_pending
 
 
-def write_executable(path, text):
-    with open(path, "w") as f:
-        f.write(text)
-    os.chmod(path, os.stat(path).st_mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
-
-
-def array_indices(spec):
-    """The indices of an sbatch --array spec: A-B[:S], lists of those, %limit ignored."""
-    out = []
-    for part in spec.split("%")[0].split(","):
-        m = re.fullmatch(r"(\d+)(?:-(\d+)(?::(\d+))?)?", part)
-        if not m:
-            raise AssertionError(f"--array={spec}: not understood")
-        first, last, step = int(m[1]), int(m[2] or m[1]), int(m[3] or 1)
-        out += list(range(first, last + 1, step))
-    return out
-
-
-class Chain:
-    """One fake cluster: a directory with calls.jsonl and job ids, and the campaign copy."""
-
-    def __init__(self, test, name, campaign_text=None):
-        self.test = test
-        self.dir = os.path.join(test.tmp, name)
-        os.makedirs(self.dir)
-        self.campaign_dir = os.path.join(self.dir, "runs", "ci")
-        if campaign_text is None:
-            with open(os.path.join(ARGS.source, "reference", "campaigns", "ci.toml")) as f:
-                campaign_text = f.read()
-        text = campaign_text
-        # relative output: the jobs run in the submit directory, as under Slurm
-        text = re.sub(r'(?m)^output = .*$', 'output = "runs/ci"', text)
-        self.file = os.path.join(self.dir, "ci.toml")
-        with open(self.file, "w") as f:
-            f.write(text)
-        self.env = {"PATH": f"{test.bin}:/usr/bin:/bin", "HOME": self.dir, "LANG": "C.UTF-8",
-                    "FAKE_SLURM_DIR": self.dir, "REAL_JAM": test.jam,
-                    "JAM": os.path.join(test.bin, "jam")}
-
-    def calls(self, tool=None):
-        path = os.path.join(self.dir, "calls.jsonl")
-        if not os.path.exists(path):
-            return []
-        with open(path) as f:
-            calls = [json.loads(line) for line in f]
-        return [c for c in calls if tool is None or c["tool"] == tool]
-
-    def submit(self, *args, expect=0):
-        r = subprocess.run([os.path.join(ARGS.scripts, "submit.sh"), *args], cwd=self.dir,
-                           env=self.env, capture_output=True, text=True, timeout=60)
-        self.test.assertEqual(r.returncode, expect, r.stdout + r.stderr)
-        return r
-
-    def job(self, call, slurm, env=None, script=None, term_after=None):
-        """Starts a recorded sbatch call as Slurm would; returns the process."""
-        argv = call["argv"]
-        at = next(i for i, a in enumerate(argv) if a.endswith(".sbatch"))
-        full = dict(self.env)
-        full.update(call["env"])
-        full.update({"SLURM_SUBMIT_DIR": call["cwd"], "SLURM_CPUS_PER_TASK": "1",
-                     "SLURM_NTASKS": "1"})
-        full.update({k: str(v) for k, v in slurm.items()})
-        for k, v in (env or {}).items():
-            if v is None:
-                full.pop(k, None)
-            else:
-                full[k] = v
-        log = open(os.path.join(self.dir, f"job-{slurm['SLURM_JOB_ID']}.log"), "w+")
-        p = subprocess.Popen([script or argv[at], *argv[at + 1:]], cwd=call["cwd"], env=full,
-                             stdout=log, stderr=subprocess.STDOUT)
-        self.test.addCleanup(log.close)  # finish() closes it; this, when a test fails first
-        p.log = log
-        p.term_after = term_after
-        return p
-
-    def array_tasks(self, call, per_task=None):
-        """Processes of every task of a recorded array submission (per_task: index -> the
-        keyword arguments of job() for that task)."""
-        spec = next(a.split("=", 1)[1] for a in call["argv"] if a.startswith("--array="))
-        ids = array_indices(spec)
-        procs = []
-        for n, i in enumerate(ids):
-            slurm = {"SLURM_JOB_ID": call["job"] + 100 + n, "SLURM_ARRAY_JOB_ID": call["job"],
-                     "SLURM_ARRAY_TASK_ID": i, "SLURM_ARRAY_TASK_COUNT": len(ids),
-                     "SLURM_ARRAY_TASK_MIN": min(ids), "SLURM_ARRAY_TASK_MAX": max(ids),
-                     "SLURM_ARRAY_TASK_STEP": ids[1] - ids[0] if len(ids) > 1 else 1}
-            procs.append(self.job(call, slurm, **(per_task or {}).get(i, {})))
-        return ids, procs
-
-    def wait_for_a_run(self, p, then):
-        """Returns `then` seconds after the campaign's first run file appeared."""
-        started = time.time()
-        runs = os.path.join(self.campaign_dir, "runs")
-        while not (os.path.isdir(runs) and os.listdir(runs)):
-            self.test.assertIsNone(p.poll(), "the job ended before any run started")
-            self.test.assertLess(time.time() - started, 60, "no run started")
-            time.sleep(0.05)
-        time.sleep(then)
-        self.test.assertIsNone(p.poll(), "the job ended before the signal")
-
-    def finish(self, procs):
-        """Waits for the processes (SIGTERM to those asked for, once a run is under way);
-        returns (exit status, log) of each."""
-        for p in procs:
-            if p.term_after is not None:
-                self.wait_for_a_run(p, p.term_after)
-                # jam is held (SIGSTOP) until the script has passed the SIGTERM on, so the
-                # signal cannot come after jam finished its last run on a fast machine.
-                jam = campaign_run_child(p.pid, self.test)
-                os.kill(jam, signal.SIGSTOP)
-                p.send_signal(signal.SIGTERM)
-                deadline = time.time() + 30
-                while not signal_pending(jam, signal.SIGTERM):
-                    self.test.assertLess(time.time(), deadline, "SIGTERM not passed on")
-                    time.sleep(0.01)
-                os.kill(jam, signal.SIGCONT)
-        out = []
-        for p in procs:
-            rc = p.wait(timeout=300)
-            p.log.seek(0)
-            out.append((rc, p.log.read()))
-            p.log.close()
-        return out
-
-    def run_job(self, call, slurm, **kw):
-        return self.finish([self.job(call, slurm, **kw)])[0]
-
-    def status(self):
-        return subprocess.run([self.test.jam, "campaign", "status", self.campaign_dir],
-                              capture_output=True, text=True, timeout=60).returncode
-
-    def state(self, name, text):
-        os.makedirs(os.path.join(self.campaign_dir, "slurm"), exist_ok=True)
-        with open(os.path.join(self.campaign_dir, "slurm", name), "w") as f:
-            f.write(text)
-
-
-def signal_pending(pid, sig):
-    """Whether signal sig waits for process pid (its shared or its thread's pending set)."""
-    with open(f"/proc/{pid}/status") as f:
-        masks = [int(line.split()[1], 16) for line in f
-                 if line.startswith(("ShdPnd:", "SigPnd:"))]
-    return any(m >> (sig - 1) & 1 for m in masks)
-
-
-def children(pid):
-    """The pids of the processes whose parent is pid."""
-    out = []
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/stat") as f:
-                    fields = f.read().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[1]) == pid:
-                out.append(int(entry))
-    return out
-
-
-def campaign_run_child(pid, test):
-    """The one child of pid that runs the campaign (an argument `run`), once it is there: the
-    scripts first ask `jam campaign output`, a child of their own that must not be taken for
-    it (a SIGSTOP there would hold the wrong process)."""
-    deadline = time.time() + 60
-    while True:
-        runs = []
-        for child in children(pid):
-            try:
-                with open(f"/proc/{child}/cmdline", "rb") as f:
-                    if b"run" in f.read().split(b"\0"):
-                        runs.append(child)
-            except OSError:
-                continue
-        if len(runs) == 1:
-            return runs[0]
-        test.assertLess(time.time(), deadline, f"no single campaign run under {pid}: {runs}")
-        time.sleep(0.01)
-
-
-def option(argv, name):
-    """The value of --name=value in argv (None when absent)."""
-    values = [a.split("=", 1)[1] for a in argv if a.startswith(f"--{name}=")]
-    return values[-1] if values else None
-
-
-def script_of(argv):
-    return os.path.basename(next(a for a in argv if a.endswith(".sbatch")))
-
-
-class SlurmScripts(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="jam-slurm-")
-        cls.bin = os.path.join(cls.tmp, "bin")
-        os.makedirs(cls.bin)
-        write_executable(os.path.join(cls.bin, "sbatch"), FAKE_SBATCH)
-        for tool in ("srun", "scancel", "scontrol"):
-            write_executable(os.path.join(cls.bin, tool), FAKE_TOOL)
-        write_executable(os.path.join(cls.bin, "jam"), JAM_WRAPPER)
-        # a copy: a rebuild of the build tree meanwhile does not pull it away under the jobs
-        cls.jam = shutil.copy2(ARGS.jam, os.path.join(cls.tmp, "jam-under-test"))
-
-    @classmethod
-    def tearDownClass(cls):
-        shutil.rmtree(cls.tmp, ignore_errors=True)
-
-    def submitted(self, chain, before):
-        """The sbatch calls since `before` of them, as (work, finish, chain step)."""
-        new = chain.calls("sbatch")[before:]
-        self.assertEqual([script_of(c["argv"]) for c in new][1:],
-                         ["campaign-finish.sbatch", "campaign-chain.sbatch"],
-                         "a round is the work job, the finishing job and the chain step")
-        work, finish, step = new
-        self.assertEqual(option(finish["argv"], "dependency"), f"afterok:{work['job']}")
-        self.assertEqual(option(step["argv"], "dependency"), f"afterany:{work['job']}")
-        self.assertEqual(step["env"]["JAM_SLURM_WORK_JOB"], str(work["job"]))
-        self.assertEqual(step["env"]["JAM_SLURM_FINISH_JOB"], str(finish["job"]))
-        return work, finish, step
-
-    def assert_finishing_job(self, chain, finish):
-        jam_before = len(chain.calls("jam"))
-        rc, log = chain.run_job(finish, {"SLURM_JOB_ID": finish["job"]})
-        self.assertEqual(rc, 0, log)
-        commands = [c["argv"] for c in chain.calls("jam")[jam_before:]]
-        self.assertEqual(commands, [["campaign", "output", chain.file],
-                                    ["campaign", "status", chain.campaign_dir],
-                                    ["stats", chain.campaign_dir],
-                                    ["check", "all", chain.campaign_dir],
-                                    ["report", chain.campaign_dir]], log)
-        self.assertTrue(os.path.exists(os.path.join(chain.campaign_dir, "stats.h5")), log)
-
-    def assert_nothing_more(self, chain, step):
-        sbatch_before, cancel_before = len(chain.calls("sbatch")), len(chain.calls("scancel"))
-        rc, log = chain.run_job(step, {"SLURM_JOB_ID": step["job"]})
-        self.assertEqual(rc, 0, log)
-        self.assertIn("campaign complete", log)
-        self.assertEqual(len(chain.calls("sbatch")), sbatch_before, "submitted more: " + log)
-        self.assertEqual(len(chain.calls("scancel")), cancel_before, log)
-
+class SlurmScripts(fx.SlurmTestCase):
     def test_zero_based_array_completes(self):
         chain = Chain(self, "zero-based")
         chain.submit("array", "ci.toml", "--array=0-1")
@@ -349,7 +51,7 @@ class SlurmScripts(unittest.TestCase):
         # task 1 runs as sbatch runs scripts: a copy in a spool directory, found back by scontrol
         spool = os.path.join(chain.dir, "spool")
         os.makedirs(spool)
-        copy = shutil.copy(os.path.join(ARGS.scripts, "campaign-array.sbatch"), spool)
+        copy = shutil.copy(os.path.join(fx.ARGS.scripts, "campaign-array.sbatch"), spool)
         real = next(a for a in work["argv"] if a.endswith(".sbatch"))
         ids, procs = chain.array_tasks(work, {1: {"script": copy, "env": {
             "JAM_SLURM_DIR": None, "FAKE_SCONTROL_COMMAND": real}}})
@@ -412,7 +114,7 @@ class SlurmScripts(unittest.TestCase):
 
     def test_mpi_job_is_resubmitted(self):
         # the CI campaign with one sample per ensemble (8 runs): the array tests run all 16
-        with open(os.path.join(ARGS.source, "reference", "campaigns", "ci.toml")) as f:
+        with open(os.path.join(fx.ARGS.source, "reference", "campaigns", "ci.toml")) as f:
             text = re.sub(r"(?m)^samples = .*$", "samples = 1", f.read())
         chain = Chain(self, "mpi", text)
         chain.submit("mpi", "ci.toml")
@@ -548,7 +250,7 @@ class SlurmScripts(unittest.TestCase):
 
 class Headers(unittest.TestCase):
     def read(self, name):
-        with open(os.path.join(ARGS.scripts, name)) as f:
+        with open(os.path.join(fx.ARGS.scripts, name)) as f:
             return f.read()
 
     def test_signal_lines(self):
@@ -558,9 +260,10 @@ class Headers(unittest.TestCase):
         self.assertRegex(self.read("campaign-mpi.sbatch"), r"(?m)^#SBATCH --signal=TERM@\d+$")
 
     def test_strict_mode_and_no_eval(self):
-        for name in sorted(os.listdir(ARGS.scripts)):
+        for name in sorted(os.listdir(fx.ARGS.scripts)):
             text = self.read(name)
-            if name.endswith((".sh", ".sbatch")) and name != "common.sh":
+            # common.sh and resources.sh are sourced by scripts that set it, never run
+            if name.endswith((".sh", ".sbatch")) and name not in ("common.sh", "resources.sh"):
                 self.assertIn("\nset -euo pipefail\n", text, name)
             self.assertNotRegex(text, r"(?m)^[^#]*\beval\b", name)
 
@@ -568,25 +271,12 @@ class Headers(unittest.TestCase):
 class ShellCheck(unittest.TestCase):
     @unittest.skipUnless(shutil.which("shellcheck"), "shellcheck is not installed")
     def test_scripts_are_shellcheck_clean(self):
-        names = sorted(n for n in os.listdir(ARGS.scripts) if n.endswith((".sh", ".sbatch")))
+        names = sorted(n for n in os.listdir(fx.ARGS.scripts) if n.endswith((".sh", ".sbatch")))
         self.assertIn("submit.sh", names)
-        r = subprocess.run(["shellcheck", "-x", "-s", "bash", *names], cwd=ARGS.scripts,
+        r = subprocess.run(["shellcheck", "-x", "-s", "bash", *names], cwd=fx.ARGS.scripts,
                            capture_output=True, text=True, timeout=120)
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
 
 
-def main():
-    global ARGS
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--jam", required=True, help="the jam executable")
-    parser.add_argument("--source", required=True, help="the source tree")
-    parser.add_argument("--scripts", help="the scripts (default: SOURCE/scripts/slurm)")
-    ARGS, rest = parser.parse_known_args()
-    ARGS.jam = os.path.abspath(ARGS.jam)
-    ARGS.source = os.path.abspath(ARGS.source)
-    ARGS.scripts = os.path.abspath(ARGS.scripts or os.path.join(ARGS.source, "scripts", "slurm"))
-    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)
-
-
 if __name__ == "__main__":
-    main()
+    fx.main(__doc__)

@@ -165,7 +165,8 @@ jam_slurm_job_id() {
 # Submits one round of the chain: the work job (MODE array: the array tasks of SHARES, "all"
 # or share numbers from 1; MODE mpi: one MPI job), after DEPENDENCY (a job id, or "" for none);
 # the finishing job (afterok on the work job: it runs only if every task of it succeeded); the
-# chain step (afterany on the work job: it decides what comes next). Needs jam_slurm_setup.
+# chain step (afterany on the work job: it decides what comes next). Needs jam_slurm_setup and
+# resources.sh (the finishing job's resources from JAM_SLURM_FINISH_*).
 # Sets jam_work_job, jam_finish_job and jam_chain_job.
 jam_slurm_submit_round() {
   local mode=$1 round=$2 shares=$3 dependency=$4
@@ -191,13 +192,16 @@ jam_slurm_submit_round() {
   export JAM_SLURM_STATE="$jam_state" JAM_SLURM_MODE="$mode" JAM_SLURM_ROUND="$round"
   export JAM_SLURM_SHARES="$shares" JAM_SLURM_MAX_RESUBMIT="${JAM_SLURM_MAX_RESUBMIT:-10}"
   jam_work_job=$(jam_slurm_job_id "$(sbatch "${work_job[@]}")")
+  jam_slurm_finish_resources
+  # shellcheck disable=SC2154 # jam_slurm_finish_options: set by jam_slurm_finish_resources
   jam_finish_job=$(jam_slurm_job_id "$(sbatch --parsable --export=ALL \
-    "--dependency=afterok:$jam_work_job" "$jam_slurm_dir/campaign-finish.sbatch" "$jam_file")")
+    "--dependency=afterok:$jam_work_job" "${jam_slurm_finish_options[@]}" \
+    "$jam_slurm_dir/campaign-finish.sbatch" "$jam_file")")
   jam_chain_job=$(jam_slurm_job_id "$(JAM_SLURM_WORK_JOB="$jam_work_job" \
     JAM_SLURM_FINISH_JOB="$jam_finish_job" sbatch --parsable --export=ALL \
     "--dependency=afterany:$jam_work_job" "$jam_slurm_dir/campaign-chain.sbatch" \
     "$jam_file" "${jam_run_args[@]}")")
   local what="$mode job $jam_work_job${indices:+ (array $indices)}${dependency:+ after $dependency}"
-  jam_slurm_log "round $round: $what, finishing job $jam_finish_job (afterok)," \
-    "chain step $jam_chain_job (afterany)"
+  jam_slurm_log "round $round: $what, finishing job $jam_finish_job (afterok;" \
+    "${jam_slurm_finish_options[*]}), chain step $jam_chain_job (afterany)"
 }

@@ -5,6 +5,15 @@
 #   scripts/slurm/submit.sh array CAMPAIGN_FILE [SBATCH_OPTION...] [-- JAM_RUN_OPTION...]
 #   scripts/slurm/submit.sh mpi   CAMPAIGN_FILE [SBATCH_OPTION...] [-- JAM_RUN_OPTION...]
 #
+# Among the SBATCH_OPTIONs, the finishing job's own (never given to the work job):
+#   --finish-cpus N   its --cpus-per-task (default: the work job's -c/--cpus-per-task, else 1)
+#   --finish-mem M    its --mem, e.g. 8G (default: the work job's --mem, else the partition's)
+#   --finish-time T   its --time (default 04:00:00, or the partition's limit when shorter)
+# Where `sinfo` answers, every CPU, memory and time request of the work and finishing jobs is
+# checked against the nodes of the partition (--partition/-p, else SBATCH_PARTITION, else the
+# default): one that no node can meet is refused in one line naming it, before anything is
+# submitted (Slurm would accept it and leave it pending for ever, reason PartitionConfig).
+#
 # e.g.  scripts/slurm/submit.sh array reference/campaigns/paper-2d.toml --array=0-31 --time=12:00:00
 #       scripts/slurm/submit.sh mpi reference/campaigns/paper-2d.toml --ntasks=128 -- --log-every 600
 #
@@ -34,6 +43,8 @@ set -euo pipefail
 jam_slurm_dir=$(cd -- "$(dirname -- "${BASH_SOURCE[0]}")" && pwd)
 # shellcheck source=common.sh
 source "$jam_slurm_dir/common.sh"
+# shellcheck source=resources.sh
+source "$jam_slurm_dir/resources.sh"
 
 usage="usage: $0 array|mpi CAMPAIGN_FILE [SBATCH_OPTION...] [-- JAM_RUN_OPTION...]"
 [[ $# -ge 2 ]] || jam_slurm_die "$usage"
@@ -42,8 +53,21 @@ shift 2
 [[ "$mode" == array || "$mode" == mpi ]] || jam_slurm_die "$usage"
 
 sbatch_options=()
+finish_cpus="" finish_mem="" finish_time=""
 while [[ $# -gt 0 && "$1" != -- ]]; do
-  sbatch_options+=("$1")
+  case "$1" in
+    --finish-cpus | --finish-mem | --finish-time)
+      [[ $# -ge 2 ]] || jam_slurm_die "$1 needs a value"
+      printf -v "finish_${1#--finish-}" '%s' "$2"
+      shift
+      ;;
+    --finish-cpus=* | --finish-mem=* | --finish-time=*)
+      name=${1%%=*}
+      printf -v "finish_${name#--finish-}" '%s' "${1#*=}"
+      ;;
+    --finish-*) jam_slurm_die "$1: unknown (--finish-cpus, --finish-mem, --finish-time)" ;;
+    *) sbatch_options+=("$1") ;;
+  esac
   shift
 done
 [[ $# -eq 0 ]] || shift # the --
@@ -86,6 +110,47 @@ if [[ "$spec" == *%* ]]; then
   jam_slurm_whole "the array's %limit" "$JAM_SLURM_THROTTLE"
 fi
 
+# The finishing job's resources, and both jobs' requests against what their partition offers
+# (the work job's: its --partition, else SBATCH_PARTITION, else the default; the finishing
+# job's: SBATCH_PARTITION, else the default).
+work_cpus=$(jam_slurm_option_value cpus-per-task c "${kept[@]}")
+work_mem=$(jam_slurm_option_value mem "" "${kept[@]}")
+work_time=$(jam_slurm_option_value time t "${kept[@]}")
+[[ -z "$work_cpus" ]] || [[ "$work_cpus" =~ ^[1-9][0-9]{0,5}$ ]] ||
+  jam_slurm_die "--cpus-per-task '$work_cpus' must be a whole number >= 1"
+cpus_label=--finish-cpus mem_label=--finish-mem
+[[ -n "$finish_cpus" ]] || cpus_label="--finish-cpus (by default the work job's -c)"
+[[ -n "$finish_mem" ]] || mem_label="--finish-mem (by default the work job's --mem)"
+[[ -n "$finish_cpus" ]] || finish_cpus=${work_cpus:-1}
+[[ "$finish_cpus" =~ ^[1-9][0-9]{0,5}$ ]] ||
+  jam_slurm_die "--finish-cpus '$finish_cpus' must be a whole number >= 1"
+[[ -n "$finish_mem" ]] || finish_mem=$work_mem
+[[ -z "$finish_mem" ]] || jam_slurm_megabytes --finish-mem "$finish_mem" >/dev/null
+[[ -z "$finish_time" ]] || jam_slurm_minutes --finish-time "$finish_time" >/dev/null
+partition=$(jam_slurm_option_value partition p "${kept[@]}")
+checked="not checked against the partition (no answer from sinfo)"
+if jam_slurm_partition_nodes "${partition:-${SBATCH_PARTITION:-}}"; then
+  jam_slurm_check_fits --cpus-per-task "${work_cpus:-1}" --mem "$work_mem" --time "$work_time"
+  checked="checked against partition $jam_slurm_partition (sinfo)"
+fi
+if jam_slurm_partition_nodes "${SBATCH_PARTITION:-}"; then
+  if [[ -z "$finish_time" ]]; then
+    # the default, or the partition's limit when that is shorter
+    finish_time=$jam_slurm_finish_default_time
+    longest=0
+    for node in "${jam_slurm_nodes[@]}"; do
+      read -r _ _ t <<<"$node"
+      if ((t > longest)); then longest=$t; fi
+    done
+    if ((longest < $(jam_slurm_minutes "" "$finish_time"))); then finish_time=$longest; fi
+  fi
+  jam_slurm_check_fits "$cpus_label" "$finish_cpus" "$mem_label" "$finish_mem" \
+    --finish-time "$finish_time"
+  checked="checked against partition $jam_slurm_partition (sinfo)"
+fi
+export JAM_SLURM_FINISH_CPUS="$finish_cpus" JAM_SLURM_FINISH_MEM="$finish_mem"
+export JAM_SLURM_FINISH_TIME="${finish_time:-$jam_slurm_finish_default_time}"
+
 # A new chain: the records of an earlier one would mislead its first chain step.
 mkdir -p -- "$jam_state"
 rm -f -- "$jam_state"/share-* "$jam_state/array" "$jam_state/mpi"
@@ -99,7 +164,8 @@ jam_slurm_submit_round "$mode" 0 all "" "${sbatch_options[@]}"
 cat <<EOF
 Submitted the chain of $jam_file:
   work job       $jam_work_job ($mode)
-  finishing job  $jam_finish_job (afterok: jam stats, check, report)
+  finishing job  $jam_finish_job (afterok: jam stats, check, report; ${jam_slurm_finish_options[*]})
+  resources      $checked
   chain step     $jam_chain_job (afterany: resubmits unfinished tasks, at most ${JAM_SLURM_MAX_RESUBMIT} times)
 Follow it with: squeue --me; cat $(printf '%q' "$jam_state/chain.log"); $(printf '%q ' "$jam_bin" campaign status "$jam_dir")
 EOF
