@@ -15,7 +15,7 @@ checks every field before writing and refuses an existing file; then `jam valida
 `jam campaign import DIR OUT` take it.
 
 Usage: /usr/bin/python3 python/examples/write_open_run.py --out run.h5 [--n 32] [--seed 1]
-       (with the source tree's python/ on PYTHONPATH, or jamio installed)
+       (jamio from this source tree: the script puts python/ first on its path)
 """
 import argparse
 import math
