@@ -113,8 +113,8 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
     if (!e.in_all) not_in_all += (not_in_all.empty() ? "" : ", ") + std::string(e.name);
   CLI::App* c = app.add_subcommand(
       "check", fmt::format("Statistical verdicts from DIR/stats.h5: {}. Each verdict is pass (the "
-                           "data exclude effects beyond the margin), fail (a difference detected "
-                           "and not within the margin) or inconclusive",
+                           "data exclude effects beyond the margin), fail (the data exclude "
+                           "effects at or below the margin: it surely exceeds it) or inconclusive",
                            listed));
   c->footer(
       "Exit status: 0 every verdict passes; 1 a verdict fails (expected failures named in the "

@@ -257,7 +257,8 @@ def _fit(fit, where="/fit"):
         out["families"] = families
     if fit.scan is not None:
         out["scan"] = _datasets(fit.scan, SCAN, where + "/scan",
-                                ("half_window", "chosen", "quality_ok"))
+                                ("half_window", "chosen", "quality_ok",
+                                 "papers_protocol"))
         out["scan_failures"] = require(fit.scan.attrs, where + "/scan",
                                        strings=("failures",)).get("failures", "")
     return out

@@ -64,6 +64,24 @@ def _scan_panel(ax, scan, name, text, geometry, plotted):
         if pick.any():
             ax.plot(x[pick], scan[name][pick], marker="*", ms=16, color="black", ls="none",
                     label="representative")
+        papers = np.isfinite(scan[name]) & (scan.get("papers_protocol", np.zeros(len(x))) == 1)
+        if (papers & (index == k)).any():
+            ax.plot(x[papers & (index == k)], scan[name][papers & (index == k)], marker="D",
+                    ms=9, mfc="none", mec="tab:red", ls="none", label="paper's protocol")
+
+
+def _total_band(ax, rep, name, plotted, text):
+    """The representative with its total error, sqrt(jackknife^2 + systematic^2): the drift of
+    the scan is inside it when the systematic covers it."""
+    value, error = rep.get(name), rep.get(name + "_error")
+    systematic = rep.get(name + "_systematic")
+    if value is None or error is None or not np.isfinite(value):
+        return
+    total = float(np.hypot(error, systematic if systematic is not None and
+                           np.isfinite(systematic) else 0.0))
+    ax.axhspan(value - total, value + total, color="tab:blue", alpha=0.12,
+               label="representative ± total error")
+    plotted.add(text, "representative ± total error", [np.nan], [value], [total])
 
 
 def _paper_band(ax, paper, name):
@@ -98,6 +116,7 @@ def scan_figure(c, out_dir):
     for ax, (name, label, text) in zip(axes, PARAMETERS):
         plotted.panel(text, "log10 rate_max", text)
         _scan_panel(ax, scan, name, text, (index, widths, x, log_rate), plotted)
+        _total_band(ax, (c.fit or {}).get("representative") or {}, name, plotted, text)
         _paper_band(ax, paper, name)
         ax.set_xticks(ticks, tick_labels)
         ax.set_xlabel(xlabel)
@@ -113,8 +132,11 @@ def _scan_caption(c, rates):
     caption = ("Fit parameters of Eq. 1 with jackknife errors for three windows in phi, each "
                "centred on its own fitted phi_J, against the largest rate included (the "
                f"paper's Fig. 2); held fixed: {rep.get('fixed', 'none')}. Star: the "
-               f"representative fit ({rep.get('chosen_because', 'none')}). Grey: the paper's "
-               "values, for comparison only (nothing is fitted with them).")
+               f"representative fit ({rep.get('chosen_because', 'none')}); blue band: it with its "
+               "total error sqrt(jackknife^2 + systematic^2), the systematic being the largest "
+               "distance of any fit of quality ok from it. Red diamond: the paper's protocol "
+               "(rate_max 10^-6.5, narrowest window), labelled, never chosen for it. Grey: the "
+               "paper's values, for comparison only (nothing is fitted with them).")
     if len(rates) < 2 and len(c.fit["scan"]["rate_max"]):
         caption += " The scan has a single rate_max, so the windows stand side by side."
     scan = c.fit["scan"]

@@ -5,7 +5,12 @@ the per-size fits (fit/families) is first refitted from its own tables (`jam sta
 at the stored fit's order: the tables, jamming points and representative fit stay as they
 were) and copied back with them.
 
-  scripts/rejudge.py reduced-2d [--jam build/jam]
+  scripts/rejudge.py reduced-2d [--jam build/jam] [--refit]
+
+--refit refits every stored fit with the current rules from the stored tables (`jam stats
+--refit` at the stored order; the fits that hold the paper's values too, where stored:
+fit-q-fixed.json, fit-held.json) before judging, and stores stats.h5 and the fit-*.json files
+with checks.json. The runs and the averaged tables stay as they were.
 
 The stored LAMMPS reference (reference/lammps) serves the lammps check (--no-lmp), so the
 result does not depend on whether lmp is installed. Works in a temporary copy; the stored
@@ -34,10 +39,52 @@ def families_missing(stats):
         return int(f["fit/representative"].attrs["order"])
 
 
+def stored_order(stats):
+    """The polynomial order of the stored representative fit (the fit is redone at it)."""
+    import h5py
+    with h5py.File(stats, "r") as f:
+        if "fit/representative" not in f:
+            fail(f"rejudge: {stats}: no stored fit to redo")
+        return int(f["fit/representative"].attrs["order"])
+
+
+# The fits stored beside the result that hold the paper's values: file -> jam stats options.
+HELD_FITS = {"fit-q-fixed.json": ("--fix-paper-q",),
+             "fit-held.json": ("--fix-paper-exponents",)}
+
+
+def to_json(source_dir, out_dir, name, order, options):
+    """fit_to_json.py on SOURCE_DIR/stats.h5 into OUT_DIR/NAME, saying how it was made."""
+    command = " ".join(("jam stats", "--order", str(order)) + tuple(options))
+    subprocess.run([sys.executable, os.path.join(SOURCE, "scripts", "fit_to_json.py"),
+                    os.path.join(source_dir, "stats.h5"), os.path.join(out_dir, name), command],
+                   check=True, stdout=subprocess.DEVNULL)
+    return name
+
+
+def refit_stored_fits(jam, stored, work, tmp, order):
+    """Each stored held fit redone from a copy of the stored tables; returns the file names
+    written into WORK."""
+    names = ()
+    for name, options in HELD_FITS.items():
+        if not os.path.isfile(os.path.join(stored, name)):
+            continue
+        held = os.path.join(tmp, "held-" + name)
+        os.mkdir(held)
+        for f in ("stats.h5", "campaign.toml"):
+            shutil.copy2(os.path.join(work, f), held)
+        subprocess.run([jam, "stats", held, "--refit", "--order", str(order), *options],
+                       check=True, stdout=subprocess.DEVNULL)
+        names += (to_json(held, work, name, order, options),)
+    return names
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("name", help="a stored result under reference/results/")
     ap.add_argument("--jam", default=os.path.join(SOURCE, "build", "jam"))
+    ap.add_argument("--refit", action="store_true",
+                    help="refit the stored fits with the current rules before judging")
     args = ap.parse_args()
     stored = os.path.join(SOURCE, "reference", "results", args.name)
     if not os.path.isfile(os.path.join(stored, "stats.h5")):
@@ -59,9 +106,15 @@ def main():
         for name in ("stats.h5", "campaign.toml"):
             shutil.copy2(os.path.join(stored, name), work)
         refit = families_missing(os.path.join(work, "stats.h5"))
+        fits = ()
+        if args.refit:
+            refit = stored_order(os.path.join(work, "stats.h5"))
+            fits = refit_stored_fits(args.jam, stored, work, tmp, refit)
         if refit:
             subprocess.run([args.jam, "stats", work, "--refit", "--order", str(refit)],
                            check=True, stdout=subprocess.DEVNULL)
+            if args.refit:
+                fits += (to_json(work, work, "fit-free.json", refit, ()),)
         done = subprocess.run([args.jam, "check", "all", work, "--no-lmp", "--reference-dir",
                                os.path.join(SOURCE, "reference")])
         if done.returncode not in (0, 1, 3):
@@ -74,8 +127,14 @@ def main():
                     "and the representative fits are those of the stored result (per-size fits "
                     "added by jam stats --refit where missing)",
         }
+        if args.refit:
+            provenance["checks_rejudged"]["note"] = (
+                "every stored fit refitted with the current rules from the stored tables "
+                f"(jam stats --refit --order {refit}: stats.h5, {', '.join(fits)}), then "
+                "checks.json judged anew; the runs and the averages are those of the stored "
+                "result")
         with Staged() as staged:
-            for name in ("checks.json",) + (("stats.h5",) if refit else ()):
+            for name in ("checks.json",) + (("stats.h5",) if refit else ()) + fits:
                 staged.copy(os.path.join(work, name), os.path.join(stored, name))
             staged.text(path, json.dumps(provenance, indent=2) + "\n")
             staged.commit()

@@ -64,13 +64,23 @@ struct FitScan {
   std::optional<ScalingFitResult> chosen_fit;
   const ScalingFitResult* representative() const { return chosen_fit ? &*chosen_fit : nullptr; }
   // The error of the choices the scan makes (window, rate_max), beside the representative's
-  // jackknife error: half the spread of phi_J, beta and y over the rows of quality ok (NaN
-  // with fewer than two). It covers those choices only, not the order of ln f or pooling.
+  // jackknife error: the largest distance of phi_J, beta and y of any row of quality ok from
+  // the representative's (NaN with fewer than two such rows). It covers those choices and the
+  // drift they show, not the order of ln f or pooling.
   struct Spread {
     double phi_j = NAN, beta = NAN, y = NAN;
     std::size_t fits = 0;  // the rows of quality ok it spans
   } systematic;
+  // Whether every other fit of quality ok of the representative's window agrees with it
+  // within 2 sigma (the reason says which fit moves most when not).
+  bool plateau = false;
+  // The paper's protocol (its Fig. 3 and supplement): the narrowest window at rate_max
+  // 10^-6.5, labelled, never chosen for it; absent when the campaign has no such rate_max.
+  std::optional<std::size_t> papers_protocol;
 };
+
+/// The paper's representative rate_max (its Figs. 3-4: "rate_max = 10^-6.5").
+constexpr double kPapersLog10RateMax = -6.5;
 
 /// Rates of the fitted ensembles that the phi_init check clears (no memory of the start within
 /// its margin), read from DIR/checks.json or checks-phi_init.json; empty optional when no

@@ -24,6 +24,36 @@ bool agree(const ScalingFitResult& a, const ScalingFitResult& b) {
          close(a.inv_znu, a.inv_znu_err, b.inv_znu, b.inv_znu_err);
 }
 
+/// Whether the representative (rows[i]) stands on a plateau: every other fit of quality ok of
+/// the same window agrees with it within kAgreement combined sigma. Without one, the words name
+/// the largest move of beta, which the systematic error (scan_fits) covers.
+std::string plateau_words(FitScan& scan, const std::vector<std::size_t>& rows, std::size_t i) {
+  const ScalingFitResult& rep = *scan.rows[rows[i]].result;
+  std::size_t compared = 0, far = rows.size();
+  double worst = 0.0;
+  bool flat = true;
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const auto& other = scan.rows[rows[j]];
+    if (j == i || !other.result || other.result->quality != "ok") continue;
+    ++compared;
+    flat = flat && agree(rep, *other.result);
+    if (std::abs(other.result->beta - rep.beta) >= worst)
+      worst = std::abs(other.result->beta - rep.beta), far = j;
+  }
+  scan.plateau = compared > 0 && flat;
+  if (compared == 0) return "no other rate_max's fit of quality ok to compare: plateau unknown";
+  if (flat)
+    return fmt::format(
+        "a plateau: phi_J, q and 1/(z nu) agree within {:g} sigma with the {} other fits of "
+        "quality ok",
+        kAgreement, compared);
+  return fmt::format(
+      "no plateau: the {} other fits of quality ok do not all agree within {:g} sigma (beta "
+      "{:.3g} at rate_max {:.3g} against {:.3g}); the systematic error covers the drift",
+      compared, kAgreement, scan.rows[rows[far]].result->beta, scan.rows[rows[far]].rate_max,
+      rep.beta);
+}
+
 bool cleared(const RateClearance& c, double rate) {
   if (!c.cleared) return true;
   return std::any_of(c.cleared->begin(), c.cleared->end(),
@@ -125,48 +155,51 @@ FitScan scan_and_choose(std::vector<FitEnsemble> data, const StatsOptions& o,
         all_cleared = all_cleared && cleared(clearance, e.rate);
     if (all_cleared) rows.push_back(k);
   }
+  for (std::size_t k = 0; k < scan.rows.size(); ++k)
+    if (scan.rows[k].half_window == narrowest &&
+        std::abs(std::log10(scan.rows[k].rate_max) - kPapersLog10RateMax) < 1e-6)
+      scan.papers_protocol = k;
   if (rows.empty()) {
     scan.failure = "no rate_max whose rates the phi_init check all clears; " + clearance.note;
     return scan;
   }
-  for (std::size_t i = 0; i < rows.size(); ++i) {
+  // The representative: the slowest rate_max whose fit is of quality ok (its own test: enough
+  // points of every rate in the window, chi^2/dof, conditioning). The scaling form holds only
+  // as rate -> 0, so the slowest adequate fit is the one least touched by corrections to
+  // scaling; a rule that takes the fastest fit the slower ones agree with is pulled to the fast
+  // rates, because slower fits carry 2-4x larger errors and agree with anything.
+  for (std::size_t i = rows.size(); i-- > 0;) {
     const auto& candidate = scan.rows[rows[i]];
     if (!candidate.result || candidate.result->quality != "ok") continue;
-    std::size_t compared = 0;
-    bool stable = true;
-    for (std::size_t j = i + 1; j < rows.size(); ++j) {
-      const auto& slower = scan.rows[rows[j]];
-      if (!slower.result) continue;
-      ++compared;
-      stable = stable && agree(*candidate.result, *slower.result);
-    }
-    // A plateau needs a slower fit that confirms it: the slowest row alone agrees with
-    // nothing, and taking it as "stable" would call any scan stable.
-    if (!stable || compared == 0) continue;
     scan.chosen = rows[i];
     scan.chosen_fit = candidate.result;
+    std::string slower;
+    for (std::size_t j = i + 1; j < rows.size(); ++j)
+      slower += fmt::format("{}rate_max {:.3g}: {}", slower.empty() ? "" : "; ",
+                            scan.rows[rows[j]].rate_max,
+                            scan.rows[rows[j]].result ? "quality poor ("
+                                + scan.rows[rows[j]].result->quality_reason + ")"
+                                                      : scan.rows[rows[j]].failure);
     scan.reason = fmt::format(
-        "narrowest window (+-{:g}); rate_max {:.3g}: the largest whose phi_J, q and 1/(z nu) "
-        "agree within {:g} sigma with every slower rate_max's fit ({} compared); {}",
-        narrowest, candidate.rate_max, kAgreement, compared, clearance.note);
+        "narrowest window (+-{:g}); rate_max {:.3g}: the slowest whose fit is of quality ok{}; "
+        "{}; {}",
+        narrowest, candidate.rate_max, slower.empty() ? "" : " (slower: " + slower + ")",
+        plateau_words(scan, rows, i), clearance.note);
     return scan;
   }
-  // No plateau: the slowest rate_max with a result, said so, and flagged poor: the paper takes
-  // its parameters from where the scan is flat (Fig. 2), and a fit no slower rate_max confirms
-  // is no such estimate, whatever its own chi^2 (its errors do not cover how the scan moves).
+  // No fit of quality ok: the slowest rate_max with a result, said so, and flagged poor.
   for (std::size_t i = rows.size(); i-- > 0;) {
     if (!scan.rows[rows[i]].result) continue;
     scan.chosen = rows[i];
     scan.chosen_fit = scan.rows[rows[i]].result;
     scan.reason = fmt::format(
-        "narrowest window (+-{:g}); no plateau (no fit of quality ok agrees within {:g} sigma "
-        "with every slower rate_max's fit, at least one): the slowest rate_max, {:.3g}, taken "
-        "and flagged poor; {}",
-        narrowest, kAgreement, scan.rows[rows[i]].rate_max, clearance.note);
+        "narrowest window (+-{:g}); no fit of quality ok at any rate_max: the slowest with a "
+        "result, {:.3g}, taken and flagged poor; {}",
+        narrowest, scan.rows[rows[i]].rate_max, clearance.note);
     ScalingFitResult& r = *scan.chosen_fit;
     r.quality = "poor";
     r.quality_reason += std::string(r.quality_reason.empty() ? "" : "; ") +
-                        "no plateau: no slower rate_max confirms this fit (the scan)";
+                        "no fit of the scan's narrowest window is of quality ok";
     return scan;
   }
   scan.failure = scan.rows[rows.back()].failure;
@@ -178,17 +211,23 @@ FitScan scan_and_choose(std::vector<FitEnsemble> data, const StatsOptions& o,
 FitScan scan_fits(std::vector<FitEnsemble> data, const StatsOptions& o,
                   const RateClearance& clearance, const std::string& variable) {
   FitScan scan = scan_and_choose(std::move(data), o, clearance, variable);
-  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  const ScalingFitResult* rep = scan.representative();
+  if (!rep) return scan;
+  // The systematic error of the scan's choices (window, rate_max): the largest distance of any
+  // fit of quality ok from the representative. It is measured on planted corrections to
+  // scaling (tests/test_fit_scan.cpp): +-2 sqrt(jackknife^2 + systematic^2) covers the truth.
+  const double v0[3] = {rep->phi_j, rep->beta, rep->y};
+  double far[3] = {0, 0, 0};
   for (const ScanRow& row : scan.rows) {
     if (!row.result || row.result->quality != "ok") continue;
     const double v[3] = {row.result->phi_j, row.result->beta, row.result->y};
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], v[k]), hi[k] = std::max(hi[k], v[k]);
+    for (int k = 0; k < 3; ++k) far[k] = std::max(far[k], std::abs(v[k] - v0[k]));
     ++scan.systematic.fits;
   }
   if (scan.systematic.fits >= 2) {
-    scan.systematic.phi_j = (hi[0] - lo[0]) / 2;
-    scan.systematic.beta = (hi[1] - lo[1]) / 2;
-    scan.systematic.y = (hi[2] - lo[2]) / 2;
+    scan.systematic.phi_j = far[0];
+    scan.systematic.beta = far[1];
+    scan.systematic.y = far[2];
   }
   return scan;
 }

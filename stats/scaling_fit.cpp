@@ -458,6 +458,12 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
     poor.push_back(fmt::format("a fitted rate has only {} points in the window (fewer than {})",
                                r.min_points_per_rate, kMinPointsPerRate));
   }
+  for (const auto& [name, value, error] :
+       {std::tuple{"beta", r.beta, r.beta_err}, std::tuple{"y", r.y, r.y_err}}) {
+    if (error > kMaxRelativeError * std::abs(value))
+      poor.push_back(fmt::format("uninformative: {} {:.3g} +- {:.3g}, an error above {:g}% of it",
+                                 name, value, error, 100 * kMaxRelativeError));
+  }
   if (!poor.empty()) {
     r.quality = "poor";
     for (std::size_t k = 0; k < poor.size(); ++k) r.quality_reason += (k ? "; " : "") + poor[k];

@@ -53,6 +53,11 @@ constexpr std::size_t kMinPointsPerRate = 5;      // points of every fitted rate
 // describe the data. The stored paper-2d scan's good rows lie at 0.35-1.3 and its +-0.03 rows,
 // a spurious fixed point of the window iteration, at 116-203 (docs/reproduction.md).
 constexpr double kMaxChi2PerDof = 3.0;
+// Informative: a fit whose jackknife error of beta or y exceeds half the value cannot tell an
+// exponent from its half or double. Such fits agree with anything within their errors, so they
+// would make any scan look flat (reduced-2d's slowest row: beta 1.2 +- 3.5 while the scan
+// drifts from 1.8 to 3.5); they are kept in the scan, flagged poor.
+constexpr double kMaxRelativeError = 0.5;
 
 struct ScalingFitResult {
   // Jackknife bias-corrected estimates (plain fit values if jackknife is off) and errors.

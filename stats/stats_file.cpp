@@ -181,7 +181,8 @@ void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
                          "chi2_cov_per_dof",
                          "iterations",
                          "quality_ok",
-                         "chosen"};
+                         "chosen",
+                         "papers_protocol"};
   constexpr std::size_t columns = std::size(names);
   std::vector<double> cols[columns];
   std::string failures;
@@ -207,7 +208,8 @@ void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
                                     r ? r->chi2_cov_per_dof : nan,
                                     r ? static_cast<double>(r->iterations) : nan,
                                     r ? (r->quality == "ok" ? 1.0 : 0.0) : nan,
-                                    scan.chosen == k ? 1.0 : 0.0};
+                                    scan.chosen == k ? 1.0 : 0.0,
+                                    scan.papers_protocol == k ? 1.0 : 0.0};
     for (std::size_t c = 0; c < columns; ++c) cols[c].push_back(values[c]);
     if (!r) {
       failures += fmt::format("rate_max {:g} window +-{:g}: {}\n", row.rate_max, row.half_window,
@@ -295,6 +297,8 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
         f.write_attribute("y_systematic", scan->systematic.y, group + "/representative");
         f.write_attribute("systematic_fits", static_cast<std::int64_t>(scan->systematic.fits),
                           group + "/representative");
+        f.write_attribute("plateau", static_cast<std::int64_t>(scan->plateau),
+                          group + "/representative");
       }
       if (!scan->failure.empty()) f.write_attribute("failure", scan->failure, group);
       write_scan(f, group + "/scan", *scan);
@@ -370,11 +374,12 @@ std::string format_stats_summary(const CampaignStats& s) {
       const auto& r = *row.result;
       out << fmt::format(
           "{:>9.2e} {:>15} {:>8.5f}({:>7.5f}) {:>6.3f}({:>5.3f}) {:>6.3f}({:>5.3f}) {:>9.3f} "
-          "{:>9.3f} {:>8.1e} {:>4} {:>5}{}\n",
+          "{:>9.3f} {:>8.1e} {:>4} {:>5}{}{}\n",
           row.rate_max, fmt::format("{:.4f}-{:.4f}", r.phi_min, r.phi_max), r.phi_j, r.phi_j_err,
           r.beta, r.beta_err, r.y, r.y_err, r.chi2_diag_per_dof, r.chi2_cov_per_dof,
           r.condition_number, r.iterations, r.quality,
-          scan->chosen == k ? "  <- representative" : "");
+          scan->chosen == k ? "  <- representative" : "",
+          scan->papers_protocol == k ? "  <- the paper's protocol" : "");
     }
     if (const auto* r = scan->representative()) {
       out << fmt::format(
@@ -386,8 +391,8 @@ std::string format_stats_summary(const CampaignStats& s) {
           r->quality, r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
       out << "  chosen: " << scan->reason << "\n";
       out << fmt::format(
-          "  systematic (half the spread over the scan's {} fits of quality ok: windows and "
-          "rate_max): phi_J +-{:.5f}, beta +-{:.3f}, y +-{:.3f}\n",
+          "  systematic (the largest distance of the scan's {} fits of quality ok from it: "
+          "windows and rate_max): phi_J +-{:.5f}, beta +-{:.3f}, y +-{:.3f}\n",
           scan->systematic.fits, scan->systematic.phi_j, scan->systematic.beta, scan->systematic.y);
     } else {
       out << "no representative fit: " << scan->failure << "\n";

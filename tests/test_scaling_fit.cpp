@@ -7,54 +7,16 @@
 #include <cmath>
 #include <random>
 
-#include "stats/fit_scan.hpp"
 #include "stats/scaling_fit.hpp"
+#include "synthetic_scaling.hpp"
 
 using namespace jam::stats;
 
+using jam::test::synthetic;
+using jam::test::Truth;
+
 namespace {
 
-struct Truth {
-  double phi_j = 0.8415, q = 0.30, inv_znu = 0.27;
-  std::vector<double> c = {0.0, 1.5, -0.3, 0.05};  // ln f(x), cubic
-  double beta() const { return (1 - q) / inv_znu; }
-  double y() const { return q / inv_znu; }
-  double pressure(double phi, double rate) const {
-    const double x = (phi - phi_j) / std::pow(rate, inv_znu);
-    double ln_f = 0.0;
-    for (std::size_t n = c.size(); n-- > 0;) ln_f = ln_f * x + c[n];
-    return std::pow(rate, q) * std::exp(ln_f);
-  }
-};
-
-// Rates 1e-5 .. 10^-6.5, 10 samples sharing ids across rates, packings every 0.001. Each
-// sample's pressure is the truth times exp(eps), eps an AR(1) process along phi with
-// neighbour correlation 0.95 and 10% amplitude (the scatter seen at these sizes).
-std::vector<FitEnsemble> synthetic(const Truth& t, std::uint64_t seed, int samples = 10,
-                                   double phi_lo = 0.78, double phi_hi = 0.90,
-                                   double sigma = 0.10) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  const double rho = 0.95;
-  std::vector<FitEnsemble> ens;
-  for (double lr : {-5.0, -5.5, -6.0, -6.5}) {
-    FitEnsemble e;
-    e.rate = std::pow(10.0, lr);
-    for (double phi = phi_lo; phi <= phi_hi + 1e-9; phi += 0.001) e.phi.push_back(phi);
-    for (int s = 0; s < samples; ++s) {
-      e.sample_ids.push_back(s);
-      std::vector<double> row;
-      double eps = sigma * g(rng);
-      for (double phi : e.phi) {
-        row.push_back(t.pressure(phi, e.rate) * std::exp(eps));
-        eps = rho * eps + sigma * std::sqrt(1 - rho * rho) * g(rng);
-      }
-      e.pressure.push_back(std::move(row));
-    }
-    ens.push_back(std::move(e));
-  }
-  return ens;
-}
 
 ScalingFitOptions cubic_options() {
   ScalingFitOptions o;
@@ -255,123 +217,21 @@ BOOST_AUTO_TEST_CASE(a_fit_far_above_chi2_one_is_flagged_poor) {
   BOOST_TEST(bad.quality_reason.find("does not describe") != std::string::npos, bad.quality_reason);
 }
 
-// The representative fit of the scan (stats/fit_scan.cpp): the largest rate_max whose fit a
-// slower rate_max confirms. On data that follow the scaling form at every rate that is the
-// fastest rate_max, quality ok. With a planted correction to scaling at the fastest rate the
-// fastest fit is not confirmed, and the next one has no slower fit to confirm it: no plateau,
-// the slowest fit taken and flagged poor, where the slowest row used to count as its own
-// plateau ("0 compared", quality ok). With one rate_max (three rates) there is no scan at all.
-namespace {
-
-StatsOptions scan_options() {
-  StatsOptions o;
-  o.order = 3;
-  o.half_windows = {0.04};
-  return o;
-}
-
-}  // namespace
-
-BOOST_AUTO_TEST_CASE(the_scan_takes_a_confirmed_plateau_and_flags_a_fit_without_one) {
+// A fit whose exponents' errors exceed half their values agrees with anything: flagged poor
+// ("uninformative"), so that it can neither be the scan's representative nor make a drifting
+// scan look flat. Four samples at 30% scatter over three rates (beta 0.57 +- 0.89); ten at 3%
+// scatter are informative.
+BOOST_AUTO_TEST_CASE(an_uninformative_fit_is_flagged_poor) {
   const Truth t;
-  const RateClearance all{std::nullopt, "all rates"};
-  const FitScan good = scan_fits(synthetic(t, 7), scan_options(), all, "phi");
-  BOOST_TEST_REQUIRE(good.rows.size() == 2u);  // rate_max 1e-5 and 10^-5.5 (>= 3 rates each)
-  BOOST_TEST_REQUIRE(good.representative() != nullptr, good.failure);
-  BOOST_TEST(good.rows[*good.chosen].rate_max == 1e-5);
-  BOOST_TEST(good.representative()->quality == "ok", good.representative()->quality_reason);
-  BOOST_TEST(good.reason.find("(1 compared)") != std::string::npos, good.reason);
-  // The scan's systematic error: half the spread of its fits of quality ok, computed here from
-  // the rows themselves.
-  {
-    std::vector<double> beta;
-    for (const auto& row : good.rows)
-      if (row.result && row.result->quality == "ok") beta.push_back(row.result->beta);
-    BOOST_TEST_REQUIRE(beta.size() == good.systematic.fits);
-    BOOST_TEST_REQUIRE(beta.size() >= 2u);
-    const auto [lo, hi] = std::minmax_element(beta.begin(), beta.end());
-    BOOST_TEST(good.systematic.beta == (*hi - *lo) / 2, boost::test_tools::tolerance(1e-12));
-    BOOST_TEST(good.systematic.beta > 0.0);
-  }
-
-  // The fastest rate's pressure grows with phi - phi_J beyond the scaling form (a correction
-  // to scaling): its fit moves phi_J and the exponents away from the slower rates' fit.
-  auto corrected = synthetic(t, 7);
-  for (auto& row : corrected.front().pressure)
-    for (std::size_t k = 0; k < row.size(); ++k)
-      row[k] *= std::exp(3.0 * (corrected.front().phi[k] - t.phi_j));
-  const FitScan bad = scan_fits(corrected, scan_options(), all, "phi");
-  BOOST_TEST_REQUIRE(bad.rows.size() == 2u);
-  BOOST_TEST_REQUIRE(bad.rows[0].result.has_value(), bad.rows[0].failure);
-  BOOST_TEST_REQUIRE(bad.representative() != nullptr, bad.failure);
-  BOOST_TEST_MESSAGE("fastest rate_max: phi_J "
-                     << bad.rows[0].result->phi_j << " +- " << bad.rows[0].result->phi_j_err
-                     << ", slower: " << bad.representative()->phi_j << " +- "
-                     << bad.representative()->phi_j_err);
-  BOOST_TEST(bad.rows[*bad.chosen].rate_max == std::pow(10.0, -5.5));
-  BOOST_TEST(bad.representative()->quality == "poor");
-  BOOST_TEST(bad.representative()->quality_reason.find("no plateau") != std::string::npos,
-             bad.representative()->quality_reason);
-  BOOST_TEST(bad.reason.find("no plateau") != std::string::npos, bad.reason);
-  // The flag is the representative's: the scan's own row keeps its fit's quality test.
-  BOOST_TEST(bad.rows[*bad.chosen].result->quality == "ok",
-             bad.rows[*bad.chosen].result->quality_reason);
-
-  // Three rates: one rate_max, nothing to confirm it.
-  auto three = synthetic(t, 7);
-  three.erase(three.begin());
-  const FitScan single = scan_fits(three, scan_options(), all, "phi");
-  BOOST_TEST_REQUIRE(single.rows.size() == 1u);
-  BOOST_TEST_REQUIRE(single.representative() != nullptr, single.failure);
-  BOOST_TEST(single.representative()->quality == "poor");
-}
-
-
-// What the scan's systematic error covers, measured. Each data set's pressure is the scaling
-// form times exp(a (phi - phi_J)) = exp(a x rate^(1/z nu)), an analytic correction to scaling.
-// Without it (a = 0), +-2 sqrt(jackknife^2 + systematic^2) covers the true beta in at least 27
-// of 30 sets (nominal 95%; one binomial standard deviation 4%). With it (a = 6, 3% noise) the
-// correction moves every fit of the scan alike (every window and rate_max of this four-rate
-// design), so the jackknife alone covers the truth in fewer than 20 of 30 sets, and the
-// systematic widens the interval (more sets covered) but does not restore the nominal rate:
-// measured 9/30 and 18/30. docs/statistics-and-checks.md states this limit.
-BOOST_AUTO_TEST_CASE(what_the_systematic_covers_is_measured) {
-  const Truth t;
-  StatsOptions o;
-  o.order = 3;
-  o.half_windows = {0.05, 0.04, 0.03};
-  const RateClearance all{std::nullopt, "all rates"};
-  for (double a : {6.0, 0.0}) {
-    int sets = 0, jackknife_only = 0, covered = 0;
-    double bias = 0.0, total_err = 0.0;
-    for (int k = 0; k < 30; ++k) {
-      auto d = synthetic(t, 500 + k, 10, 0.78, 0.90, 0.03);
-      for (auto& e : d)
-        for (auto& row : e.pressure)
-          for (std::size_t i = 0; i < row.size(); ++i) row[i] *= std::exp(a * (e.phi[i] - t.phi_j));
-      const FitScan s = scan_fits(d, o, all, "phi");
-      const ScalingFitResult* r = s.representative();
-      BOOST_TEST_REQUIRE(r != nullptr, s.failure);
-      BOOST_TEST_REQUIRE(!std::isnan(s.systematic.beta));
-      ++sets;
-      const double miss = std::abs(r->beta - t.beta());
-      const double total = std::hypot(r->beta_err, s.systematic.beta);
-      bias += (r->beta - t.beta()) / 30;
-      total_err += total / 30;
-      jackknife_only += miss <= 2 * r->beta_err;
-      covered += miss <= 2 * total;
-    }
-    BOOST_TEST_MESSAGE("a " << a << ": mean bias of beta " << bias << ", mean total error "
-                            << total_err << "; +-2 sigma covers the truth: jackknife alone "
-                            << jackknife_only << "/" << sets << ", with the systematic " << covered
-                            << "/" << sets);
-    if (a == 0) {
-      BOOST_TEST(covered >= 27, covered << " of " << sets);
-    } else {
-      // The planted correction is real: the jackknife alone does not cover it, and the
-      // systematic covers more sets than the jackknife alone.
-      BOOST_TEST(jackknife_only < 20);
-      BOOST_TEST(covered > jackknife_only);
-    }
-  }
+  ScalingFitOptions o = cubic_options();
+  o.rate_max = std::pow(10.0, -5.5);  // three rates
+  const ScalingFitResult noisy = fit_scaling(synthetic(t, 3, 4, 0.78, 0.90, 0.3), o);
+  BOOST_TEST_MESSAGE("noisy: beta " << noisy.beta << " +- " << noisy.beta_err << ", y " << noisy.y
+                                    << " +- " << noisy.y_err << "; " << noisy.quality_reason);
+  BOOST_TEST(noisy.quality == "poor");
+  BOOST_TEST(noisy.quality_reason.find("uninformative") != std::string::npos,
+             noisy.quality_reason);
+  const ScalingFitResult clean = fit_scaling(synthetic(t, 3, 10, 0.78, 0.90, 0.03), o);
+  BOOST_TEST(clean.quality_reason.find("uninformative") == std::string::npos,
+             clean.quality_reason);
 }
