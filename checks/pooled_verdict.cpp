@@ -34,9 +34,9 @@ void fail_where_surely_beyond(Verdict& v, const RelativeDifference& r,
   v.excluded_above = std::max(beyond, r.excluded_above);
   v.estimate = r.delta[worst];
   v.values["pointwise_at"] = grid[r.points[worst]];
-  v.rule = fmt::format("the pointwise rule at {} {:.4f} (Delta p/p {}, at least {}, margin {})",
-                       range.variable, grid[r.points[worst]], effect_text(v, r.delta[worst], true),
-                       effect_text(v, beyond), effect_text(v, margin));
+  // Its numbers are the row's (the tables put units in their headings, not in the rows).
+  v.rule = fmt::format("the pointwise rule at {} {:.4f}, the numbers that point's", range.variable,
+                       grid[r.points[worst]]);
   v.reason = fmt::format(
       "the effect surely exceeds the margin at {} = {:.4f}: Delta p/p = {}, at least {}, "
       "margin {} (simultaneous band, p = {:.3g}); the weighted mean: {}",

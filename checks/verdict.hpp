@@ -43,9 +43,9 @@ struct Verdict {
   // The unit of detectable, excluded_above and margin when it is not the check's margin unit
   // (check_registry.hpp): e.g. "d_s" for the lammps check's positions. Empty: the check's.
   std::string unit;
-  // The rule that decided the status, with the numbers it used, in words (the tables show it
-  // after "decided by"): e.g. "the pointwise rule at phi 0.8123 (Delta p/p +17.2%, at least
-  // 12.1%)". Empty: the statistic named above against its threshold (table_row says so).
+  // The rule that decided the status, in words (the tables show it after "decided by"), e.g.
+  // "the pointwise rule at phi 0.8123, the numbers that point's": the estimate and bounds are
+  // then that rule's. Empty: the statistic named above against its threshold (table_row).
   std::string rule;
   // The variable of the range judged (values range_min, range_max): "phi" or "Z"; empty: phi.
   std::string range_variable;

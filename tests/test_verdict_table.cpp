@@ -292,7 +292,7 @@ BOOST_AUTO_TEST_CASE(a_pointwise_fail_names_its_rule_and_shows_its_numbers) {
   const Verdict v = pointwise_fail();
   BOOST_TEST_REQUIRE(v.status == "fail", v.reason);
   const TableRow row = table_row(v);
-  BOOST_TEST(row.rule.starts_with("the pointwise rule at phi 0.8240 (Delta p/p +"), row.rule);
+  BOOST_TEST(row.rule == "the pointwise rule at phi 0.8240, the numbers that point's", row.rule);
   // The interval lies wholly beyond the margin: its lower end exceeds 10 (%).
   std::smatch m;
   BOOST_TEST_REQUIRE(std::regex_match(row.allowed, m, std::regex(R"(([0-9.]+)\.\.([0-9.e+]+))")),
@@ -305,9 +305,12 @@ BOOST_AUTO_TEST_CASE(a_pointwise_fail_names_its_rule_and_shows_its_numbers) {
   const std::string reason = reason_of(table, v.case_name);
   BOOST_TEST(reason.starts_with("the effect surely exceeds the margin"), table);
   // Too long for one line with its reason: the rule on a line of its own.
-  BOOST_TEST(table.find("\n    decided by the pointwise rule at phi 0.8240 (Delta p/p +") !=
-                 std::string::npos,
+  BOOST_TEST(table.find("\n    decided by the pointwise rule at phi 0.8240, the numbers that "
+                        "point's\n") != std::string::npos,
              table);
+  // Units in the heading, none in the rows (numbers, case, reason and rule).
+  BOOST_TEST(table.find('%') == table.find("effects in %") + 11, table);
+  BOOST_TEST(table.find('%', table.find('\n')) == std::string::npos, table);
 }
 
 BOOST_AUTO_TEST_CASE(the_table_keeps_to_100_columns) {

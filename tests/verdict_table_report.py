@@ -9,7 +9,9 @@ tests/test_verdict_table.cpp, which writes the three files from the same verdict
     short reason);
   - each JUnit test case gives the same cells, one a line;
   - a checks.json written before jam wrote the cells (each `table` removed) still gives a row
-    per verdict, with its whole reason and "-" for the numbers.
+    per verdict, with its whole reason and "-" for the numbers;
+  - a cell holding markup or an escape sequence reaches the page escaped and the summary
+    visible; a cell that is not a string is one line naming the verdict and the field.
 
 Usage: verdict_table_report.py --source DIR checks.json table.txt checks.xml
 Exit status 1, with what differs, when any of these fails.
@@ -121,6 +123,31 @@ def main():
         failures.append("older checks.json: the summary does not say its cells are missing")
     if len(html_rows(report_html, old_verdicts)) != len(written):
         failures.append("older checks.json: the page lacks rows")
+
+    # Cells are values from a file like any other: markup escaped on the page, control
+    # characters visible in the summary; a cell that is not a string is one line naming it.
+    hostile = copy.deepcopy(json.load(open(a.checks)))
+    hostile["verdicts"][0]["table"]["estimate"] = "<script>\x1b[31m"
+    hostile["verdicts"][0]["table"]["rule"] = "\"onerror=x"
+    mistyped = copy.deepcopy(hostile)
+    mistyped["verdicts"][1]["table"]["margin"] = 5
+    with tempfile.TemporaryDirectory() as work:
+        path = os.path.join(work, "checks.json")
+        with open(path, "w") as f:
+            json.dump(hostile, f)
+        lines, hostile_verdicts = summary_tables(report_data, report_html, jamio, path)
+        page = report_html.verdict_table_html(hostile_verdicts)
+        if "<script>" in page or "\"onerror" in page or "\x1b" in "\n".join(lines):
+            failures.append("a hostile cell reached the page unescaped or the summary raw")
+        with open(path, "w") as f:
+            json.dump(mistyped, f)
+        try:
+            summary_tables(report_data, report_html, jamio, path)
+            failures.append("a numeric table cell was accepted")
+        except report_data.ReportInputError as e:
+            if "verdict 1: field 'table.margin' is 5, not a string" not in str(e) or \
+                    "\n" in str(e):
+                failures.append(f"a numeric table cell: {e}")
 
     for f in failures:
         print("FAILED:", f)
