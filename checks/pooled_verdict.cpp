@@ -33,6 +33,10 @@ void fail_where_surely_beyond(Verdict& v, const RelativeDifference& r,
   v.excluded_below = beyond;
   v.excluded_above = std::max(beyond, r.excluded_above);
   v.estimate = r.delta[worst];
+  v.values["pointwise_at"] = grid[r.points[worst]];
+  // Its numbers are the row's (the tables put units in their headings, not in the rows).
+  v.rule = fmt::format("the pointwise rule at {} {:.4f}, the numbers that point's", range.variable,
+                       grid[r.points[worst]]);
   v.reason = fmt::format(
       "the effect surely exceeds the margin at {} = {:.4f}: Delta p/p = {}, at least {}, "
       "margin {} (simultaneous band, p = {:.3g}); the weighted mean: {}",
@@ -205,6 +209,7 @@ std::vector<Verdict> judge_by_region(const Verdict& base, const RangeData& data,
       v.margin = margin;
       v.curves.clear();
     }
+    v.range_variable = range.variable;
     // The range asked, where the data did not reach it (judge_pooled keeps the range judged).
     if (std::isfinite(range.min)) v.values.insert({"range_min", range.min});
     if (std::isfinite(range.max)) v.values.insert({"range_max", range.max});
@@ -250,6 +255,7 @@ PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTable
 void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels levels,
                   double margin, int permutations, std::uint64_t seed, RelativeTo relative_to) {
   v.statistic_name = "|weighted mean Delta p/p|";
+  v.range_variable = range.variable;
   const WeightedDifference w =
       compare_weighted(al.a, al.b, levels, permutations, seed, relative_to);
   judge(v, w, levels, margin, std::min(al.a.size(), al.b.size()));
@@ -271,6 +277,7 @@ void judge_pooled(Verdict& v, const Aligned& al, const PoolRange& range, Levels 
       "; over {} in [{:.4g}, {:.4g}] ({}), weights centred at {} = {:.4g}, 80% "
       "of them in [{:.4g}, {:.4g}]",
       range.variable, grid.front(), grid.back(), range.why, range.variable, at, from, to);
+  v.rule = "the weighted mean over the range";
   fail_where_surely_beyond(v, r, al.grid, range, margin);
   const WindowScatter scatter = window_scatter(al, w.points, w.weight);
   const auto n_a = static_cast<double>(al.a.size()), n_b = static_cast<double>(al.b.size());

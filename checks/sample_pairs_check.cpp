@@ -96,6 +96,15 @@ Verdict judge_pairs(Verdict v, const Aligned& al, const PoolRange& range, double
     for (const auto& r : al.b) ok = ok && r[k] > 0 && std::isfinite(r[k]);
     if (ok) keep.push_back(k);
   }
+  // The samples and the range judged (the range asked, where no point lies in it), for the
+  // tables (verdict_table.cpp).
+  v.values["samples_a"] = static_cast<double>(al.a.size());
+  v.values["samples_b"] = static_cast<double>(al.b.size());
+  v.range_variable = range.variable;
+  const double range_min = keep.empty() ? range.min : al.grid[keep.front()],
+               range_max = keep.empty() ? range.max : al.grid[keep.back()];
+  if (std::isfinite(range_min)) v.values["range_min"] = range_min;
+  if (std::isfinite(range_max)) v.values["range_max"] = range_max;
   if (keep.empty() || al.a.size() < 3 || al.b.size() < 3) {
     v.status = "inconclusive";
     v.reason =
@@ -149,6 +158,8 @@ Verdict judge_pairs(Verdict v, const Aligned& al, const PoolRange& range, double
     // independent (shared seeds or starts), whatever the margin says.
     v.status = "fail";
     v.reason = "pairs more alike than independent samples (R below its band)";
+    v.rule =
+        fmt::format("R below its band ({:.3g} < {:.3g}), whatever the margin", v.statistic, lo);
   }
   v.reason += fmt::format(
       " (R = {:.3g}, band [{:.3g}, {:.3g}] of {} bootstrap draws under the null, alpha {:.3g}; "

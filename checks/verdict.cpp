@@ -74,11 +74,15 @@ std::string to_json(const std::vector<Verdict>& v, const std::string& campaign,
                  {"excluded_below", num(x.excluded_below)},
                  {"estimate", num(x.estimate)},
                  {"region", x.region},
+                 {"range_variable", x.range_variable},
                  {"margin", num(x.margin)},
                  {"unit", effect_unit(x)},
                  {"samples_needed", num(x.samples_needed)},
                  {"expected_failure", x.expected_failure},
-                 {"values", x.values}});
+                 {"values", x.values},
+                 // What every table shows of it (table_row): the report reads these cells
+                 // rather than computing its own.
+                 {"table", to_json(table_row(x))}});
   }
   const std::time_t now = std::time(nullptr);
   char created[32];
@@ -110,10 +114,16 @@ std::string to_junit_xml(const std::vector<Verdict>& v, const std::string& suite
   out << fmt::format("<testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" skipped=\"{}\">\n",
                      xml_escape(suite), v.size(), failures, skipped);
   for (const auto& x : v) {
-    const std::string summary =
-        fmt::format("{} = {} (threshold {}), detectable {}, excluded above {}, margin {}",
-                    x.statistic_name, number(x.statistic), number(x.threshold),
-                    number(x.detectable), number(x.excluded_above), number(x.margin));
+    // The table's cells for this verdict, one per line, as the terminal and the report show
+    // them (table_row), then the statistic.
+    const TableRow r = table_row(x);
+    const std::string summary = fmt::format(
+        "effects in: {}\nestimate: {}\n|effect|: {}\nmargin: {}\nrange judged: {}\n"
+        "region: {}\nsamples: {}\nreason: {}\ndecided by: {}\n{} = {} (threshold {}), "
+        "detectable {}",
+        r.unit, r.estimate, r.allowed, r.margin, r.range, r.region, r.samples, r.reason,
+        r.rule.empty() ? "-" : r.rule, x.statistic_name, number(x.statistic), number(x.threshold),
+        number(x.detectable));
     out << fmt::format("  <testcase classname=\"jam.check.{}\" name=\"{}\">\n", xml_escape(x.check),
                        xml_escape(x.case_name));
     if (failure(x)) {

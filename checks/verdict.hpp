@@ -43,6 +43,12 @@ struct Verdict {
   // The unit of detectable, excluded_above and margin when it is not the check's margin unit
   // (check_registry.hpp): e.g. "d_s" for the lammps check's positions. Empty: the check's.
   std::string unit;
+  // The rule that decided the status, in words (the tables show it after "decided by"), e.g.
+  // "the pointwise rule at phi 0.8123, the numbers that point's": the estimate and bounds are
+  // then that rule's. Empty: the statistic named above against its threshold (table_row).
+  std::string rule;
+  // The variable of the range judged (values range_min, range_max): "phi" or "Z"; empty: phi.
+  std::string range_variable;
   std::map<std::string, double> values;  // further numbers a later stage reads (JSON "values")
   // Curves behind the verdict, for the report (checks.h5): e.g. "grid", "delta", "sigma".
   std::vector<std::pair<std::string, std::vector<double>>> curves;
@@ -75,10 +81,41 @@ std::string effect_text(const std::string& unit, double x, bool sign = false);
 /// decide it. The whole reason is in checks.json and the report.
 std::string short_reason(const Verdict& v);
 
+/// What every table of verdicts shows of one (the terminal's, the report's, JUnit's): the one
+/// definition of each cell, written into checks.json as the verdict's `table` object, which the
+/// report reads instead of computing its own. Numbers in the verdict's effect unit (`unit`
+/// names it: "%", "packing fraction" or the unit's name; relative effects in %), "-" where
+/// there is none.
+struct TableRow {
+  std::string status;  // "pass", "fail", "inconclusive", or with " (expected)"
+  std::string case_name;
+  std::string unit;      // the words after "effects in"
+  std::string estimate;  // the signed effect measured: "+17.2"
+  // The effects the data allow, |effect|: "12.1..25" (at or below 12.1 and above 25 excluded),
+  // "<= 4.69" (nothing detected: only the bound above), "> 12.1" (no bound above).
+  std::string allowed;
+  std::string margin;
+  std::string range;    // the range judged: "phi 0.8123..0.8712", "Z 4.1..4.5"; "-": none
+  std::string region;   // checks.json `region` as it is (pooled, below, at, above, ...); "-"
+  std::string samples;  // samples per set, "4, 4" (first set, second); "-" when unknown
+  std::string rule;     // which rule decided, with its numbers; "" when nothing was judged
+  std::string reason;   // short_reason
+};
+TableRow table_row(const Verdict& v);
+/// The row as checks.json's `table` object (reference/schema.md), and back (throws
+/// nlohmann::json::exception on a missing key).
+nlohmann::json to_json(const TableRow& row);
+TableRow table_row_from_json(const nlohmann::json& j);
+
 /// The terminal table (checks/verdict_table.cpp): per check, in order of first appearance, a
-/// heading line with its counts and the unit of its effects, a column header, and one row per
-/// verdict (status, the whole case name, detectable, excluded above, margin, short_reason);
-/// relative effects in %. Then the counts of all verdicts.
+/// heading line with its counts and the unit of its effects, a column header, and per verdict
+/// a line of its numbers (status, estimate, |effect| allowed, margin, range judged, region,
+/// samples per set), then its whole case name and its short reason with the rule that decided
+/// it, on one line when that fits in kTableWidth columns, else folded onto lines of their own
+/// (a case name is never cut). Relative effects in %.
+/// Then the counts of all verdicts. reports/report_html.py lays out the same rows the same way
+/// (tests/test_verdict_table.cpp compares them line for line).
+constexpr std::size_t kTableWidth = 100;
 std::string format_table(const std::vector<Verdict>& verdicts);
 /// checks.json: {"schema_version": 2, "campaign", "code_version", "created" (UTC),
 /// "checks" (the registry, check_registry.hpp), "options" (what `jam check` judged with, when

@@ -1,5 +1,7 @@
 // The words of verdicts on the terminal: each effect in one unit (relative effects in %, the
-// same in the reasons as in the table), and the table `jam check` prints, one per check.
+// same in the reasons as in the table), and the table `jam check` prints, one per check. The
+// cells of a verdict's row are defined here once (table_row); checks.json carries them, and
+// the report and JUnit show the same strings.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -26,13 +28,56 @@ std::string unit_words(const std::string& unit) {
   return unit;
 }
 
-/// A table's number, in its table's unit (the header names it).
-std::string table_number(double x, bool percent) {
-  return std::isfinite(x) ? fmt::format("{:.3g}", percent ? 100 * x : x) : "-";
+/// A table's number, in its table's unit (the heading names it), signed when `sign`.
+std::string table_number(double x, bool percent, bool sign = false) {
+  if (!std::isfinite(x)) return "-";
+  return fmt::format(fmt::runtime(sign ? "{:+.3g}" : "{:.3g}"), percent ? 100 * x : x);
 }
 
 std::string status_text(const Verdict& v) {
   return v.expected_failure ? v.status + " (expected)" : v.status;
+}
+
+double value_of(const Verdict& v, const char* key) {
+  const auto it = v.values.find(key);
+  return it == v.values.end() ? NAN : it->second;
+}
+
+/// The effects the data allow, |effect| between what is excluded below and above.
+std::string allowed_text(const Verdict& v, bool percent) {
+  const bool low = std::isfinite(v.excluded_below) && v.excluded_below > 0;
+  const bool high = std::isfinite(v.excluded_above);
+  const std::string lo = table_number(v.excluded_below, percent),
+                    hi = table_number(v.excluded_above, percent);
+  if (low && high) return lo + ".." + hi;
+  if (low) return "> " + lo;
+  if (high) return "<= " + hi;
+  return "-";
+}
+
+/// The range judged, "phi 0.8123..0.8712", from the values range_min and range_max.
+std::string range_text(const Verdict& v) {
+  const double lo = value_of(v, "range_min"), hi = value_of(v, "range_max");
+  if (!std::isfinite(lo) && !std::isfinite(hi)) return "-";
+  const auto end = [](double x) { return std::isfinite(x) ? fmt::format("{:.4g}", x) : ""; };
+  return fmt::format("{} {}..{}", v.range_variable.empty() ? "phi" : v.range_variable, end(lo),
+                     end(hi));
+}
+
+std::string samples_text(const Verdict& v) {
+  const double a = value_of(v, "samples_a"), b = value_of(v, "samples_b");
+  if (std::isfinite(a) && std::isfinite(b)) return fmt::format("{:.0f}, {:.0f}", a, b);
+  if (std::isfinite(a) || std::isfinite(b)) return fmt::format("{:.0f}", std::isfinite(a) ? a : b);
+  return "-";
+}
+
+/// The rule that decided: the verdict's own words, else its statistic against its threshold.
+std::string rule_text(const Verdict& v) {
+  if (!v.rule.empty()) return v.rule;
+  if (v.statistic_name.empty() || !std::isfinite(v.statistic)) return "";
+  return fmt::format(
+      "{} = {:.4g}{}", v.statistic_name, v.statistic,
+      std::isfinite(v.threshold) ? fmt::format(", threshold {:.4g}", v.threshold) : std::string());
 }
 
 /// Verdicts of one check, grouped by the unit of their effects (in order of appearance).
@@ -70,37 +115,89 @@ std::string trimmed(std::string line) {
   return line + "\n";
 }
 
+/// The widths of the columns of one check's table: the widest of header and cells.
+struct Widths {
+  std::size_t status = 7, estimate = 8, allowed = 8, margin = 6, range = 12, region = 6;
+};
+
+Widths widths_of(const std::vector<TableRow>& rows) {
+  Widths w;
+  for (const auto& r : rows) {
+    w.status = std::max(w.status, r.status.size());
+    w.estimate = std::max(w.estimate, r.estimate.size());
+    w.allowed = std::max(w.allowed, r.allowed.size());
+    w.margin = std::max(w.margin, r.margin.size());
+    w.range = std::max(w.range, r.range.size());
+    w.region = std::max(w.region, r.region.size());
+  }
+  return w;
+}
+
+std::string numbers_line(const Widths& w, const std::string& status, const std::string& estimate,
+                         const std::string& allowed, const std::string& margin,
+                         const std::string& range, const std::string& region,
+                         const std::string& samples) {
+  return trimmed(fmt::format("  {:<{}}  {:>{}}  {:<{}}  {:>{}}  {:<{}}  {:<{}}  {}", status,
+                             w.status, estimate, w.estimate, allowed, w.allowed, margin, w.margin,
+                             range, w.range, region, w.region, samples));
+}
+
+/// `text` on lines of at most kTableWidth columns, each led by four blanks, broken at blanks
+/// (a word longer than a line stands alone on its line).
+std::string wrapped(const std::string& text) {
+  std::string out, line;
+  std::istringstream words(text);
+  for (std::string word; words >> word;) {
+    if (!line.empty() && 4 + line.size() + 1 + word.size() > kTableWidth) {
+      out += "    " + line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+  }
+  return line.empty() ? out : out + "    " + line + "\n";
+}
+
+/// A verdict's rows: its numbers, then its case and reason on one line if it fits, else the
+/// case whole on its line, then the reason and the rule on one line if they fit, else each
+/// wrapped on lines of their own.
+void verdict_rows(std::ostringstream& out, const Widths& w, const TableRow& r) {
+  out << numbers_line(w, r.status, r.estimate, r.allowed, r.margin, r.range, r.region, r.samples);
+  const std::string rule = r.rule.empty() ? "" : "decided by " + r.rule;
+  const std::string why = rule.empty() ? r.reason : r.reason + "; " + rule;
+  if (4 + r.case_name.size() + 2 + why.size() <= kTableWidth) {
+    out << trimmed("    " + r.case_name + ": " + why);
+    return;
+  }
+  out << trimmed("    " + r.case_name);
+  if (4 + why.size() <= kTableWidth)
+    out << trimmed("    " + why);
+  else
+    out << wrapped(r.reason) << wrapped(rule);
+}
+
 /// One check's table: heading, column header, rows (a line naming the unit before each group
 /// when its effects come in more than one).
 void check_table(std::ostringstream& out, const CheckRows& c) {
-  std::size_t status_width = std::string("verdict").size(), case_width = 4;
-  for (const auto& v : c.all) {
-    status_width = std::max(status_width, status_text(v).size());
-    case_width = std::max(case_width, v.case_name.size());
-  }
+  std::vector<TableRow> rows;
+  for (const auto& v : c.all) rows.push_back(table_row(v));
+  const Widths w = widths_of(rows);
   const bool one_unit = c.by_unit.size() == 1;
   out << fmt::format("{}: {} verdict{}, {}{}\n", c.check, c.all.size(),
                      c.all.size() == 1 ? "" : "s", outcome_counts(c.all),
                      one_unit ? "; effects in " + unit_words(c.by_unit.front().first) : "");
-  // A pressure check that could place no region around jamming says so before its rows.
+  // A pressure check that judged no region but the pooled range says so before its rows.
   const bool pooled = std::any_of(c.all.begin(), c.all.end(),
                                   [](const Verdict& v) { return v.region == "pooled"; });
   const bool regions = std::any_of(c.all.begin(), c.all.end(), [](const Verdict& v) {
-    return v.region == "below" || v.region == "at" || v.region == "above";
+    return !v.region.empty() && v.region != "pooled";
   });
   if (pooled && !regions) out << kPooledOnly << "\n";
-  const std::string row = "  {:<{}}  {:<{}}  {:>10}  {:>14}  {:>8}  {}";
-  out << trimmed(fmt::format(fmt::runtime(row), "verdict", status_width, "case", case_width,
-                             "detectable", "excluded above", "margin", "reason"));
-  for (const auto& [unit, rows] : c.by_unit) {
+  out << numbers_line(w, "verdict", "estimate", "|effect|", "margin", "range judged", "region",
+                      "samples");
+  out << "    case: reason; decided by\n";
+  for (const auto& [unit, group] : c.by_unit) {
     if (!one_unit) out << fmt::format("  effects in {}:\n", unit_words(unit));
-    const bool percent = unit == "relative";
-    for (const Verdict* v : rows) {
-      out << trimmed(fmt::format(fmt::runtime(row), status_text(*v), status_width, v->case_name,
-                                 case_width, table_number(v->detectable, percent),
-                                 table_number(v->excluded_above, percent),
-                                 table_number(v->margin, percent), short_reason(*v)));
-    }
+    for (const Verdict* v : group) verdict_rows(out, w, table_row(*v));
   }
 }
 
@@ -127,25 +224,50 @@ std::string effect_text(const std::string& unit, double x, bool sign) {
 
 std::string short_reason(const Verdict& v) {
   if (v.status == "inconclusive" && std::isfinite(v.samples_needed)) {
-    // The cheapest split per side, with what each side has now: "129 per set" read alone
-    // sends a user to run 127 more of each where one more of one side would do.
-    const auto at = [&v](const char* key) {
-      const auto it = v.values.find(key);
-      return it == v.values.end() ? NAN : it->second;
-    };
-    const double a = at("samples_needed_a"), b = at("samples_needed_b"), has_a = at("samples_a"),
-                 has_b = at("samples_b");
-    if (std::isfinite(a) && std::isfinite(b) && std::isfinite(has_a) && std::isfinite(has_b))
+    // The cheapest split per side ("129 per set" read alone sends a user to run 127 more of
+    // each where one more of one side would do); what each side has is the samples cell.
+    const double a = value_of(v, "samples_needed_a"), b = value_of(v, "samples_needed_b");
+    if (std::isfinite(a) && std::isfinite(b))
       return fmt::format(
-          "about {:.0f} samples per set would decide; cheapest: {:.0f} of the first set (has "
-          "{:.0f}), {:.0f} of the second (has {:.0f})",
-          v.samples_needed, a, has_a, b, has_b);
+          "about {:.0f} samples per set would decide; cheapest: {:.0f} of the first set, {:.0f} "
+          "of the second",
+          v.samples_needed, a, b);
     return fmt::format("about {:.0f} samples per set would decide", v.samples_needed);
   }
   std::size_t end = v.reason.size();
   for (const char* clause_end : {": ", "; ", " (", " | "})
     end = std::min(end, v.reason.find(clause_end));
   return v.reason.substr(0, end);
+}
+
+TableRow table_row(const Verdict& v) {
+  const std::string unit = effect_unit(v);
+  const bool percent = unit == "relative";
+  return {status_text(v),
+          v.case_name,
+          unit_words(unit),
+          table_number(v.estimate, percent, true),
+          allowed_text(v, percent),
+          table_number(v.margin, percent),
+          range_text(v),
+          v.region.empty() ? "-" : v.region,
+          samples_text(v),
+          rule_text(v),
+          short_reason(v)};
+}
+
+nlohmann::json to_json(const TableRow& r) {
+  return {{"status", r.status},     {"case", r.case_name},     {"unit", r.unit},
+          {"estimate", r.estimate}, {"allowed", r.allowed},    {"margin", r.margin},
+          {"range", r.range},       {"region", r.region},      {"samples", r.samples},
+          {"rule", r.rule},         {"short_reason", r.reason}};
+}
+
+TableRow table_row_from_json(const nlohmann::json& j) {
+  const auto at = [&j](const char* key) { return j.at(key).get<std::string>(); };
+  return {at("status"),  at("case"),   at("unit"),        at("estimate"),
+          at("allowed"), at("margin"), at("range"),       at("region"),
+          at("samples"), at("rule"),   at("short_reason")};
 }
 
 std::string format_table(const std::vector<Verdict>& verdicts) {

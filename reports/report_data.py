@@ -156,6 +156,9 @@ class Verdict:
     region: str = ""
     estimate: float | None = None  # the signed effect measured
     excluded_below: float | None = None  # the effect surely exceeds this
+    # The cells of its row in every table, as jam wrote them (checks.json `table`,
+    # report_html.TABLE_KEYS); None in files written before jam wrote them.
+    table: dict | None = None
 
 
 @dataclass
@@ -356,7 +359,29 @@ def _verdict(x):
                    expected_failure=expected,
                    unit=_string(x, "unit") if "unit" in x else None,  # older files: none
                    region=_string(x, "region", ""), estimate=_number(x, "estimate"),
-                   excluded_below=_number(x, "excluded_below"))
+                   excluded_below=_number(x, "excluded_below"), table=_table(x))
+
+
+# The cells of checks.json's `table` object (checks/verdict_table.cpp, table_row).
+TABLE_KEYS = ("status", "case", "unit", "estimate", "allowed", "margin", "range", "region",
+              "samples", "rule", "short_reason")
+
+
+def _table(x):
+    """checks.json's `table` object of a verdict: each cell a string (None when absent)."""
+    if "table" not in x:
+        return None
+    t = x["table"]
+    if not isinstance(t, dict):
+        raise FieldError(f"field 'table' is {_shown(t)}, not an object")
+    out = {}
+    for key in TABLE_KEYS:
+        if key not in t:
+            raise FieldError(f"field 'table.{key}' missing")
+        if not isinstance(t[key], str):
+            raise FieldError(f"field 'table.{key}' is {_shown(t[key])}, not a string")
+        out[key] = t[key]
+    return out
 
 
 def _registry(checks):

@@ -167,23 +167,26 @@ def headlines(verdicts):
 
 
 def verdict_table_html(verdicts):
-    """One check's verdicts as a table: status, case (with its reason), the numbers."""
+    """One check's verdicts as a table: the cells `jam check` prints (checks.json `table`), the
+    case with its short reason and whole reason, then the statistic."""
     rows = ["<table class='verdicts'><tr><th>status</th><th>case</th>"
-            "<th>statistic</th><th>value</th><th>threshold</th>"
-            "<th>smallest detectable effect</th><th>effects excluded above</th>"
-            "<th>margin</th></tr>"]
+            "<th>estimate</th><th>|effect| allowed</th><th>margin</th><th>effects in</th>"
+            "<th>range judged</th><th>region</th><th>samples per set</th><th>decided by</th>"
+            "<th>statistic</th><th>value</th><th>threshold</th></tr>"]
     for v in verdicts:
-        status = v.status + (" (expected)" if v.expected_failure else "")
+        c = cells(v)
         css = "expected" if v.expected_failure else v.status
+        whole = "" if c["short_reason"] == v.reason else \
+            f"<div class='reason'>{text(v.reason)}</div>"
         rows.append(
-            f"<tr class='{text(css)}'><td class='status'>{text(status)}</td>"
-            f"<td>{text(v.case)}<div class='reason'>{text(v.reason)}</div></td>"
-            f"<td>{text(v.statistic_name)}</td><td class='num'>{num(v.statistic, '.4g')}</td>"
-            f"<td class='num'>{num(v.threshold, '.4g')}</td>"
-            f"<td class='num'>{num(v.detectable, '.4g')}</td>"
-            f"<td class='num'>{num(v.excluded_above, '.4g')}</td>"
-            f"<td class='num'>{num(v.margin, '.4g')}</td>"
-            "</tr>")
+            f"<tr class='{text(css)}'><td class='status'>{text(c['status'])}</td>"
+            f"<td>{text(c['case'])}<div><b>{text(c['short_reason'])}</b></div>{whole}</td>"
+            + "".join(f"<td class='num'>{text(c[k])}</td>"
+                      for k in ("estimate", "allowed", "margin"))
+            + "".join(f"<td>{text(c[k])}</td>"
+                      for k in ("unit", "range", "region", "samples", "rule"))
+            + f"<td>{text(v.statistic_name)}</td><td class='num'>{num(v.statistic, '.4g')}</td>"
+            f"<td class='num'>{num(v.threshold, '.4g')}</td></tr>")
     rows.append("</table>")
     return "\n".join(rows)
 
@@ -336,66 +339,93 @@ def _unit_words(unit):
     return {"relative": "%", "packing_fraction": "packing fraction"}.get(unit, plain(unit))
 
 
-def _table_number(x, percent):
-    return _number_text(100 * x if percent and _is_number(x) else x, ".3g")
+# The widest a line of the text table is meant to be (checks/verdict.hpp, kTableWidth).
+TABLE_WIDTH = 100
 
 
-def short_reason(v):
-    """The reason in a few words, as `jam check` prints it: the samples an undecided verdict
-    needs, else the reason's first clause."""
-    if v.status == "inconclusive" and _is_number(v.samples_needed) and \
-            math.isfinite(v.samples_needed):
-        words = f"about {v.samples_needed:.0f} samples per set would decide"
-        # The cheapest split per side beside what each side has (checks/verdict_table.cpp).
-        split = [v.values.get(k) for k in ("samples_needed_a", "samples_a", "samples_needed_b",
-                                           "samples_b")]
-        if all(_is_number(x) and math.isfinite(x) for x in split):
-            words += (f"; cheapest: {split[0]:.0f} of the first set (has {split[1]:.0f}), "
-                      f"{split[2]:.0f} of the second (has {split[3]:.0f})")
-        return words
-    end = len(v.reason)
-    for clause_end in (": ", "; ", " (", " | "):
-        k = v.reason.find(clause_end)
-        if k >= 0:
-            end = min(end, k)
-    return v.reason[:end]
+def cells(v):
+    """The cells of v's row: checks.json's `table`; a file written before jam wrote them gets
+    its status, case, unit and region, "-" for the numbers and the whole reason (each number is
+    in it, in words)."""
+    if v.table is not None:
+        return v.table
+    return {"status": v.status + (" (expected)" if v.expected_failure else ""), "case": v.case,
+            "unit": _unit_words(effect_unit(v)), "estimate": "-", "allowed": "-", "margin": "-",
+            "range": "-", "region": v.region or "-", "samples": "-", "rule": "",
+            "short_reason": v.reason}
+
+
+def _numbers_line(w, row):
+    """A verdict's numbers, each column as wide as w says (checks/verdict_table.cpp)."""
+    status, estimate, allowed, margin, range_, region, samples = row
+    return (f"  {status:<{w[0]}}  {estimate:>{w[1]}}  {allowed:<{w[2]}}  {margin:>{w[3]}}  "
+            f"{range_:<{w[4]}}  {region:<{w[5]}}  {samples}").rstrip()
+
+
+NUMBER_KEYS = ("status", "estimate", "allowed", "margin", "range", "region", "samples")
+NUMBER_HEADERS = ("verdict", "estimate", "|effect|", "margin", "range judged", "region",
+                  "samples")
+
+
+def _wrapped(words):
+    """words on lines of at most TABLE_WIDTH columns, each led by four blanks, broken at blanks
+    (checks/verdict_table.cpp, wrapped)."""
+    lines, line = [], ""
+    for word in words.split():
+        if line and 4 + len(line) + 1 + len(word) > TABLE_WIDTH:
+            lines.append("    " + line)
+            line = ""
+        line += (" " if line else "") + word
+    return lines + (["    " + line] if line else [])
+
+
+def _verdict_lines(w, c):
+    """A verdict's lines: its numbers, then its case and reason on one line if it fits, else
+    the case whole on its line, then the reason and the rule on one line if they fit, else each
+    wrapped on lines of their own (checks/verdict_table.cpp, verdict_rows)."""
+    lines = [_numbers_line(w, [c[k] for k in NUMBER_KEYS])]
+    rule = f"decided by {c['rule']}" if c["rule"] else ""
+    why = f"{c['short_reason']}; {rule}" if rule else c["short_reason"]
+    if 4 + len(c["case"]) + 2 + len(why) <= TABLE_WIDTH:
+        return lines + [f"    {c['case']}: {why}".rstrip()]
+    lines.append(f"    {c['case']}".rstrip())
+    if 4 + len(why) <= TABLE_WIDTH:
+        return lines + [f"    {why}".rstrip()]
+    return lines + _wrapped(c["short_reason"]) + _wrapped(rule)
 
 
 def check_table(check, mine):
-    """One check's table, as `jam check` prints it (checks/verdict_table.cpp): a heading with
-    the counts and the unit of its effects, then a row per verdict with the whole case name."""
+    """One check's table, as `jam check` prints it (checks/verdict_table.cpp) from the cells
+    jam wrote: a heading with the counts and the unit of its effects, then per verdict a line of
+    numbers and its whole case with its short reason."""
     groups = {}
     for v in mine:
         groups.setdefault(effect_unit(v), []).append(v)
     # The check's own unit first (the lammps check's pressures before its positions).
     own = mine[0].margin_unit or "relative"
     groups = dict(sorted(groups.items(), key=lambda g: g[0] != own))
-    status = [v.status + (" (expected)" if v.expected_failure else "") for v in mine]
-    status_width = max([len("verdict")] + [len(s) for s in status])
-    case_width = max([4] + [len(plain(v.case, SUMMARY_LONGEST)) for v in mine])
+    shown = {id(v): {k: plain(x, SUMMARY_LONGEST) for k, x in cells(v).items()} for v in mine}
+    w = [max([len(h)] + [len(shown[id(v)][k]) for v in mine])
+         for h, k in zip(NUMBER_HEADERS, NUMBER_KEYS)]
     one_unit = len(groups) == 1
+
+    def unit_of(group):  # the words jam wrote for the unit of a group's effects
+        return shown[id(group[0])]["unit"]
     plural = "" if len(mine) == 1 else "s"
     lines = [f"{plain(check)}: {len(mine)} verdict{plural}, {counts_text(counts(mine))}"
-             + (f"; effects in {_unit_words(next(iter(groups)))}" if one_unit else "")]
+             + (f"; effects in {unit_of(next(iter(groups.values())))}" if one_unit else "")]
     regions = {v.region for v in mine}
-    if "pooled" in regions and not regions & set(REGIONS):
+    if "pooled" in regions and not regions - {"pooled", ""}:
         lines.append(POOLED_ONLY)
-
-    def row(*cells):
-        return (f"  {cells[0]:<{status_width}}  {cells[1]:<{case_width}}  {cells[2]:>10}  "
-                f"{cells[3]:>14}  {cells[4]:>8}  {cells[5]}").rstrip()
-    lines.append(row("verdict", "case", "detectable", "excluded above", "margin", "reason"))
-    for unit, rows in groups.items():
+    if any(v.table is None for v in mine):
+        lines.append("  (checks.json from an older jam: no table cells; each reason whole)")
+    lines.append(_numbers_line(w, NUMBER_HEADERS))
+    lines.append("    case: reason; decided by")
+    for rows in groups.values():
         if not one_unit:
-            lines.append(f"  effects in {_unit_words(unit)}:")
-        percent = unit == "relative"
+            lines.append(f"  effects in {unit_of(rows)}:")
         for v in rows:
-            lines.append(row(v.status + (" (expected)" if v.expected_failure else ""),
-                             plain(v.case, SUMMARY_LONGEST),
-                             _table_number(v.detectable, percent),
-                             _table_number(v.excluded_above, percent),
-                             _table_number(v.margin, percent),
-                             plain(short_reason(v), SUMMARY_LONGEST)))
+            lines.extend(_verdict_lines(w, shown[id(v)]))
     return lines
 
 

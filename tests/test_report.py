@@ -261,6 +261,25 @@ class Report(unittest.TestCase):
         for v in verdicts:  # whole case names, never cut
             self.assertTrue(any(v["case"] in line for line in printed), v["case"])
 
+    def test_verdict_rows_show_the_cells_jam_wrote(self):
+        # Every verdict's row on the page shows its estimate, the effects allowed and the
+        # range judged (with margin, region, samples and rule) as checks.json's `table` has
+        # them: the cells jam check printed.
+        with open(os.path.join(self.work, "runs", "ci", "checks.json")) as f:
+            verdicts = json.load(f)["verdicts"]
+        rows = re.findall(r"<tr class='(?:pass|fail|inconclusive|expected)'>(.*?)</tr>",
+                          self.page, re.S)
+        shown = [[html.unescape(c) for c in re.findall(r"<td[^>]*>([^<]*)</td>", row)]
+                 for row in rows]
+        for v in verdicts:
+            t = v["table"]
+            wanted = [t[k] for k in ("estimate", "allowed", "margin", "unit", "range", "region",
+                                     "samples", "rule")]
+            self.assertTrue(any(r[1:1 + len(wanted)] == wanted for r in shown),
+                            (v["case"], wanted))
+        self.assertTrue(any(v["table"]["range"] != "-" and v["table"]["estimate"] != "-"
+                            for v in verdicts))
+
     def test_no_partial_directories_left(self):
         left = [d for d in os.listdir(os.path.join(self.work, "reports")) if d != "ci"]
         self.assertEqual(left, [])
