@@ -92,6 +92,19 @@ std::vector<Verdict> fit_parameters_check(const StatsData& d, const CheckOptions
       out.push_back(inconclusive("fit_phi_j", "phi_J, " + p.what, why));
       continue;
     }
+    // A fit its own quality test calls poor (the form does not describe its points, or its
+    // errors exceed half the exponents) estimates nothing to compare: neither a difference
+    // "surely beyond the margin" nor an agreement can rest on it.
+    if (p.a->quality != "ok" || p.b->quality != "ok") {
+      const FamilyParameters& poor = p.a->quality != "ok" ? *p.a : *p.b;
+      const std::string why = fmt::format(
+          "the fit of n{} phi_init {:g} is of quality {} ({}): its parameters are no estimate "
+          "of the scaling form's",
+          poor.n, poor.phi_init, poor.quality, poor.quality_reason);
+      out.push_back(inconclusive("fit_parameters", "exponents, " + p.what, why));
+      out.push_back(inconclusive("fit_phi_j", "phi_J, " + p.what, why));
+      continue;
+    }
     const std::int64_t samples = std::min(p.a->samples, p.b->samples);
     Verdict exponents =
         judge_parameters("fit_parameters", "exponents, " + p.what,

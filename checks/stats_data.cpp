@@ -188,6 +188,9 @@ StatsData read_stats(const std::string& directory) {
                                   {"y_error", &p.y_err}})
           *value = f.read_attribute_double(key, g);
         p.samples = f.read_attribute_int("samples", g);
+        if (f.has_attribute("quality", g)) p.quality = f.read_attribute_string("quality", g);
+        if (f.has_attribute("quality_reason", g))
+          p.quality_reason = f.read_attribute_string("quality_reason", g);
       }
       d.families.push_back(std::move(p));
     }

@@ -57,6 +57,8 @@ struct FamilyParameters {
   double phi_j = NAN, phi_j_err = NAN, beta = NAN, beta_err = NAN, y = NAN, y_err = NAN;
   std::int64_t samples = 0;
   std::string failure;  // non-empty: no fit
+  // The fit's own quality test (stats.h5 `quality`, `quality_reason`; "ok" when not stored).
+  std::string quality = "ok", quality_reason;
 };
 
 struct StatsData {

@@ -1,7 +1,7 @@
 // The fit_parameters check (checks/fit_parameters_check.cpp) on planted fitted parameters:
 // equal parameters with small errors pass, beta 30% apart fails and is named, a phi_J shift of
-// 0.01 fails its own verdict, large errors are inconclusive, and without per-size fits it says
-// so. The t quantiles are checked against tabulated values.
+// 0.01 fails its own verdict, large errors and fits of quality poor are inconclusive, and
+// without per-size fits it says so. The t quantiles are checked against tabulated values.
 #include <gsl/gsl_cdf.h>
 
 #include <boost/test/unit_test.hpp>
@@ -63,6 +63,23 @@ BOOST_AUTO_TEST_CASE(large_errors_are_inconclusive) {
   const auto v = judged(family(256, 2.9, 1.05, 0.8415, 0.2), family(1024, 2.8, 1.05, 0.8415, 0.2));
   BOOST_TEST(v[0].status == "inconclusive", v[0].reason);
   BOOST_TEST(v[1].status == "inconclusive", v[1].reason);
+}
+
+// A fit of quality poor compares nothing: beta 30% apart with 1% errors fails between two fits
+// of quality ok, and is inconclusive, naming the poor fit and its reason, when one is poor
+// (paper-2d's N = 16384 at rate_max 1e-7: chi^2/dof 7.5, beta 3.75 against 2.11).
+BOOST_AUTO_TEST_CASE(a_poor_fit_is_not_compared) {
+  FamilyParameters poor = family(256, 3.8, 1.05, 0.8415, 0.01);
+  poor.quality = "poor";
+  poor.quality_reason = "chi^2/dof 7.48 above 3: the scaling form does not describe these points";
+  const auto v = judged(poor, family(1024, 2.8, 1.05, 0.8415, 0.01));
+  BOOST_TEST_REQUIRE(v.size() == 2u);
+  for (const auto& x : v) {
+    BOOST_TEST(x.status == "inconclusive", x.reason);
+    BOOST_TEST(x.reason.find("n256 phi_init 0.4 is of quality poor (chi^2/dof 7.48") !=
+                   std::string::npos,
+               x.reason);
+  }
 }
 
 BOOST_AUTO_TEST_CASE(without_family_fits_it_says_so) {
