@@ -345,6 +345,15 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
   return false;
 }
 
+/// What checks.json records of a sequence: the question it judged (checks.json "question":
+/// the range asked, the checks, each margin, the sequence's alpha).
+json question_of(const Campaign& c, const UntilDecidedOptions& o) {
+  const CampaignQuestion q = sequence_question(c, o);
+  checks::CheckOptions options = sequence_check_options(c, q);
+  options.alpha = o.alpha;
+  return {{"question", question_record(q, options)}, {"until_decided", true}};
+}
+
 /// Sleeps `seconds` in short steps; false when a stop was asked for meanwhile.
 bool doze(double seconds) {
   const auto& stop = install_stop_handlers();
@@ -503,7 +512,7 @@ int run_looks(const Campaign& c, const CampaignRunOptions& run, const UntilDecid
       more = judge_look(c, o, s, &verdicts) ? 1 : 0;
       // The verdicts before the state that says they are final: a stop or a kill between the
       // two leaves the look to be judged again, never a finished state without checks.json.
-      if (!more) write_verdict_files(c.output, "all", verdicts, c.name, 0.0);
+      if (!more) write_verdict_files(c.output, "all", verdicts, c.name, 0.0, question_of(c, o));
       throw_if_stop_requested("until-decided.json");
       write_state(c, s);
       if (!more) fmt::print("until-decided: {}\n", s.outcome);
