@@ -185,6 +185,18 @@ int stored_exit_status(const Campaign& c) {
 
 // ---- one look ------------------------------------------------------------------------------
 
+/// The checks' options of a look but its alpha (sequence_check_options), the range asked said
+/// to come from the command line where --phi-min/--phi-max gave it.
+checks::CheckOptions look_options(const Campaign& c, const UntilDecidedOptions& o,
+                                  const CampaignQuestion& q) {
+  checks::CheckOptions options = sequence_check_options(c, q);
+  if (o.phi_min || o.phi_max)
+    options.regions.asked_from = o.phi_min && o.phi_max
+                                     ? "--phi-min, --phi-max"
+                                     : "[question] phi_min, phi_max with --phi-min or --phi-max";
+  return options;
+}
+
 /// " over the range asked, phi in [0.83, 0.85]" when the question states one.
 std::string asked_words(const CampaignQuestion& q) {
   return q.states_range()
@@ -220,7 +232,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
   // The campaign's margins and regions, and the question (recorded in the state:
   // until_decided_options.hpp).
   const CampaignQuestion question = sequence_question(c, o);
-  checks::CheckOptions options = sequence_check_options(c, question);
+  checks::CheckOptions options = look_options(c, o, question);
   options.alpha = alpha;
   // Undecided verdicts are judged again at the next look's alpha: the samples aim at it.
   options.estimate_alpha = checks::look_alpha(o.alpha, look + 1);
@@ -349,7 +361,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
 /// the range asked, the checks, each margin, the sequence's alpha).
 json question_of(const Campaign& c, const UntilDecidedOptions& o) {
   const CampaignQuestion q = sequence_question(c, o);
-  checks::CheckOptions options = sequence_check_options(c, q);
+  checks::CheckOptions options = look_options(c, o, q);
   options.alpha = o.alpha;
   return {{"question", question_record(q, options)}, {"until_decided", true}};
 }

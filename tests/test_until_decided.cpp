@@ -244,7 +244,7 @@ BOOST_AUTO_TEST_CASE(the_range_asked_is_taken_recorded_and_a_changed_one_refused
   const std::string tight = " --until-decided --budget 0.00001 --jobs 1 --quiet";
   const Outcome o = run_jam("campaign run " + file.string() + tight + " --phi-min 0.78");
   BOOST_TEST(o.status == 3, o.output);  // the budget spent at look 1
-  BOOST_TEST(o.output.find("look 1 at alpha 0.05 over the range asked, phi in [0.78, 0.84]") !=
+  BOOST_TEST(o.output.find("look 1 at alpha 0.025 over the range asked, phi in [0.78, 0.84]") !=
                  std::string::npos,
              o.output);
   const std::string state = slurp(kDir / "asked" / "until-decided.json");
@@ -253,9 +253,10 @@ BOOST_AUTO_TEST_CASE(the_range_asked_is_taken_recorded_and_a_changed_one_refused
              state);
   const std::string checks = verdicts("asked");
   BOOST_TEST(checks.find("\"region\": \"asked\"") != std::string::npos);
-  BOOST_TEST(std::regex_search(checks, std::regex("\"question\": \\{[^}]*\"range\": \\{\\s*"
-                                                  "\"from\": \"\\[question\\] phi_min, phi_max "
-                                                  "with --phi-min or --phi-max\",\\s*"
+  // At the top level of checks.json (two spaces in), the range and where it was stated.
+  BOOST_TEST(std::regex_search(checks, std::regex("\n  \"question\": \\{[\\s\\S]*?\"range\": "
+                                                  "\\{\\s*\"from\": \"\\[question\\] phi_min, "
+                                                  "phi_max with --phi-min or --phi-max\",\\s*"
                                                   "\"phi_max\": 0\\.84,\\s*\"phi_min\": 0\\.78")),
              checks);
   const auto before = fs::last_write_time(kDir / "asked" / "checks.json");
