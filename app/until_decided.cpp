@@ -197,6 +197,14 @@ checks::CheckOptions look_options(const Campaign& c, const UntilDecidedOptions& 
   return options;
 }
 
+/// A verdict of a range the compared data do not cover (a region at constant Z where no Z of
+/// both sets has its mean packing, say): more samples of the same runs never reach it. Judged
+/// by the words judge_by_region (checks/pooled_verdict.cpp) gives it.
+bool uncovered(const checks::Verdict& v) {
+  return v.status == "inconclusive" && (v.reason.starts_with("nothing to judge") ||
+                                        v.reason.starts_with("fewer than 2 common points in"));
+}
+
 /// " over the range asked, phi in [0.83, 0.85]" when the question states one.
 std::string asked_words(const CampaignQuestion& q) {
   return q.states_range()
@@ -283,7 +291,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
       ++decided;
     } else if (question.states_range() && v.region != "asked") {
       ++not_asked;  // judged and reported, but the samples go where the question is
-    } else if (const auto ens = ensembles_of(v); ens.empty()) {
+    } else if (const auto ens = ensembles_of(v); ens.empty() || uncovered(v)) {
       ++not_by_samples;
     } else {
       ++undecided;
