@@ -77,8 +77,18 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
   run->add_option("--budget", a.until.budget_core_hours,
                   "--until-decided: core-hours all runs of the campaign may take, in all");
   run->add_option("--alpha", a.until.alpha,
-                  "--until-decided: false-alarm rate of each check over all looks")
+                  "--until-decided: false-alarm rate of each check over all looks (default: the "
+                  "campaign file's [question] alpha, else 0.05)")
       ->check(CLI::Range(1e-6, 0.5));
+  run->add_option("--phi-min", a.until.phi_min,
+                  "--until-decided: the range asked from this packing, judged as the region "
+                  "\"asked\" (default: the campaign file's [question] phi_min); with a range "
+                  "asked only its verdicts drive the samples added")
+      ->always_capture_default(false);
+  run->add_option("--phi-max", a.until.phi_max,
+                  "--until-decided: the range asked up to this packing (default: [question] "
+                  "phi_max)")
+      ->always_capture_default(false);
   CLI::App* status = campaign->add_subcommand(
       "status", "Print what is done, partial, missing, failed or corrupt in a campaign directory");
   status->add_option("directory", a.directory, "Campaign directory (its 'output')")->required();
@@ -205,17 +215,28 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
   if (campaign->got_subcommand("run")) {
     CampaignRunOptions options = a.run;
     if (!a.shard.empty()) std::tie(options.shard, options.shards) = parse_shard(a.shard);
+    const CLI::App* run = campaign->get_subcommand("run");
     if (a.until_decided) {
       try {
         validate_until_decided(a.until);
       } catch (const std::invalid_argument& e) {
         throw CLI::ValidationError("--budget", e.what());
       }
-      return run_until_decided(read_campaign(a.file), options, a.until, ranks);
+      const Campaign c = read_campaign(a.file);
+      UntilDecidedOptions until = a.until;
+      // The campaign's question is the default; the command line's --alpha overrides it.
+      if (!run->count("--alpha") && c.question.alpha) until.alpha = *c.question.alpha;
+      try {
+        sequence_question(c, until);  // a range that is none: one line, before any run
+      } catch (const std::invalid_argument& e) {
+        throw CLI::ValidationError(e.what());
+      }
+      return run_until_decided(c, options, until, ranks);
     }
-    const CLI::App* run = campaign->get_subcommand("run");
-    if (run->count("--budget") || run->count("--alpha"))
-      throw CLI::ValidationError("--budget", "--budget and --alpha go with --until-decided");
+    if (run->count("--budget") || run->count("--alpha") || run->count("--phi-min") ||
+        run->count("--phi-max"))
+      throw CLI::ValidationError(
+          "--budget", "--budget, --alpha, --phi-min and --phi-max go with --until-decided");
     return run_campaign(read_campaign(a.file), options, ranks);
   }
   if (campaign->got_subcommand("status")) {
@@ -251,7 +272,7 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
       sources = checks_files_of({run_pilot(pilot, a.run, ranks)});
       if (ranks.rank != 0) return 0;
     }
-    model = fit_scatter_model(sources);
+    model = fit_scatter_model(sources, c.question.states_range() ? "asked" : "");
   } catch (const std::exception& e) {
     // A file the user named is an error; the stored default missing is only a gap.
     if (a.pilot > 0) throw std::runtime_error(e.what());

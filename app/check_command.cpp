@@ -43,15 +43,16 @@ struct CampaignPart {
   std::map<std::string, double> regions;  // [regions]
   std::vector<std::string> expected;
   std::vector<std::string> compare_with;  // other simulators' campaigns judged against this one
+  CampaignQuestion question;              // [question]
 };
 
 CampaignPart campaign_part(const std::string& directory) {
   const std::filesystem::path file = std::filesystem::path(directory) / "campaign.toml";
-  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}, {}, {}};
+  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}, {}, {}, {}};
   if (std::filesystem::exists(file)) {
     const Campaign campaign = read_campaign(file.string());
-    c = {campaign.name, campaign.margins, campaign.regions, campaign.expected_failures,
-         campaign.compare_with};
+    c = {campaign.name,         campaign.margins, campaign.regions, campaign.expected_failures,
+         campaign.compare_with, campaign.question};
   }
   return c;
 }
@@ -198,9 +199,35 @@ void append_comparisons(std::vector<checks::Verdict>& verdicts, const CampaignPa
 
 }  // namespace
 
+std::vector<std::string> checks_to_run(const std::vector<std::string>& wanted) {
+  std::vector<std::string> out;
+  for (const auto& e : checks::check_registry()) {
+    if (!checks::runs_by_name(e) || e.name == "compare") continue;  // compare: compare_with's
+    bool asked = false;
+    for (const auto& w : wanted) {
+      const checks::CheckEntry* x = checks::find_check(w);
+      const auto* part = x ? std::get_if<checks::PartOf>(&x->run) : nullptr;
+      asked = asked || w == e.name || (part && part->check == e.name);
+    }
+    if (asked) out.emplace_back(e.name);
+  }
+  return out;
+}
+
+bool question_wants(const std::vector<std::string>& wanted, const std::string& check) {
+  if (wanted.empty()) return true;
+  const checks::CheckEntry* e = checks::find_check(check);
+  const auto* part = e ? std::get_if<checks::PartOf>(&e->run) : nullptr;
+  for (const auto& w : wanted)
+    if (w == check || (part && w == part->check)) return true;
+  return false;
+}
+
 nlohmann::json check_record(const CheckArgs& a) {
   const CampaignPart c = campaign_part(a.directory);
-  return judging_record(a.judging, check_options(a.judging, a.name, c.margins, c.regions));
+  return judging_record(a.judging,
+                        check_options(a.judging, a.name, c.margins, c.regions, c.question),
+                        a.name == "all" ? c.question : CampaignQuestion{});
 }
 
 int run_check_command(const CheckArgs& a) {
@@ -221,7 +248,8 @@ int run_check_command(const CheckArgs& a) {
   // Margins and expected failures: the campaign file's, then --margin.
   const CampaignPart campaign = campaign_part(a.directory);
   require_current_inputs(a, campaign);
-  checks::CheckOptions o = check_options(a.judging, a.name, campaign.margins, campaign.regions);
+  checks::CheckOptions o =
+      check_options(a.judging, a.name, campaign.margins, campaign.regions, campaign.question);
   if (!a.set_a.empty() || !a.set_b.empty()) {
     if (a.set_a.empty() || a.set_b.empty())
       throw std::runtime_error("--set-a and --set-b go together");
@@ -240,8 +268,18 @@ int run_check_command(const CheckArgs& a) {
   in.lammps.use_lmp = !a.judging.no_lmp;
   in.lammps.regenerate = a.regenerate;
   in.runs_of_another_simulator = is_external_campaign(a.directory);
-  std::vector<checks::Verdict> verdicts = checks::run_checks(a.name, in);
-  if (a.name == "all") append_comparisons(verdicts, campaign, in);
+  std::vector<checks::Verdict> verdicts;
+  if (a.name == "all" && !campaign.question.checks.empty()) {
+    // The checks the question wants, each by name (a part through its check), never the rest.
+    const std::vector<std::string>& wanted = campaign.question.checks;
+    for (const std::string& name : checks_to_run(wanted))
+      for (auto& v : checks::run_checks(name, in))
+        if (question_wants(wanted, v.check)) verdicts.push_back(std::move(v));
+    if (question_wants(wanted, "compare")) append_comparisons(verdicts, campaign, in);
+  } else {
+    verdicts = checks::run_checks(a.name, in);
+    if (a.name == "all") append_comparisons(verdicts, campaign, in);
+  }
   mark_expected_failures(verdicts, campaign.expected);
   print_verdicts(verdicts, a.table);
   // `all` writes checks.*, the files reports read; a single check writes checks-NAME.*, so
@@ -249,7 +287,7 @@ int run_check_command(const CheckArgs& a) {
   write_verdict_files(
       a.directory, a.name, verdicts, campaign.name,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
-      judging_record(a.judging, o));
+      judging_record(a.judging, o, a.name == "all" ? campaign.question : CampaignQuestion{}));
   return checks::exit_status(verdicts);
 }
 

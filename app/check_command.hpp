@@ -26,6 +26,15 @@ void add_check_command(CLI::App& app, CheckArgs& args);
 /// DIR/checks-NAME.{json,xml,h5}; returns checks::exit_status (0 pass, 1 fail, 3 inconclusive).
 int run_check_command(const CheckArgs& args);
 
+/// The checks `jam check all` runs by name for a campaign whose [question] names `wanted`
+/// (a part, e.g. jamming_point, through the check that writes it), in the registry's order;
+/// compare stays with compare_with.
+std::vector<std::string> checks_to_run(const std::vector<std::string>& wanted);
+
+/// Whether a verdict of `check` answers the question (every check when `wanted` is empty; a
+/// part when its check is wanted).
+bool question_wants(const std::vector<std::string>& wanted, const std::string& check);
+
 /// What `jam check NAME DIR` judges with: DIR/campaign.toml's margins (when there is one), then
 /// the options given; the record checks.json keeps of them. Throws naming a bad option.
 nlohmann::json check_record(const CheckArgs& args);

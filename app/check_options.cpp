@@ -33,9 +33,11 @@ bool packing(std::optional<double> phi) {
 std::vector<JudgingOption> make_table() {
   return {
       {"--alpha", "alpha", &JudgingArgs::alpha,
-       "False-alarm rate of each check (Bonferroni over its comparisons)",
+       fmt::format("False-alarm rate of each check (Bonferroni over its comparisons; default: "
+                   "the campaign file's [question] alpha, else {:g})",
+                   kDefaultAlpha),
        [](const JudgingArgs& a) {
-         return a.alpha > 0 && a.alpha < 1 ? "" : std::string("must be in (0, 1)");
+         return !a.alpha || (*a.alpha > 0 && *a.alpha < 1) ? "" : std::string("must be in (0, 1)");
        }},
       {"--permutations", "permutations", &JudgingArgs::permutations,
        "Permutations of whole runs for null distributions",
@@ -43,14 +45,16 @@ std::vector<JudgingOption> make_table() {
          return a.permutations >= 100 ? "" : std::string("must be at least 100");
        }},
       {"--phi-min", "phi_min", &JudgingArgs::phi_min,
-       "Pressure checks (finite_size, phi_init, chain, compare): pool from this packing "
-       "(default: the scaling fit's window in stats.h5; compare: REF's)",
+       "Pressure checks (finite_size, phi_init, chain, compare): judge from this packing. "
+       "Where the campaign file states a range ([question] phi_min, phi_max) it replaces "
+       "that range's lower end, judged as the region \"asked\"; else the pooled verdicts "
+       "pool from it (default: the scaling fit's window in stats.h5; compare: REF's)",
        [](const JudgingArgs& a) {
          return packing(a.phi_min) ? "" : std::string("must be a packing in (0, 1)");
        }},
       {"--phi-max", "phi_max", &JudgingArgs::phi_max,
-       "Pressure checks (finite_size, phi_init, compare): pool up to this packing (default: "
-       "the scaling fit's window; compare: REF's)",
+       "Pressure checks (finite_size, phi_init, compare): judge up to this packing (as "
+       "--phi-min: the upper end of the range asked, or of the pooled range)",
        [](const JudgingArgs& a) {
          if (!packing(a.phi_max)) return std::string("must be a packing in (0, 1)");
          if (a.phi_min && a.phi_max && !(*a.phi_min < *a.phi_max))
@@ -151,13 +155,29 @@ void validate_judging(const JudgingArgs& args) {
 
 checks::CheckOptions check_options(const JudgingArgs& args, const std::string& name,
                                    const std::map<std::string, double>& campaign_margins,
-                                   const std::map<std::string, double>& campaign_regions) {
+                                   const std::map<std::string, double>& campaign_regions,
+                                   const CampaignQuestion& question) {
   validate_judging(args);
   checks::CheckOptions o;
-  o.alpha = args.alpha;
+  o.alpha = args.alpha.value_or(question.alpha.value_or(kDefaultAlpha));
   o.permutations = args.permutations;
-  o.phi_min = args.phi_min;
-  o.phi_max = args.phi_max;
+  if (question.states_range()) {
+    // The question's range is judged as the region "asked" beside the pooled verdict (which
+    // keeps its own range); the command line's ends replace the question's.
+    o.regions.asked_min = args.phi_min.value_or(*question.phi_min);
+    o.regions.asked_max = args.phi_max.value_or(*question.phi_max);
+    if (args.phi_min || args.phi_max)
+      o.regions.asked_from = args.phi_min && args.phi_max
+                                 ? "--phi-min, --phi-max"
+                                 : "[question] phi_min, phi_max with --phi-min or --phi-max";
+    if (!(*o.regions.asked_min < *o.regions.asked_max))
+      throw std::runtime_error(
+          fmt::format("the range asked [{:g}, {:g}] ({}): phi_min must lie below phi_max",
+                      *o.regions.asked_min, *o.regions.asked_max, o.regions.asked_from));
+  } else {
+    o.phi_min = args.phi_min;
+    o.phi_max = args.phi_max;
+  }
   auto campaign = [&campaign_regions](const char* key) -> std::optional<double> {
     const auto it = campaign_regions.find(key);
     return it == campaign_regions.end() ? std::nullopt : std::optional<double>(it->second);
@@ -184,9 +204,33 @@ checks::CheckOptions check_options(const JudgingArgs& args, const std::string& n
   return o;
 }
 
-nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOptions& options) {
+nlohmann::json question_record(const CampaignQuestion& question,
+                               const checks::CheckOptions& options) {
+  using nlohmann::json;
+  json range = nullptr;
+  if (options.regions.asks())
+    range = {{"phi_min", *options.regions.asked_min},
+             {"phi_max", *options.regions.asked_max},
+             {"from", options.regions.asked_from}};
+  json margins = json::object();
+  for (const auto& e : checks::check_registry())
+    margins[std::string(e.name)] = options.margin(std::string(e.name));
+  // Without a range asked, what the pooled verdicts judge instead.
+  const char* pooled = options.phi_min || options.phi_max
+                           ? "the range given (--phi-min, --phi-max)"
+                           : "the scaling fit's window, else the whole compression";
+  return {{"range", range},
+          {"pooled", pooled},
+          {"checks", question.checks.empty() ? json(nullptr) : json(question.checks)},
+          {"margins", margins},
+          {"alpha", options.alpha}};
+}
+
+nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOptions& options,
+                              const CampaignQuestion& question) {
   nlohmann::json record = nlohmann::json::object();
   for (const auto& o : judging_options()) record[o.key] = value_of(args, o);
+  record["alpha"] = options.alpha;  // as used: --alpha, else [question] alpha, else the default
   nlohmann::json margins = nlohmann::json::object();
   for (const auto& e : checks::check_registry())
     margins[std::string(e.name)] = options.margin(std::string(e.name));
@@ -196,6 +240,7 @@ nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOption
       {"phi_j", options.phi_j ? nlohmann::json(*options.phi_j) : nlohmann::json(nullptr)},
       {"near", options.regions.near},
       {"far", options.regions.far}};
+  record["question"] = question_record(question, options);
   return record;
 }
 

@@ -17,21 +17,28 @@
 #include <variant>
 #include <vector>
 
+#include "campaign/campaign_file.hpp"
 #include "checks/checks.hpp"
 #include "sim/io/install_paths.hpp"
 
 namespace jam {
 
 struct JudgingArgs {
-  double alpha = 0.05;
+  std::optional<double> alpha;  // absent: the campaign's [question] alpha, else kDefaultAlpha
   int permutations = 2000;
-  std::optional<double> phi_min, phi_max;  // absent: the scaling fit's window
+  // Absent: the campaign's [question] range (judged as the region "asked"), else the scaling
+  // fit's window. Given where the campaign states a range: they replace it (still "asked");
+  // where it states none: the range the pooled verdict judges.
+  std::optional<double> phi_min, phi_max;
   std::optional<double> margin;            // absent: the campaign's [margins], else defaults
   std::optional<double> phi_j;             // absent: the campaign's [regions], the fit's, <phi_Ji>
   std::optional<double> region_near, region_far;  // absent: the campaign's, else the defaults
   std::string reference_dir = data_path("reference").string();
   bool no_lmp = false;
 };
+
+/// The false-alarm rate of each check when neither --alpha nor [question] alpha gives one.
+inline constexpr double kDefaultAlpha = 0.05;
 
 struct JudgingOption {
   std::string flag;  // "--alpha"
@@ -56,14 +63,24 @@ void validate_judging(const JudgingArgs& args);
 
 /// The statistical checks' options for check `name` (`all`: every check): the campaign's
 /// margins, then --margin (for `name`, its parts, or every check under `all`); the regions
-/// from --phi-j, --region-near, --region-far, else the campaign's [regions]; the rest as
-/// given. Validates first.
+/// from --phi-j, --region-near, --region-far, else the campaign's [regions]; alpha from
+/// --alpha, else [question] alpha; the range asked (the region "asked") from the question,
+/// --phi-min/--phi-max replacing its ends; the rest as given. Validates first.
 checks::CheckOptions check_options(const JudgingArgs& args, const std::string& name,
                                    const std::map<std::string, double>& campaign_margins,
-                                   const std::map<std::string, double>& campaign_regions = {});
+                                   const std::map<std::string, double>& campaign_regions = {},
+                                   const CampaignQuestion& question = {});
+
+/// The question as judged (checks.json "question"): the range asked and where it was stated
+/// (null when none: then "pooled" says what the pooled verdicts judge), the checks wanted
+/// (null: all), each check's margin and alpha as used.
+nlohmann::json question_record(const CampaignQuestion& question,
+                               const checks::CheckOptions& options);
 
 /// What the verdicts were judged with: every option of the table by its key (null when not
-/// given) and "margins", each registered check's margin as used.
-nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOptions& options);
+/// given; alpha as used), "margins", each registered check's margin as used, "regions" and
+/// "question" (question_record).
+nlohmann::json judging_record(const JudgingArgs& args, const checks::CheckOptions& options,
+                              const CampaignQuestion& question = {});
 
 }  // namespace jam

@@ -87,7 +87,8 @@ std::vector<std::string> default_scatter_sources(int dim) {
   return {data_path(fmt::format("reference/results/reduced-{}d/checks.json", dim)).string()};
 }
 
-ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files) {
+ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files,
+                               const std::string& region) {
   std::vector<ScatterPoint> at_phi, at_z;
   ScatterModel m;
   for (const auto& path : checks_files) {
@@ -102,8 +103,14 @@ ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files) {
       throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
     }
     const std::size_t before = at_phi.size() + at_z.size();
+    // The range asked, where the file judged it: its scatter, not that of a wider window.
+    const bool of_region =
+        !region.empty() && std::any_of(verdicts.begin(), verdicts.end(), [&](const auto& v) {
+          return v.is_object() && v.value("region", "") == region;
+        });
     for (const auto& v : verdicts) {
       if (!v.is_object() || !v.contains("values") || !v["values"].is_object()) continue;
+      if (of_region && v.value("region", "") != region) continue;
       const auto& x = v["values"];
       const double rate = number(x, "log10_rate");
       const double na = std::isfinite(number(x, "n_a")) ? number(x, "n_a") : number(x, "n");
@@ -120,7 +127,11 @@ ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files) {
           "{}: no verdict with window scatter values (judge it with this jam: jam check all)",
           path));
     }
-    m.sources.push_back(path);
+    m.sources.push_back(!region.empty() ? fmt::format("{} ({})", path,
+                                                      of_region ? "its verdicts of the range asked"
+                                                                : "it judged no range asked: its "
+                                                                  "verdicts of wider ranges")
+                                        : path);
   }
   m.at_phi = fit(at_phi);
   m.at_z = fit(at_z);
@@ -139,13 +150,17 @@ struct Planned {
 
 std::vector<Planned> planned_comparisons(const Campaign& c) {
   std::vector<Planned> out;
-  if (c.sizes.size() >= 2) {
+  const auto& wanted = c.question.checks;  // empty: every check
+  auto asks = [&wanted](const char* check) {
+    return wanted.empty() || std::find(wanted.begin(), wanted.end(), check) != wanted.end();
+  };
+  if (c.sizes.size() >= 2 && asks("finite_size")) {
     const auto [lo, hi] = std::minmax_element(c.sizes.begin(), c.sizes.end());
     for (double phi : c.phi_init)
       for (double r : c.log10_rates)
         for (bool z : {false, true}) out.push_back({"finite_size", z, *lo, *hi, phi, phi, r});
   }
-  if (c.phi_init.size() >= 2) {
+  if (c.phi_init.size() >= 2 && asks("phi_init")) {
     const double low = *std::min_element(c.phi_init.begin(), c.phi_init.end());
     for (auto n : c.sizes)
       for (double r : c.log10_rates)
@@ -164,7 +179,23 @@ std::string kind_of(const Planned& p) {
 
 }  // namespace
 
+std::string planned_range_words(const Campaign& c) {
+  if (c.question.states_range())
+    return fmt::format("the range asked, phi in [{:g}, {:g}] ([question] phi_min, phi_max)",
+                       *c.question.phi_min, *c.question.phi_max);
+  // The scaling fit needs 3 rates (stats/fit_scan); without it the pooled verdicts pool
+  // everything compressed.
+  if (c.log10_rates.size() >= 3)
+    return "the scaling fit's window (and the regions around its phi_J)";
+  return fmt::format(
+      "the whole compression, phi {:g} to {:g}: {} rates give no scaling fit and the campaign "
+      "file states no range ([question] phi_min, phi_max)",
+      *std::min_element(c.phi_init.begin(), c.phi_init.end()), c.run.phi_stop,
+      c.log10_rates.size());
+}
+
 int print_decidability(const Campaign& c, const ScatterModel& model, const Throughput& speed) {
+  fmt::print("  the verdicts judge {}\n", planned_range_words(c));
   const std::vector<Planned> planned = planned_comparisons(c);
   if (planned.empty()) {
     fmt::print("  what it can decide: no size or phi_init comparison (one size, one phi_init)\n");
@@ -199,7 +230,8 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
     const double margin =
         c.margins.contains(p.check) ? c.margins.at(p.check) : checks::default_margin(p.check);
     // Only the pass level matters here (a TOST at the check's alpha).
-    const double z_pass = gsl_cdf_ugaussian_Qinv(checks::CheckOptions{}.alpha);
+    const double z_pass =
+        gsl_cdf_ugaussian_Qinv(c.question.alpha.value_or(checks::CheckOptions{}.alpha));
     const double sa = f.scatter(static_cast<double>(p.n_a), p.log10_rate),
                  sb = f.scatter(static_cast<double>(p.n_b), p.log10_rate);
     // With no effect, D ~ N(0, sigma) passes when |D| <= M - z_pass sigma: with probability

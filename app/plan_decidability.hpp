@@ -40,8 +40,17 @@ struct ScatterModel {
 };
 
 /// Fits the model to the pooled verdicts of the given checks.json files; throws naming the
-/// file when one cannot be read or holds no verdict with window scatter values.
-ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files);
+/// file when one cannot be read or holds no verdict with window scatter values. `region`
+/// "asked" (a campaign that states a range): from a file's verdicts of the range asked where
+/// it has them (a pilot judged with the question), its others where it has none, and the
+/// sources say which.
+ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files,
+                               const std::string& region = "");
+
+/// What the verdicts of `jam check` will judge for this campaign, as the plan's "decides"
+/// refers to it: the range asked ([question]), the scaling fit's window (3 or more rates), or
+/// the whole compression (said as such: no fit and no range asked).
+std::string planned_range_words(const Campaign& c);
 
 /// The default sources for a dimension: the stored reduced result's checks.json.
 std::vector<std::string> default_scatter_sources(int dim);

@@ -18,6 +18,7 @@
 #include "campaign/added_samples.hpp"
 #include "campaign/campaign_dir.hpp"
 #include "campaign/run_plan.hpp"
+#include "checks/check_registry.hpp"
 #include "checks/checks.hpp"
 #include "checks/sequential.hpp"
 #include "sim/io/atomic_file.hpp"
@@ -47,6 +48,9 @@ constexpr const char* kIdentifying[] = {"n",
 /// change between looks, since it names the fit window, which moves as samples are added).
 std::string key_of(const checks::Verdict& v) {
   std::string key = v.check;
+  // The region: a pooled verdict and its regions compare the same sets (states written before
+  // regions name none, as "pooled").
+  if (!v.region.empty() && v.region != "pooled") key += " region=" + v.region;
   for (const char* k : kIdentifying)
     if (const auto it = v.values.find(k); it != v.values.end())
       key += fmt::format(" {}={:.9g}", k, it->second);
@@ -181,6 +185,48 @@ int stored_exit_status(const Campaign& c) {
 
 // ---- one look ------------------------------------------------------------------------------
 
+/// The checks' options of a look but its alpha (sequence_check_options), the range asked said
+/// to come from the command line where --phi-min/--phi-max gave it.
+checks::CheckOptions look_options(const Campaign& c, const UntilDecidedOptions& o,
+                                  const CampaignQuestion& q) {
+  checks::CheckOptions options = sequence_check_options(c, q);
+  if (o.phi_min || o.phi_max)
+    options.regions.asked_from = o.phi_min && o.phi_max
+                                     ? "--phi-min, --phi-max"
+                                     : "[question] phi_min, phi_max with --phi-min or --phi-max";
+  return options;
+}
+
+/// A verdict of a range the compared data do not cover (a region at constant Z where no Z of
+/// both sets has its mean packing, say): more samples of the same runs never reach it. Judged
+/// by the words judge_by_region (checks/pooled_verdict.cpp) gives it.
+bool uncovered(const checks::Verdict& v) {
+  return v.status == "inconclusive" && (v.reason.starts_with("nothing to judge") ||
+                                        v.reason.starts_with("fewer than 2 common points in"));
+}
+
+/// " over the range asked, phi in [0.83, 0.85]" when the question states one.
+std::string asked_words(const CampaignQuestion& q) {
+  return q.states_range()
+             ? fmt::format(" over the range asked, phi in [{:g}, {:g}]", *q.phi_min, *q.phi_max)
+             : std::string();
+}
+
+/// The verdicts of a look: the statistical checks of `all`, or those the question wants.
+std::vector<checks::Verdict> judge_question(const Campaign& c, const CampaignQuestion& q,
+                                            const checks::CheckOptions& options) {
+  const checks::StatsData stats = checks::read_stats(c.output);
+  if (q.checks.empty()) return checks::run_check("all", stats, options);
+  std::vector<checks::Verdict> out;
+  for (const std::string& name : checks_to_run(q.checks)) {
+    const checks::CheckEntry* e = checks::find_check(name);
+    if (!e || !std::holds_alternative<checks::StatsCheck>(e->run)) continue;
+    for (auto& v : checks::run_check(name, stats, options))
+      if (question_wants(q.checks, v.check)) out.push_back(std::move(v));
+  }
+  return out;
+}
+
 /// Judges the look, updates the state, and says whether another look follows.
 bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
                 std::vector<checks::Verdict>* final_verdicts) {
@@ -191,13 +237,14 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
   stats.directory = c.output;
   if (const int status = run_stats_command(stats); status != 0)
     throw std::runtime_error(fmt::format("until-decided: jam stats exited {}", status));
-  // The campaign's margins and regions (recorded in the state: until_decided_options.hpp).
-  checks::CheckOptions options = sequence_check_options(c);
+  // The campaign's margins and regions, and the question (recorded in the state:
+  // until_decided_options.hpp).
+  const CampaignQuestion question = sequence_question(c, o);
+  checks::CheckOptions options = look_options(c, o, question);
   options.alpha = alpha;
   // Undecided verdicts are judged again at the next look's alpha: the samples aim at it.
   options.estimate_alpha = checks::look_alpha(o.alpha, look + 1);
-  std::vector<checks::Verdict> verdicts =
-      checks::run_check("all", checks::read_stats(c.output), options);
+  std::vector<checks::Verdict> verdicts = judge_question(c, question, options);
   // A stop asked for while judging: the look is judged again when the command is run again.
   throw_if_stop_requested("until-decided.json");
 
@@ -205,7 +252,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
   std::vector<checks::Verdict> merged;
   SampleCounts next = samples_per_ensemble(c, s.next);
   const SampleCounts present = next;
-  int decided = 0, undecided = 0, not_by_samples = 0;
+  int decided = 0, undecided = 0, not_by_samples = 0, not_asked = 0;
   for (auto& v : verdicts) {
     const std::string key = key_of(v);
     if (s.decided.contains(key)) {
@@ -242,7 +289,9 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
                         {"estimate", number(v.estimate)},
                         {"detectable", number(v.detectable)}};
       ++decided;
-    } else if (const auto ens = ensembles_of(v); ens.empty()) {
+    } else if (question.states_range() && v.region != "asked") {
+      ++not_asked;  // judged and reported, but the samples go where the question is
+    } else if (const auto ens = ensembles_of(v); ens.empty() || uncovered(v)) {
       ++not_by_samples;
     } else {
       ++undecided;
@@ -268,17 +317,21 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
                      {"decided", decided},
                      {"undecided", undecided},
                      {"not_decidable_by_samples", not_by_samples},
+                     {"undecided_outside_the_range_asked", not_asked},
                      {"core_seconds", cost.spent_seconds}});
   const double budget = o.budget_core_hours * 3600.0;
   fmt::print(
-      "until-decided: look {} at alpha {:.3g}: {} decided, {} undecided{}; {:.2f} of "
+      "until-decided: look {} at alpha {:.3g}{}: {} decided, {} undecided{}{}; {:.2f} of "
       "{:.2f} core-hours spent\n",
-      look, alpha, decided, undecided,
+      look, alpha, asked_words(question), decided, undecided,
       not_by_samples ? fmt::format(", {} that samples cannot decide", not_by_samples) : "",
+      not_asked ? fmt::format(", {} outside the range asked left as they stand", not_asked) : "",
       cost.spent_seconds / 3600, o.budget_core_hours);
   if (undecided == 0) {
     s.finished = true;
-    s.outcome = fmt::format("every verdict decided at look {}", look);
+    s.outcome = question.states_range()
+                    ? fmt::format("every verdict of the range asked decided at look {}", look)
+                    : fmt::format("every verdict decided at look {}", look);
     return false;
   }
   // The next batch, shrunk until it fits what is left of the budget.
@@ -310,6 +363,15 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
       "core-hours",
       look, undecided, o.budget_core_hours);
   return false;
+}
+
+/// What checks.json records of a sequence: the question it judged (checks.json "question":
+/// the range asked, the checks, each margin, the sequence's alpha).
+json question_of(const Campaign& c, const UntilDecidedOptions& o) {
+  const CampaignQuestion q = sequence_question(c, o);
+  checks::CheckOptions options = look_options(c, o, q);
+  options.alpha = o.alpha;
+  return {{"question", question_record(q, options)}, {"until_decided", true}};
 }
 
 /// Sleeps `seconds` in short steps; false when a stop was asked for meanwhile.
@@ -371,7 +433,7 @@ bool wait_for_plan(const Campaign& c, const UntilDecidedOptions& o, const Sample
 /// looks and verdicts hold only for those. A state written before options were recorded takes
 /// this invocation's, and says so.
 void require_same_options(const Campaign& c, const UntilDecidedOptions& o, State& s) {
-  const json now = sequence_record(c, o.alpha);
+  const json now = sequence_record(c, sequence_question(c, o), o.alpha);
   if (s.options.is_null()) {
     if (!s.looks.empty())
       fmt::print(
@@ -420,6 +482,26 @@ void validate_until_decided(const UntilDecidedOptions& o) {
   }
 }
 
+CampaignQuestion sequence_question(const Campaign& c, const UntilDecidedOptions& o) {
+  CampaignQuestion q = c.question;
+  if (!o.phi_min && !o.phi_max) return q;
+  if (!q.states_range() && !(o.phi_min && o.phi_max))
+    throw std::invalid_argument(fmt::format(
+        "{} {:g}: the campaign file states no range ([question] phi_min, phi_max) to take the "
+        "other end from; give both --phi-min and --phi-max",
+        o.phi_min ? "--phi-min" : "--phi-max", o.phi_min ? *o.phi_min : *o.phi_max));
+  for (const auto& [flag, value] : {std::pair{"--phi-min", o.phi_min}, {"--phi-max", o.phi_max}})
+    if (value && !(*value > 0 && *value < 1))
+      throw std::invalid_argument(
+          fmt::format("{} {:g}: must be a packing in (0, 1)", flag, *value));
+  q.phi_min = o.phi_min ? o.phi_min : q.phi_min;
+  q.phi_max = o.phi_max ? o.phi_max : q.phi_max;
+  if (!(*q.phi_min < *q.phi_max))
+    throw std::invalid_argument(
+        fmt::format("--phi-max {:g}: must exceed phi_min {:g}", *q.phi_max, *q.phi_min));
+  return q;
+}
+
 namespace {
 
 /// The looks, from the state on: runs, judges, adds samples, until decided or out of budget.
@@ -450,7 +532,7 @@ int run_looks(const Campaign& c, const CampaignRunOptions& run, const UntilDecid
       more = judge_look(c, o, s, &verdicts) ? 1 : 0;
       // The verdicts before the state that says they are final: a stop or a kill between the
       // two leaves the look to be judged again, never a finished state without checks.json.
-      if (!more) write_verdict_files(c.output, "all", verdicts, c.name, 0.0);
+      if (!more) write_verdict_files(c.output, "all", verdicts, c.name, 0.0, question_of(c, o));
       throw_if_stop_requested("until-decided.json");
       write_state(c, s);
       if (!more) fmt::print("until-decided: {}\n", s.outcome);

@@ -4,6 +4,7 @@
 
 #include <variant>
 
+#include "app/check_command.hpp"
 #include "app/check_options.hpp"
 #include "checks/check_registry.hpp"
 
@@ -33,26 +34,31 @@ std::string differs(const std::string& what, const json& recorded, const json& n
 
 }  // namespace
 
-checks::CheckOptions sequence_check_options(const Campaign& c) {
-  return check_options(JudgingArgs{}, "all", c.margins, c.regions);
+checks::CheckOptions sequence_check_options(const Campaign& c, const CampaignQuestion& q) {
+  return check_options(JudgingArgs{}, "all", c.margins, c.regions, q);
 }
 
-json sequence_record(const Campaign& c, double alpha) {
-  const checks::CheckOptions o = sequence_check_options(c);
+json sequence_record(const Campaign& c, const CampaignQuestion& q, double alpha) {
+  const checks::CheckOptions o = sequence_check_options(c, q);
   json margins = json::object(), judged = json::array();
   for (const auto& e : checks::check_registry()) {
     margins[std::string(e.name)] = o.margin(std::string(e.name));
-    // What checks::run_check("all") runs: the statistical checks of `all` and their parts.
-    if (e.in_all && !std::holds_alternative<checks::LammpsCheck>(e.run))
+    // What checks::run_check("all") runs: the statistical checks of `all` and their parts, or
+    // those of them the question wants.
+    if (e.in_all && !std::holds_alternative<checks::LammpsCheck>(e.run) &&
+        question_wants(q.checks, std::string(e.name)))
       judged.push_back(std::string(e.name));
   }
+  const json question =
+      q.states_range() ? json{{"phi_min", *q.phi_min}, {"phi_max", *q.phi_max}} : json(nullptr);
   return {{"alpha", alpha},
           {"margins", margins},
           {"regions",
            {{"phi_j", o.phi_j ? json(*o.phi_j) : json(nullptr)},
             {"near", o.regions.near},
             {"far", o.regions.far}}},
-          {"checks", judged}};
+          {"checks", judged},
+          {"question", question}};
 }
 
 std::string sequence_difference(const json& recorded, const json& now) {
@@ -67,6 +73,15 @@ std::string sequence_difference(const json& recorded, const json& now) {
   for (const auto& [key, value] : now.at("regions").items()) {
     const std::string what = fmt::format("[regions] {}", key);
     if (auto why = differs(what, regions.value(key, json()), value); !why.empty()) return why;
+  }
+  // The range asked; a state begun before it was recorded asked none.
+  const json asked = recorded.value("question", json());
+  for (const char* key : {"phi_min", "phi_max"}) {
+    const json was = asked.is_object() ? asked.value(key, json()) : json();
+    const json is = now.at("question").is_object() ? now.at("question").at(key) : json();
+    const std::string what = fmt::format("the range asked's {} ([question] {}, or --{})", key, key,
+                                         key == std::string("phi_min") ? "phi-min" : "phi-max");
+    if (auto why = differs(what, was, is); !why.empty()) return why;
   }
   return differs("the checks judged", recorded.value("checks", json()), now.at("checks"));
 }

@@ -28,14 +28,20 @@ namespace {
 
 class Reader {
  public:
-  Reader(const toml::table& table, std::string path) : table_(table), path_(std::move(path)) {}
+  // prefix: the table's name when it is not the file's top level ("question"): keys are then
+  // named "question.alpha" in messages.
+  Reader(const toml::table& table, std::string path, std::string prefix = "")
+      : table_(table), path_(std::move(path)), prefix_(std::move(prefix)) {}
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
     const toml::node* node = table_.get(key);
     const auto line = node ? node->source().begin.line : 0u;
-    if (line > 0) throw CampaignError(fmt::format("{}:{}: {}: {}", path_, line, key, what));
-    throw CampaignError(fmt::format("{}: {}: {}", path_, key, what));
+    const std::string name = prefix_.empty() ? key : prefix_ + "." + key;
+    if (line > 0) throw CampaignError(fmt::format("{}:{}: {}: {}", path_, line, name, what));
+    throw CampaignError(fmt::format("{}: {}: {}", path_, name, what));
   }
+
+  const std::string& path() const { return path_; }
 
   const toml::node* find(const std::string& key, bool required) {
     seen_.insert(key);
@@ -178,8 +184,8 @@ class Reader {
   void reject_unknown_keys() const {
     for (const auto& [key, node] : table_) {
       if (!seen_.count(std::string(key.str()))) {
-        throw CampaignError(
-            fmt::format("{}:{}: {}: unknown key", path_, node.source().begin.line, key.str()));
+        throw CampaignError(fmt::format("{}:{}: {}{}: unknown key", path_, node.source().begin.line,
+                                        prefix_.empty() ? "" : prefix_ + ".", key.str()));
       }
     }
   }
@@ -187,6 +193,7 @@ class Reader {
  private:
   const toml::table& table_;
   std::string path_;
+  std::string prefix_;
   std::set<std::string> seen_;
 };
 
@@ -273,7 +280,70 @@ void validate_chain(Reader& r, const Campaign& c) {
   }
 }
 
+/// [question] (CampaignQuestion): each key checked on its own, the error naming the key and
+/// its value. The range must lie where the campaign compresses (above its lowest phi_init,
+/// below phi_stop): a range no run reaches would only ever be "nothing to judge".
+CampaignQuestion read_question(Reader& r, const Campaign& c) {
+  CampaignQuestion q;
+  const toml::node* node = r.find("question", false);
+  if (!node) return q;
+  const toml::table* table = node->as_table();
+  if (!table) r.fail("question", "must be a table ([question])");
+  Reader t(*table, r.path(), "question");
+  auto packing = [&t](const char* key) -> std::optional<double> {
+    if (!t.find(key, false)) return std::nullopt;
+    const double v = t.number(key, false, NAN);
+    if (!(v > 0 && v < 1)) t.fail(key, fmt::format("{:g}: must be a packing in (0, 1)", v));
+    return v;
+  };
+  q.phi_min = packing("phi_min");
+  q.phi_max = packing("phi_max");
+  if (q.phi_min.has_value() != q.phi_max.has_value()) {
+    const char* missing = q.phi_min ? "phi_max" : "phi_min";
+    t.fail(missing, "missing: phi_min and phi_max state the range judged together");
+  }
+  if (q.states_range()) {
+    if (!(*q.phi_min < *q.phi_max))
+      t.fail("phi_max", fmt::format("{:g}: must exceed phi_min = {:g}", *q.phi_max, *q.phi_min));
+    if (!(*q.phi_min < c.run.phi_stop))
+      t.fail("phi_min", fmt::format("{:g}: must lie below phi_stop = {:g} (no run reaches it)",
+                                    *q.phi_min, c.run.phi_stop));
+    const double lowest = *std::min_element(c.phi_init.begin(), c.phi_init.end());
+    if (!(*q.phi_max > lowest))
+      t.fail("phi_max", fmt::format("{:g}: must lie above the lowest phi_init = {:g} (no run is "
+                                    "compressed there)",
+                                    *q.phi_max, lowest));
+  }
+  q.checks = t.strings("checks");
+  const std::vector<std::string> known = question_check_names();
+  std::set<std::string> seen;
+  for (const auto& name : q.checks) {
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      t.fail("checks",
+             fmt::format("'{}': unknown check (one of {})", name, fmt::join(known, ", ")));
+    if (!seen.insert(name).second) t.fail("checks", fmt::format("'{}': repeated", name));
+  }
+  if (t.find("alpha", false)) {
+    const double a = t.number("alpha", false, NAN);
+    if (!(a > 0 && a < 0.5)) t.fail("alpha", fmt::format("{:g}: must be in (0, 0.5)", a));
+    q.alpha = a;
+  }
+  t.reject_unknown_keys();
+  return q;
+}
+
 }  // namespace
+
+std::vector<std::string> question_check_names() {
+  std::vector<std::string> names;
+  // The registry's table (checks/check_registry.hpp), expanded here without linking the checks.
+#define JAM_QUESTION_NAME(name, run, margin, unit, reason, in_all, figure) \
+  if (in_all) names.emplace_back(#name);
+  JAM_CHECK_TABLE(JAM_QUESTION_NAME)
+#undef JAM_QUESTION_NAME
+  names.emplace_back("compare");
+  return names;
+}
 
 std::vector<std::size_t> rates_fastest_first(const Campaign& c) {
   std::vector<std::size_t> order(c.log10_rates.size());
@@ -329,6 +399,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
       !(c.regions.at("near") < c.regions.at("far")))
     r.fail("regions", fmt::format("far = {:g}: must exceed near = {:g}", c.regions.at("far"),
                                   c.regions.at("near")));
+  c.question = read_question(r, c);
   c.expected_failures = r.strings("expected_failures");
   c.compare_with = r.strings("compare_with");
   for (const auto& d : c.compare_with)

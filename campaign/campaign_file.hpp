@@ -4,6 +4,7 @@
 // types, missing fields and impossible values are errors naming the file, the line and the key.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,6 +25,23 @@ inline constexpr std::int64_t kMaxCampaignRuns = 100000;
 /// "auto", which depends on the rate) so that every rate of a sample shares one relaxed start,
 /// cached in <output>/starts/, and no progress display.
 SimConfig campaign_run_defaults();
+
+/// [question]: what the campaign asks, stated in its file before its runs (docs/campaigns.md).
+/// Only what [margins] and [regions] do not already say: the packing range judged (as the
+/// region "asked" beside the pooled verdict, checks/regions.hpp), the checks wanted and the
+/// false-alarm rate. `jam check`, `jam pipeline`, `jam campaign run --until-decided` and
+/// `jam campaign plan` take it as their defaults; the command line's --phi-min, --phi-max and
+/// --alpha override it. Keys absent: not stated.
+struct CampaignQuestion {
+  std::optional<double> phi_min, phi_max;  // both or neither
+  std::vector<std::string> checks;         // empty: every check `jam check all` judges
+  std::optional<double> alpha;
+  bool states_range() const { return phi_min.has_value() && phi_max.has_value(); }
+};
+
+/// The names [question] checks accepts: the checks `jam check all` judges (parts too), and
+/// compare (the campaigns of compare_with judged against this one).
+std::vector<std::string> question_check_names();
 
 struct Campaign {
   std::string name;
@@ -56,6 +74,7 @@ struct Campaign {
   // (checks/regions.hpp): phi_j (fixing phi_J, e.g. for a registered follow-up whose regions
   // are stated before its runs), near and far (the offsets). Keys absent: the defaults.
   std::map<std::string, double> regions;
+  CampaignQuestion question;  // [question]
   // Verdicts the campaign expects to fail, "check: text" with text a part of the case name
   // ("phi_init: phi_init 0.8 vs"): the main job names them as expected, not as a bare FAIL.
   std::vector<std::string> expected_failures;

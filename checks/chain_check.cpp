@@ -40,7 +40,8 @@ std::vector<Verdict> chain_check(const StatsData& chained, const StatsData& cont
   const JammingReference jamming = jamming_reference(chained, o.phi_j);
   const std::vector<Region> names = regions_around(jamming, o.regions);
   const Levels levels{
-      o.alpha / static_cast<double>(pairs.size() * verdicts_per_comparison(jamming)), o.alpha};
+      o.alpha / static_cast<double>(pairs.size() * verdicts_per_comparison(jamming, o.regions)),
+      o.alpha};
   const double margin = o.margin("chain");
   std::vector<Verdict> out;
   for (const auto& [e, c] : pairs) {

@@ -412,9 +412,10 @@ std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
   }
   // ... and over the regions around REF's phi_J, beside each pooled verdict.
   const JammingReference jamming_ref = jamming_reference(ref, o.phi_j);
-  const Levels levels{o.alpha / static_cast<double>(std::max<std::size_t>(1, comparisons) *
-                                                    verdicts_per_comparison(jamming_ref)),
-                      o.alpha};
+  const Levels levels{
+      o.alpha / static_cast<double>(std::max<std::size_t>(1, comparisons) *
+                                    verdicts_per_comparison(jamming_ref, o.regions)),
+      o.alpha};
   const Levels jamming_levels{o.alpha / static_cast<double>(std::max<std::size_t>(1, jamming)),
                               o.alpha};
   std::vector<Verdict> out;

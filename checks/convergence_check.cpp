@@ -175,7 +175,8 @@ std::vector<Verdict> convergence_check(const StatsData& campaign, const StatsDat
   const JammingReference jamming = jamming_reference(campaign, o.phi_j);
   const std::vector<Region> names = regions_around(jamming, o.regions);
   const Levels levels{
-      o.alpha / static_cast<double>(pairs.size() * verdicts_per_comparison(jamming)), o.alpha};
+      o.alpha / static_cast<double>(pairs.size() * verdicts_per_comparison(jamming, o.regions)),
+      o.alpha};
   const double margin = o.margin("convergence");
   std::vector<Verdict> out;
   for (const auto& [e, c] : pairs) {
@@ -203,8 +204,9 @@ std::vector<Verdict> convergence_check(const StatsData& campaign, const StatsDat
     for (std::size_t i = 0; i < ranges.size(); ++i) {
       Verdict x = v;
       x.region = i == 0 ? "pooled" : names[i - 1].name;
-      if (i > 0) x.case_name += ", " + x.region + " jamming";
+      if (i > 0) x.case_name += ", " + names[i - 1].case_words();
       judge_paired(x, paired(e, *c, ranges[i].min, ranges[i].max), ranges[i], levels, margin);
+      if (i == 0) say_if_whole(x, ranges[0], ranges.size() > 1);
       out.push_back(std::move(x));
     }
   }

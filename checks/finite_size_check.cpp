@@ -110,9 +110,9 @@ std::vector<Verdict> finite_size_check(const StatsData& d, const CheckOptions& o
   std::vector<Verdict> out;
   // Detection shared over every verdict: comparisons x (pooled + regions).
   const JammingReference jamming = jamming_reference(d, o.phi_j);
-  const Levels levels{
-      o.alpha / static_cast<double>(comparisons.size() * verdicts_per_comparison(jamming)),
-      o.alpha};
+  const Levels levels{o.alpha / static_cast<double>(comparisons.size() *
+                                                    verdicts_per_comparison(jamming, o.regions)),
+                      o.alpha};
   // The samples estimate pools each series' scatter over its rates (window_scatter.hpp); a
   // sample costs in proportion to N at one rate.
   std::vector<ScatterSeries> series;

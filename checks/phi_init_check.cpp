@@ -47,8 +47,9 @@ std::vector<Verdict> phi_init_check(const StatsData& d, const CheckOptions& o) {
   // Detection shared over every verdict: comparisons x (pooled + regions).
   const JammingReference jamming = jamming_reference(d, o.phi_j);
   const std::vector<Region> names = regions_around(jamming, o.regions);
-  const Levels levels{o.alpha / static_cast<double>(comparisons * verdicts_per_comparison(jamming)),
-                      o.alpha};
+  const Levels levels{
+      o.alpha / static_cast<double>(comparisons * verdicts_per_comparison(jamming, o.regions)),
+      o.alpha};
   std::vector<Verdict> out;
   std::vector<ScatterSeries> series;  // the samples estimate pools over rates
   std::map<std::tuple<std::int64_t, double, std::string>, int> series_of;

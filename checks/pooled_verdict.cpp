@@ -78,6 +78,8 @@ std::optional<PoolRange> phi_range(const StatsData& d, const CheckOptions& o, do
     return std::nullopt;
   } else {
     r.why = "no scaling fit in stats.h5: the whole compressed range";
+    r.whole = true;
+    r.no_regions_because = jamming_reference(d, o.phi_j).from;
   }
   if (compressed > r.min) {
     r.min = compressed;
@@ -141,8 +143,8 @@ std::vector<PoolRange> region_ranges(const std::vector<Region>& regions, const J
     PoolRange r;
     r.variable = at_z ? "Z" : "phi";
     std::tie(r.min, r.max) = at_z ? z_span(a, b, g.min, g.max) : std::pair{g.min, g.max};
-    r.why = fmt::format("{}, relative to {}{}", g.words(), j.from,
-                        at_z ? ": the Z whose mean packing lies there" : "");
+    r.why = g.name == "asked" ? g.words() : fmt::format("{}, relative to {}", g.words(), j.from);
+    if (at_z) r.why += ": the Z whose mean packing lies there";
     if (compressed > r.min) {
       r.min = compressed;
       r.why += ", from where the compression sets both sets' pressure";
@@ -218,13 +220,23 @@ std::vector<Verdict> judge_by_region(const Verdict& base, const RangeData& data,
   Verdict pooled_verdict = base;
   pooled_verdict.region = "pooled";
   one(pooled_verdict, pooled);
+  say_if_whole(out.front(), pooled, !regions.empty());
   for (std::size_t i = 0; i < regions.size() && i < names.size(); ++i) {
     Verdict v = base;
     v.region = names[i].name;
-    v.case_name += ", " + names[i].name + " jamming";
+    v.case_name += ", " + names[i].case_words();
     one(v, regions[i]);
   }
   return out;
+}
+
+void say_if_whole(Verdict& v, const PoolRange& pooled, bool regions_judged) {
+  if (!pooled.whole || regions_judged) return;
+  v.values["whole_compression"] = 1.0;
+  v.reason += fmt::format(
+      "; pooled over the whole compression: no range asked ([question] phi_min, phi_max or "
+      "--phi-min, --phi-max) and {}",
+      pooled.no_regions_because.empty() ? "no phi_J" : pooled.no_regions_because);
 }
 
 PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTables& a,
@@ -243,6 +255,8 @@ PoolRange z_range(const StatsData& d, const CheckOptions& o, const EnsembleTable
                         d.fit_z_window_min ? "constant-Z" : "scaling");
   } else {
     r.why = "no scaling fit in stats.h5: the whole compressed range";
+    r.whole = true;
+    r.no_regions_because = jamming_reference(d, o.phi_j).from;
   }
   std::tie(r.min, r.max) = z_span(a, b, phi_lo, phi_hi);
   if (compressed_z > r.min) {

@@ -28,6 +28,11 @@ struct PoolRange {
   // where the compression takes over, margin.hpp), where a relaxed start's pressure is still
   // building and the first points differ by tens of percent between sizes that agree later.
   double pointwise_from = -HUGE_VAL;
+  // The whole compressed range, for want of anything narrower (no fit window, no range given):
+  // with no region beside it, the verdict says so (values whole_compression = 1, and in its
+  // reason why no region could be placed: no_regions_because).
+  bool whole = false;
+  std::string no_regions_because;
 };
 
 /// The packing range a check at constant phi pools over: --phi-min/--phi-max when given, else
@@ -83,6 +88,11 @@ std::vector<Verdict> judge_by_region(const Verdict& base, const RangeData& data,
                                      const std::vector<PoolRange>& regions, Levels levels,
                                      double margin, int permutations, std::uint64_t seed = 3,
                                      RelativeTo relative_to = RelativeTo::mean);
+
+/// Marks v, a pooled verdict over `pooled`, when it pools the whole compression with no
+/// region judged beside it: values whole_compression = 1, and its reason says why (no range
+/// asked, and pooled.no_regions_because).
+void say_if_whole(Verdict& v, const PoolRange& pooled, bool regions_judged);
 
 /// Judges v on the two run sets of `al` (cut to the range already): D over the range at
 /// `levels`, the pointwise rule at levels.detect. Sets statistic_name, the range and weight

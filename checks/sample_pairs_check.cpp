@@ -209,7 +209,7 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
   const JammingReference jamming = jamming_reference(d, o.phi_j);
   const std::vector<Region> names = regions_around(jamming, o.regions);
   const double alpha =
-      o.alpha / static_cast<double>(comparisons * verdicts_per_comparison(jamming));
+      o.alpha / static_cast<double>(comparisons * verdicts_per_comparison(jamming, o.regions));
   std::vector<Verdict> out;
   for (const auto& [key, sizes] : by) {
     if (sizes.size() < 2) continue;
@@ -237,8 +237,9 @@ std::vector<Verdict> sample_pairs_check(const StatsData& d, const CheckOptions& 
     for (std::size_t i = 0; i < ranges.size(); ++i) {
       Verdict x = v;
       x.region = i == 0 ? "pooled" : names[i - 1].name;
-      if (i > 0) x.case_name += ", " + x.region + " jamming";
+      if (i > 0) x.case_name += ", " + names[i - 1].case_words();
       out.push_back(judge_pairs(x, cut(al, ranges[i].min, ranges[i].max), ranges[i], alpha, o));
+      if (i == 0) say_if_whole(out.back(), ranges[0], ranges.size() > 1);
     }
   }
   return out;

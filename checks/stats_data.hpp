@@ -20,6 +20,11 @@ struct EnsembleTables {
   std::vector<std::vector<double>> pressure_at_z;  // empty when no constant-Z average
   std::vector<double> phi_at_z;                    // mean packing at each Z (empty when not stored)
   std::vector<double> jamming_points;  // phi_Ji per sample (NaN: not found); empty if not sought
+  // <Z> at each packing of phi_grid: the mean over the samples of the contacts per particle
+  // (constant_phi/contacts_per_particle_samples; NaN where no sample has one); empty when the
+  // runs stored no contacts. Where it crosses isostaticity places the regions when nothing
+  // else gives phi_J (checks/regions.hpp).
+  std::vector<double> z_at_phi;
   // Where the compression, not the start, sets the pressure (margin.hpp,
   // first_compression_point): the packing, and the mean Z there. Comparisons start here.
   double compressed_from_phi = 0, compressed_from_z = 0;

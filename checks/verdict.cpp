@@ -97,6 +97,8 @@ std::string to_json(const std::vector<Verdict>& v, const std::string& campaign,
                          {"verdicts", j}};
   // What the verdicts were judged with: `jam pipeline` judges again when it differs.
   if (!options.is_null()) file["options"] = options;
+  // The question judged (range asked, checks, margins, alpha), at the top for its readers.
+  if (options.is_object() && options.contains("question")) file["question"] = options["question"];
   return file.dump(2) + "\n";
 }
 

@@ -20,6 +20,12 @@ namespace {
 constexpr const char* kPooledOnly =
     "  pooled only: no region around jamming judged (no phi_J: no scaling fit, no jamming "
     "points, no --phi-j)";
+/// ... when, besides, the pooled range is the whole compression (no fit window, no range
+/// asked): the verdicts answer a question over everything compressed, said before the rows.
+constexpr const char* kPooledWhole =
+    "  POOLED OVER THE WHOLE COMPRESSION: no range asked ([question] phi_min, phi_max) and no "
+    "region around jamming (no scaling fit, no jamming points, <Z> does not cross 2D, no "
+    "--phi-j); each reason says why";
 
 /// The words after "effects in": "%", "packing fraction", or the verdict's own unit.
 std::string unit_words(const std::string& unit) {
@@ -191,7 +197,10 @@ void check_table(std::ostringstream& out, const CheckRows& c) {
   const bool regions = std::any_of(c.all.begin(), c.all.end(), [](const Verdict& v) {
     return !v.region.empty() && v.region != "pooled";
   });
-  if (pooled && !regions) out << kPooledOnly << "\n";
+  const bool whole = std::any_of(c.all.begin(), c.all.end(), [](const Verdict& v) {
+    return v.region == "pooled" && v.values.count("whole_compression");
+  });
+  if (pooled && !regions) out << (whole ? kPooledWhole : kPooledOnly) << "\n";
   out << numbers_line(w, "verdict", "estimate", "|effect|", "margin", "range judged", "region",
                       "samples");
   out << "    case: reason; decided by\n";

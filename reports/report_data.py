@@ -174,6 +174,8 @@ class Campaign:
     manifest: dict
     campaign_text: str
     run_wall_seconds: list
+    # checks.json's "question" (the range asked, checks, margins, alpha as judged), or None.
+    question: dict | None = None
 
 
 def _numbers(out, names, where):
@@ -465,7 +467,9 @@ def _read_checks(path):
     """The verdicts of checks.json with the curves of checks.h5; checks.h5's attributes."""
     checks = _loaded(jamio.load_checks, path, "jam check all")
     verdicts = _verdicts(checks)
-    return verdicts, _attach_curves(checks, verdicts)
+    question = checks.metadata.get("question")
+    return verdicts, _attach_curves(checks, verdicts), (
+        question if isinstance(question, dict) else None)
 
 
 # The largest manifest.toml read (a campaign of 100,000 runs, the most a campaign file may
@@ -539,8 +543,8 @@ def load_campaign(directory):
     if not os.path.isdir(directory):
         raise ReportInputError(f"{directory}: no such campaign directory", NOT_READY)
     stats_attrs, ensembles, fit = _read_stats(os.path.join(directory, "stats.h5"))
-    verdicts, checks_attrs = _read_checks(os.path.join(directory, "checks.json"))
+    verdicts, checks_attrs, question = _read_checks(os.path.join(directory, "checks.json"))
     manifest, run_wall = _read_manifest(directory)
     return Campaign(directory, str(stats_attrs["campaign"]), int(stats_attrs["dim"]),
                     stats_attrs, ensembles, fit, verdicts, checks_attrs, manifest,
-                    _read_campaign_text(directory), run_wall)
+                    _read_campaign_text(directory), run_wall, question)

@@ -139,16 +139,45 @@ def headline(check, verdicts):
         need = f", needs about {span} samples per set (estimate)" if needed else ""
         parts.append(f"{n['inconclusive']} inconclusive{_where(verdicts, 'inconclusive')}{need}")
     regions = {v.region for v in verdicts}
-    if "pooled" in regions and not regions & set(REGIONS):
+    asked = [v for v in verdicts if v.region == "asked"]
+    if asked:
+        a = counts(asked)
+        parts.append(f"in the range asked {a['pass']} passed, {a['fail']} failed, "
+                     f"{a['inconclusive']} inconclusive")
+    if any(v.region == "pooled" and "whole_compression" in (v.values or {}) for v in verdicts) \
+            and not regions & set(REGIONS + ("asked",)):
+        parts.append(POOLED_WHOLE.strip().lower())
+    elif "pooled" in regions and not regions & set(REGIONS + ("asked",)):
         parts.append("pooled only, no region around jamming judged (no phi_J: no scaling fit, "
                      "no jamming points, no --phi-j)")
     return f"{plain(check).replace('_', ' ')}: " + "; ".join(parts)
+
+
+def question_text(q):
+    """The question the verdicts answer (checks.json "question"), one line; None without one."""
+    if not isinstance(q, dict):
+        return None
+    r = q.get("range")
+    if isinstance(r, dict) and _is_number(r.get("phi_min")) and _is_number(r.get("phi_max")):
+        where = (f"the range asked, phi in [{r['phi_min']:g}, {r['phi_max']:g}] "
+                 f"({plain(r.get('from', ''))})")
+    else:
+        where = f"no range asked: the pooled verdicts judge {plain(q.get('pooled', 'their own range'))}"
+    wanted = q.get("checks")
+    checks = (", ".join(plain(c) for c in wanted) if isinstance(wanted, list) and wanted
+              else "every check")
+    alpha = _number_text(q.get("alpha"), "g") if _is_number(q.get("alpha")) else "-"
+    return f"question: {where}; checks {checks}; alpha {alpha}"
 
 
 REGIONS = ("below", "at", "above")
 # The line under a check's heading when it judged no region (checks/verdict_table.cpp).
 POOLED_ONLY = ("  pooled only: no region around jamming judged (no phi_J: no scaling fit, no "
                "jamming points, no --phi-j)")
+# ... when its pooled range is besides the whole compression (checks/verdict_table.cpp).
+POOLED_WHOLE = ("  POOLED OVER THE WHOLE COMPRESSION: no range asked ([question] phi_min, "
+                "phi_max) and no region around jamming (no scaling fit, no jamming points, <Z> "
+                "does not cross 2D, no --phi-j); each reason says why")
 
 
 def _where(verdicts, status):
@@ -316,6 +345,8 @@ def page(c, figures, provenance):
     parts = sections(c, figures, provenance)
     verdict_word = "FAIL" if n["fail"] else ("INCONCLUSIVE" if n["inconclusive"] else "PASS")
     lines = "".join(f"<li>{text(h)}</li>" for h in headlines(c.verdicts))
+    asked = question_text(c.question)
+    question_html = f"<p class='question'>{text(asked)}</p>" if asked else ""
     body = "\n".join(part for _, _, part in parts)
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><link rel="icon" href="data:,">
@@ -323,6 +354,7 @@ def page(c, figures, provenance):
 <body>
 <h1>Campaign <code>{text(c.name)}</code>, {num(c.dim)}D</h1>
 <p class="summary"><b>{verdict_word}</b>: {text(counts_text(n))}.</p>
+{question_html}
 <ul class="headlines">{lines}</ul>
 {contents_html(parts)}
 {body}
@@ -416,7 +448,9 @@ def check_table(check, mine):
              + (f"; effects in {unit_of(next(iter(groups.values())))}" if one_unit else "")]
     regions = {v.region for v in mine}
     if "pooled" in regions and not regions - {"pooled", ""}:
-        lines.append(POOLED_ONLY)
+        whole = any(v.region == "pooled" and "whole_compression" in (v.values or {})
+                    for v in mine)
+        lines.append(POOLED_WHOLE if whole else POOLED_ONLY)
     if any(v.table is None for v in mine):
         lines.append("  (checks.json from an older jam: no table cells; each reason whole)")
     lines.append(_numbers_line(w, NUMBER_HEADERS))
@@ -443,6 +477,8 @@ def text_summary(c, report_path):
                      "every one")
     lines.append(f"{len(c.verdicts)} verdicts, {counts_text(n)}")
     lines.append("")
+    if question_text(c.question):
+        lines.append(question_text(c.question))
     lines.extend(headlines(c.verdicts))
     lines.append("")
     rep = (c.fit or {}).get("representative") or {}

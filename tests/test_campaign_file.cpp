@@ -367,3 +367,51 @@ BOOST_AUTO_TEST_CASE(added_samples_are_whole_numbers_in_range) {
   }
   std::filesystem::remove_all(dir);
 }
+
+// [question]: what the campaign asks (campaign_file.hpp, CampaignQuestion). Each bad value is
+// one line naming the file, the line, the key and the value.
+BOOST_AUTO_TEST_CASE(the_question_is_read_and_each_bad_value_refused_naming_key_and_value) {
+  const Campaign c = parse_campaign(kGood +
+                                        "[question]\nphi_min = 0.83\nphi_max = 0.85\n"
+                                        "checks = [\"finite_size\", \"jamming_point\"]\n"
+                                        "alpha = 0.01\n",
+                                    "c.toml");
+  BOOST_TEST(c.question.states_range());
+  BOOST_TEST(*c.question.phi_min == 0.83);
+  BOOST_TEST(*c.question.phi_max == 0.85);
+  BOOST_TEST((c.question.checks == std::vector<std::string>{"finite_size", "jamming_point"}));
+  BOOST_TEST(*c.question.alpha == 0.01);
+  // None stated: nothing asked.
+  BOOST_TEST(!parse_campaign(kGood, "c.toml").question.states_range());
+  BOOST_TEST(!parse_campaign(kGood, "c.toml").question.alpha.has_value());
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"phi_min = 1.2\nphi_max = 1.3\n",
+       "c.toml:11: question.phi_min: 1.2: must be a packing in (0, 1)"},
+      {"phi_min = 0.83\nphi_max = 0\n",
+       "c.toml:12: question.phi_max: 0: must be a packing in (0, 1)"},
+      {"phi_min = 0.85\nphi_max = 0.83\n",
+       "c.toml:12: question.phi_max: 0.83: must exceed phi_min = 0.85"},
+      {"phi_min = 0.83\n",
+       "c.toml: question.phi_max: missing: phi_min and phi_max state the range judged together"},
+      {"phi_min = 0.9\nphi_max = 0.95\n",
+       "c.toml:11: question.phi_min: 0.9: must lie below phi_stop = 0.86 (no run reaches it)"},
+      {"phi_min = 0.3\nphi_max = 0.6\n",
+       "c.toml:12: question.phi_max: 0.6: must lie above the lowest phi_init = 0.7 (no run is "
+       "compressed there)"},
+      {"phi_min = \"0.83\"\nphi_max = 0.85\n", "c.toml:11: question.phi_min: must be a number"},
+      {"checks = [\"finite_sizes\"]\n",
+       "c.toml:11: question.checks: 'finite_sizes': unknown check"},
+      {"checks = [\"chain\"]\n", "c.toml:11: question.checks: 'chain': unknown check"},
+      {"checks = [\"zeta\", \"zeta\"]\n", "c.toml:11: question.checks: 'zeta': repeated"},
+      {"alpha = 0.5\n", "c.toml:11: question.alpha: 0.5: must be in (0, 0.5)"},
+      {"alpha = 0\n", "c.toml:11: question.alpha: 0: must be in (0, 0.5)"},
+      {"margin = 0.1\n", "c.toml:11: question.margin: unknown key"},
+  };
+  for (const auto& [table, message] : bad) {
+    const std::string got = rejection(kGood + "[question]\n" + table);
+    BOOST_TEST(got.find(message) == 0, table << "-> " << got);
+    BOOST_TEST(got.find('\n') == std::string::npos, got);
+  }
+  BOOST_TEST(rejection(kGood + "question = 0.84\n") ==
+             "c.toml:10: question: must be a table ([question])");
+}

@@ -178,3 +178,24 @@ BOOST_AUTO_TEST_CASE(one_size_in_the_data_holds_the_n_exponent) {
   BOOST_TEST(two.output.find("-0.50 ln N ") != std::string::npos, two.output);
   BOOST_TEST(two.output.find("held") == std::string::npos, two.output);
 }
+
+// What "decides" refers to: the range the campaign file asks about ([question]), else, with
+// fewer than 3 rates (no scaling fit), the whole compression, said as such.
+BOOST_AUTO_TEST_CASE(the_plan_says_which_range_its_verdicts_judge) {
+  const auto whole =
+      run_jam("campaign plan " + write_campaign("whole", kSizes + "samples = 2\n").string());
+  BOOST_TEST(whole.status == 0, whole.output);
+  BOOST_TEST(whole.output.find("the verdicts judge the whole compression, phi 0.4 to 0.86: 2 "
+                               "rates give no scaling fit and the campaign file states no range "
+                               "([question] phi_min, phi_max)") != std::string::npos,
+             whole.output);
+  const fs::path file = write_campaign("asked", kSizes + "samples = 2\n");
+  std::ofstream(file, std::ios::app) << "[question]\nphi_min = 0.83\nphi_max = 0.85\n";
+  const auto asked = run_jam("campaign plan " + file.string());
+  BOOST_TEST(asked.status == 0, asked.output);
+  BOOST_TEST(asked.output.find("the verdicts judge the range asked, phi in [0.83, 0.85] "
+                               "([question] phi_min, phi_max)") != std::string::npos,
+             asked.output);
+  // The stored model's source judged no range asked: said beside it.
+  BOOST_TEST(asked.output.find("it judged no range asked") != std::string::npos, asked.output);
+}

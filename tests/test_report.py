@@ -310,6 +310,47 @@ class Report(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(self.work, "reports", "x")))
 
 
+class QuestionAndWholeCompression(unittest.TestCase):
+    """The question a campaign asked (checks.json "question") and a pooled verdict over the
+    whole compression, as the report's headline and summary say them (reports/report_html.py),
+    the same words as `jam check`'s table (checks/verdict_table.cpp)."""
+
+    @staticmethod
+    def modules():
+        sys.path.insert(0, os.path.join(os.path.abspath(ARGS.source), "reports"))
+        import report_data
+        import report_html
+        return report_data, report_html
+
+    def verdict(self, region, status, values=None):
+        data, _ = self.modules()
+        return data.Verdict("finite_size", f"n64 vs n128, {region}", status, "r", "s", 1.0, 2.0,
+                            0.05, 0.08, values or {}, margin=0.1, region=region)
+
+    def test_the_question_is_one_line(self):
+        _, h = self.modules()
+        q = {"range": {"phi_min": 0.83, "phi_max": 0.85, "from": "[question] phi_min, phi_max"},
+             "pooled": "the scaling fit's window, else the whole compression",
+             "checks": ["finite_size"], "margins": {"finite_size": 0.1}, "alpha": 0.05}
+        self.assertEqual(h.question_text(q),
+                         "question: the range asked, phi in [0.83, 0.85] ([question] phi_min, "
+                         "phi_max); checks finite_size; alpha 0.05")
+        q["range"] = None
+        self.assertIn("no range asked", h.question_text(q))
+        self.assertIsNone(h.question_text(None))
+
+    def test_a_whole_compression_pool_says_so_and_the_range_asked_is_counted(self):
+        _, h = self.modules()
+        whole = [self.verdict("pooled", "pass", {"whole_compression": 1.0})]
+        self.assertIn("pooled over the whole compression", h.headline("finite_size", whole))
+        self.assertIn(h.POOLED_WHOLE, h.check_table("finite_size", whole))
+        asked = [self.verdict("pooled", "pass"), self.verdict("asked", "fail")]
+        line = h.headline("finite_size", asked)
+        self.assertIn("in the range asked 0 passed, 1 failed, 0 inconclusive", line)
+        self.assertNotIn("pooled only", line)
+        self.assertNotIn(h.POOLED_ONLY, h.check_table("finite_size", asked))
+
+
 class WidthPowerLaw(unittest.TestCase):
     """The fit of Delta phi_J(N) = a N^-w in the jamming-width figure, on planted widths: each
     the standard deviation of 10 normal values, so each log width scatters by about 0.25."""

@@ -232,3 +232,56 @@ BOOST_AUTO_TEST_CASE(a_stop_while_a_look_is_judged_writes_nothing_of_the_look) {
   const fs::path stats = kDir / "stop" / "stats.h5";
   BOOST_TEST((!fs::exists(stats) || fs::last_write_time(stats) < signalled));
 }
+
+// The question in the campaign file ([question] phi_min, phi_max): --until-decided takes
+// --phi-min/--phi-max (once refused as "not expected"), judges the range asked as the region
+// "asked", records it in its state and in checks.json, and refuses to go on with another one,
+// naming both values, in one line.
+BOOST_AUTO_TEST_CASE(the_range_asked_is_taken_recorded_and_a_changed_one_refused) {
+  const fs::path file = kDir / "asked.toml";
+  std::ofstream(file) << slurp(write_campaign("asked"))
+                      << "[question]\nphi_min = 0.80\nphi_max = 0.84\n";
+  const std::string tight = " --until-decided --budget 0.00001 --jobs 1 --quiet";
+  const Outcome o = run_jam("campaign run " + file.string() + tight + " --phi-min 0.78");
+  BOOST_TEST(o.status == 3, o.output);  // the budget spent at look 1
+  BOOST_TEST(o.output.find("look 1 at alpha 0.025 over the range asked, phi in [0.78, 0.84]") !=
+                 std::string::npos,
+             o.output);
+  const std::string state = slurp(kDir / "asked" / "until-decided.json");
+  BOOST_TEST(std::regex_search(state, std::regex("\"question\": \\{\\s*\"phi_max\": 0\\.84,\\s*"
+                                                 "\"phi_min\": 0\\.78\\s*\\}")),
+             state);
+  const std::string checks = verdicts("asked");
+  BOOST_TEST(checks.find("\"region\": \"asked\"") != std::string::npos);
+  // At the top level of checks.json (two spaces in), the range and where it was stated.
+  BOOST_TEST(std::regex_search(checks, std::regex("\n  \"question\": \\{[\\s\\S]*?\"range\": "
+                                                  "\\{\\s*\"from\": \"\\[question\\] phi_min, "
+                                                  "phi_max with --phi-min or --phi-max\",\\s*"
+                                                  "\"phi_max\": 0\\.84,\\s*\"phi_min\": 0\\.78")),
+             checks);
+  const auto before = fs::last_write_time(kDir / "asked" / "checks.json");
+  // Another range: refused, naming the key and both values, nothing rewritten.
+  const Outcome changed =
+      run_jam("campaign run " + file.string() + tight + " --phi-min 0.78 " + "--phi-max 0.85");
+  BOOST_TEST(changed.status == 2, changed.output);
+  BOOST_TEST(std::count(changed.output.begin(), changed.output.end(), '\n') == 1, changed.output);
+  BOOST_TEST(
+      changed.output.find("the range asked's phi_max ([question] phi_max, or --phi-max) "
+                          "0.85 differs from the 0.84 it was begun with") != std::string::npos,
+      changed.output);
+  // The file's own range (without --phi-min) is another one too.
+  const Outcome file_range = run_jam("campaign run " + file.string() + tight);
+  BOOST_TEST(file_range.status == 2, file_range.output);
+  BOOST_TEST(file_range.output.find("phi_min ([question] phi_min, or --phi-min) 0.8 differs "
+                                    "from the 0.78") != std::string::npos,
+             file_range.output);
+  BOOST_TEST((fs::last_write_time(kDir / "asked" / "checks.json") == before));
+  // A range that is none, and the options without --until-decided: one line each, no run.
+  const Outcome none = run_jam("campaign run " + file.string() + tight + " --phi-max 0.7");
+  BOOST_TEST(none.status == 2, none.output);
+  BOOST_TEST(none.output.find("--phi-max 0.7: must exceed phi_min 0.8") != std::string::npos,
+             none.output);
+  const Outcome alone = run_jam("campaign run " + file.string() + " --phi-min 0.8 --quiet");
+  BOOST_TEST(alone.status == 2, alone.output);
+  BOOST_TEST(alone.output.find("go with --until-decided") != std::string::npos, alone.output);
+}
