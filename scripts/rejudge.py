@@ -5,12 +5,14 @@ the per-size fits (fit/families) is first refitted from its own tables (`jam sta
 at the stored fit's order: the tables, jamming points and representative fit stay as they
 were) and copied back with them.
 
-  scripts/rejudge.py reduced-2d [--jam build/jam] [--refit]
+  scripts/rejudge.py reduced-2d [--jam build/jam] [--refit] [--reports]
 
 --refit refits every stored fit with the current rules from the stored tables (`jam stats
 --refit` at the stored order; the fits that hold the paper's values too, where stored:
 fit-q-fixed.json, fit-held.json) before judging, and stores stats.h5 and the fit-*.json files
-with checks.json. The runs and the averaged tables stay as they were.
+with checks.json. The runs and the averaged tables stay as they were. --reports then writes
+the stored reports anew from the judged copy: reports/NAME/ and, where it exists,
+reports/NAME-q-fixed/ (the paper's q held, as scripts/reproduce.sh makes it).
 
 The stored LAMMPS reference (reference/lammps) serves the lammps check (--no-lmp), so the
 result does not depend on whether lmp is installed. Works in a temporary copy; the stored
@@ -79,12 +81,37 @@ def refit_stored_fits(jam, stored, work, tmp, order):
     return names
 
 
+def write_reports(jam, work, name):
+    """reports/NAME from the judged copy WORK (its checks.h5 holds the figures' curves, which
+    the stored result does not keep); reports/NAME-q-fixed from a copy refitted with the
+    paper's q held, with the same verdicts (as scripts/reproduce.sh makes it)."""
+    reports = os.path.join(SOURCE, "reports")
+    subprocess.run([jam, "report", work, "--out", os.path.join(reports, name), "--quiet"],
+                   check=True)
+    q_fixed = os.path.join(reports, name + "-q-fixed")
+    if not os.path.isdir(q_fixed):
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        held = os.path.join(tmp, name)
+        os.mkdir(held)
+        for f in ("stats.h5", "campaign.toml"):
+            shutil.copy2(os.path.join(work, f), held)
+        subprocess.run([jam, "stats", held, "--refit", "--order",
+                        str(stored_order(os.path.join(held, "stats.h5"))), "--fix-paper-q"],
+                       check=True, stdout=subprocess.DEVNULL)
+        for f in ("checks.json", "checks.h5"):
+            shutil.copy2(os.path.join(work, f), held)
+        subprocess.run([jam, "report", held, "--out", q_fixed, "--quiet"], check=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("name", help="a stored result under reference/results/")
     ap.add_argument("--jam", default=os.path.join(SOURCE, "build", "jam"))
     ap.add_argument("--refit", action="store_true",
                     help="refit the stored fits with the current rules before judging")
+    ap.add_argument("--reports", action="store_true",
+                    help="write reports/NAME (and NAME-q-fixed) anew afterwards")
     args = ap.parse_args()
     stored = os.path.join(SOURCE, "reference", "results", args.name)
     if not os.path.isfile(os.path.join(stored, "stats.h5")):
@@ -138,6 +165,8 @@ def main():
                 staged.copy(os.path.join(work, name), os.path.join(stored, name))
             staged.text(path, json.dumps(provenance, indent=2) + "\n")
             staged.commit()
+        if args.reports:
+            write_reports(args.jam, work, args.name)
 
 
 if __name__ == "__main__":
