@@ -53,6 +53,12 @@ int run_stats_command(const StatsArgs& a) {
   o.fixed_phi_j = held("--fix-phi-j", a.fix_phi_j, 1.5);
   o.fixed_q = held("--fix-q", a.fix_q, 1.0);
   o.fixed_inv_znu = held("--fix-inv-znu", a.fix_inv_znu, 1e3);
+  // A refit reads the stored averages; it cannot average the sizes together (that needs the
+  // runs), and fitting the largest size alone under --pool-sizes would say nothing of it.
+  if (a.refit && o.pool_sizes)
+    throw std::runtime_error(
+        "--pool-sizes with --refit: a refit keeps the stored file's averages (pooled only if "
+        "they were); average again with `jam stats DIR --pool-sizes`");
   if (o.order < 0 || o.order > 9) {
     throw std::runtime_error(fmt::format("--order {}: must be in 0..9", o.order));
   }

@@ -69,10 +69,9 @@ SampleCounts read_added_samples(const Campaign& c) {
           given.n, given.phi_init, given.log10_rate));
     }
     const EnsembleId id = *found;
-    if (*whole_samples < c.samples) {
-      throw CampaignError(fmt::format("{}: ensemble samples = {}, fewer than the campaign's {}",
-                                      path, samples, c.samples));
-    }
+    // An entry at or below the campaign's `samples` is superseded: the campaign file was raised
+    // past what the sequence added (every run it names is kept and counted either way).
+    if (*whole_samples <= c.samples) continue;
     counts[id] = *whole_samples;
   }
   double runs = 0;

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "stats/fit_scan.hpp"
+#include "stats/papers_protocol.hpp"
 
 namespace jam::stats {
 namespace {
@@ -100,6 +101,7 @@ void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOpt
   s.fit = scan_fits(at_phi, o, s.clearance, "phi");
   if (!at_z.empty()) s.fit_z = scan_fits(at_z, o, s.clearance, "Z");
   fit_families(s, o);
+  s.papers_protocol = fit_papers_protocol(s, directory, o);
 }
 
 void fit_families(CampaignStats& s, const StatsOptions& o) {

@@ -99,12 +99,21 @@ struct FamilyFit {
   std::string failure;  // why there is none
 };
 
+/// The paper's protocol fitted as one labelled row (stats/papers_protocol.hpp).
+struct PapersProtocolFit {
+  std::optional<ScalingFitResult> result;
+  ScanRow row;          // its rate_max and window (the result is held in `result`)
+  std::string how;      // which sizes and why, the order, the rate_max
+  std::string failure;  // why there is no result
+};
+
 struct CampaignStats {
   CampaignData data;
   std::vector<EnsembleStats> ensembles;
   FitScan fit;    // at constant phi
   FitScan fit_z;  // the same fit on the averages at constant Z (phi = <phi> there)
   std::vector<FamilyFit> families;  // every (N, phi_init) fitted as the representative
+  std::optional<PapersProtocolFit> papers_protocol;  // none without a rate <= 10^-6.5
   RateClearance clearance;
   double fit_phi_init = 0.0;
   std::int64_t fit_size = 0;  // 0: pooled

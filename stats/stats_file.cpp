@@ -14,6 +14,7 @@
 #include "sim/run/stop_signal.hpp"
 #include "sim/version.hpp"
 #include "stats/campaign_stats.hpp"
+#include "stats/papers_protocol.hpp"
 
 namespace jam::stats {
 namespace {
@@ -304,6 +305,17 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
       write_scan(f, group + "/scan", *scan);
     }
     write_families(f, s, o.order);
+    if (s.papers_protocol && f.has_dataset("fit")) {
+      // The paper's protocol, labelled: never the representative (papers_protocol.hpp).
+      const PapersProtocolFit& p = *s.papers_protocol;
+      if (p.result) {
+        write_fit(f, "fit/papers_protocol", *p.result, p.row, kPapersOrder);
+      } else {
+        f.create_group("fit/papers_protocol");
+        f.write_attribute("failure", p.failure, "fit/papers_protocol");
+      }
+      f.write_attribute("how", p.how, "fit/papers_protocol");
+    }
     // The checksum of everything above (inputs_checksum with it), verified by every reader:
     // a table changed by hand is refused, not judged (content_checksum.hpp).
     seal(f);
@@ -390,6 +402,18 @@ std::string format_stats_summary(const CampaignStats& s) {
           r->beta, r->beta_plain, r->y, r->y_plain, r->fixed.empty() ? "nothing" : r->fixed,
           r->quality, r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
       out << "  chosen: " << scan->reason << "\n";
+      if (scan == &s.fit && s.papers_protocol) {
+        const PapersProtocolFit& p = *s.papers_protocol;
+        if (p.result)
+          out << fmt::format(
+              "  {}: phi_J {:.5f}({:.5f}), beta {:.3f}({:.3f}), y {:.3f}({:.3f}), chi2/nf {:.3g}, "
+              "quality {}{}\n",
+              p.how, p.result->phi_j, p.result->phi_j_err, p.result->beta, p.result->beta_err,
+              p.result->y, p.result->y_err, p.result->chi2_diag_per_dof, p.result->quality,
+              p.result->quality_reason.empty() ? "" : " (" + p.result->quality_reason + ")");
+        else
+          out << "  " << p.how << ": no fit: " << p.failure << "\n";
+      }
       out << fmt::format(
           "  systematic (the largest distance of the scan's {} fits of quality ok from it: "
           "windows and rate_max): phi_J +-{:.5f}, beta +-{:.3f}, y +-{:.3f}\n",

@@ -64,6 +64,17 @@ class Editor {
     H5Aclose(attr);
   }
 
+  /// Replaces attribute `name` of `object` by a scalar variable-length string holding `text`
+  /// (as jam writes its text attributes).
+  void set_text(const std::string& object, const std::string& name, const std::string& text) {
+    set_attribute(object, name, ValueClass::kVariableString, {});
+    const hid_t attr = H5Aopen_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+    const Owned type = make_type(ValueClass::kVariableString);
+    const char* value = text.c_str();
+    H5Awrite(attr, type.id, &value);
+    H5Aclose(attr);
+  }
+
   void set_int(const std::string& name, std::int64_t value) {
     std::string bytes(sizeof value, '\0');
     std::memcpy(bytes.data(), &value, sizeof value);

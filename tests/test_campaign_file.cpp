@@ -332,7 +332,8 @@ BOOST_AUTO_TEST_CASE(a_million_samples_of_ten_sizes_refused_before_planning) {
 
 // added-samples.toml (written by `jam campaign run --until-decided`, read on every resume) is
 // outside input: a size or sample count that is not a whole number in range is refused naming
-// the file, never cast to an integer; a good one is read.
+// the file, never cast to an integer; a good one is read, and one the campaign's samples has
+// since overtaken is superseded.
 BOOST_AUTO_TEST_CASE(added_samples_are_whole_numbers_in_range) {
   Campaign c = parse_campaign(kGood, "c.toml");
   const std::filesystem::path dir =
@@ -349,6 +350,11 @@ BOOST_AUTO_TEST_CASE(added_samples_are_whole_numbers_in_range) {
   BOOST_TEST_REQUIRE(good.size() == 1u);
   BOOST_TEST(good.begin()->first.n == 64);
   BOOST_TEST(good.begin()->second == 6);
+  // The campaign's samples raised past an entry (3 -> 8 over 6): the entry is superseded, not
+  // an error that leaves moving the file aside as the only way on.
+  c.samples = 8;
+  BOOST_TEST(read("64", "6").empty());
+  c.samples = 3;
   for (const auto& [n, samples] : std::vector<std::pair<std::string, std::string>>{{"64.5", "6"},
                                                                                    {"-64", "6"},
                                                                                    {"1e300", "6"},

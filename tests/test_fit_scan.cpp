@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "stats/fit_scan.hpp"
+#include "stats/papers_protocol.hpp"
 #include "synthetic_scaling.hpp"
 
 using namespace jam::stats;
@@ -156,4 +159,81 @@ BOOST_AUTO_TEST_CASE(the_error_covers_a_planted_correction_to_scaling) {
       if (a > 0 && !six) BOOST_TEST(jackknife_only < 27, jackknife_only << " of " << sets);
     }
   }
+}
+
+namespace {
+
+/// Two sizes of synthetic constant-phi averages (one truth, independent noise), as jam stats
+/// holds them, at rates 1e-5 ... 10^-7.5.
+CampaignStats two_sizes(const Truth& t) {
+  CampaignStats s;
+  s.fit_phi_init = 0.4;
+  for (const std::int64_t n : {256, 1024}) {
+    for (const FitEnsemble& f : synthetic(t, n, 10, 0.78, 0.90, 0.03, kSixRates)) {
+      EnsembleStats e;
+      e.key = {n, 0.4, std::log10(f.rate)};
+      e.constant_phi.grid = f.phi;
+      e.constant_phi.sample_ids = f.sample_ids;
+      e.constant_phi.names = {"pressure"};
+      e.constant_phi.tables = {f.pressure};
+      s.ensembles.push_back(std::move(e));
+    }
+  }
+  return s;
+}
+
+std::filesystem::path verdict_dir(const std::string& statuses) {
+  const auto dir = std::filesystem::temp_directory_path() / "jam_test_papers_protocol";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  if (!statuses.empty()) {
+    std::string verdicts;
+    const double rates[] = {-6.5, -7.0, -7.5};
+    for (std::size_t k = 0; k < 3; ++k)
+      verdicts += std::string(k ? "," : "") +
+                  "{\"check\": \"finite_size\", \"region\": \"pooled\", \"status\": \"" +
+                  (statuses[k] == 'p' ? "pass" : "fail") +
+                  "\", \"values\": {\"constant_z\": 0, \"phi_init\": 0.4, \"log10_rate\": " +
+                  std::to_string(rates[k]) + "}}";
+    std::ofstream(dir / "checks.json") << "{\"verdicts\": [" << verdicts << "]}";
+  }
+  return dir;
+}
+
+}  // namespace
+
+// The paper's protocol as a labelled fit (stats/papers_protocol.cpp): fifth order, rate_max
+// 10^-6.5, the narrowest window; the sizes pooled only when the finite_size check's pooled
+// verdicts at constant phi pass at every fitted rate, else the largest size alone, said so.
+BOOST_AUTO_TEST_CASE(the_papers_protocol_pools_sizes_only_where_finite_size_allows) {
+  const Truth t;
+  const CampaignStats s = two_sizes(t);
+  const StatsOptions o;  // half windows 0.03, 0.02, 0.01
+  const auto alone = fit_papers_protocol(s, verdict_dir("").string(), o);
+  BOOST_TEST_REQUIRE(alone.has_value());
+  BOOST_TEST_REQUIRE(alone->result.has_value(), alone->failure);
+  BOOST_TEST(alone->result->samples == 10u);
+  BOOST_TEST(alone->how.find("the largest size alone (no finite_size verdicts") !=
+                 std::string::npos,
+             alone->how);
+  BOOST_TEST(alone->row.half_window == 0.01);
+  BOOST_TEST(std::log10(alone->row.rate_max) == -6.5, boost::test_tools::tolerance(1e-9));
+
+  const auto pooled = fit_papers_protocol(s, verdict_dir("ppp").string(), o);
+  BOOST_TEST_REQUIRE(pooled->result.has_value(), pooled->failure);
+  BOOST_TEST(pooled->result->samples == 20u);  // both sizes' samples, kept apart
+  BOOST_TEST(pooled->how.find("pooled: the finite_size check") != std::string::npos, pooled->how);
+  BOOST_TEST(pooled->how.find("order 5") != std::string::npos, pooled->how);
+  BOOST_TEST(std::abs(pooled->result->beta - t.beta()) < 3 * pooled->result->beta_err,
+             pooled->result->beta << " +- " << pooled->result->beta_err);
+
+  const auto refused = fit_papers_protocol(s, verdict_dir("pfp").string(), o);
+  BOOST_TEST(refused->result->samples == 10u);
+  BOOST_TEST(refused->how.find("does not pass at rate 1e-7") != std::string::npos, refused->how);
+
+  // No rate at or below 10^-6.5: no such fit.
+  CampaignStats fast = s;
+  std::erase_if(fast.ensembles, [](const EnsembleStats& e) { return e.key.log10_rate < -6.0; });
+  BOOST_TEST(!fit_papers_protocol(fast, verdict_dir("").string(), o).has_value());
+  std::filesystem::remove_all(verdict_dir(""));
 }

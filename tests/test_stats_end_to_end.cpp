@@ -107,6 +107,11 @@ BOOST_AUTO_TEST_CASE(pooled_sizes_and_held_exponents) {
       out);
   const jam::h5::File f = jam::h5::File::open_read((kDir / "ci" / "stats.h5").string());
   BOOST_TEST(f.read_attribute_int("pooled_sizes") == 1);
+  // A refit cannot pool what the stored averages keep apart: refused, not the largest size
+  // fitted alone under --pool-sizes.
+  std::string refit;
+  BOOST_TEST(run_jam("stats --refit --pool-sizes " + (kDir / "ci").string(), &refit) != 0);
+  BOOST_TEST(refit.find("--pool-sizes with --refit") != std::string::npos, refit);
   BOOST_TEST(f.read_attribute_int("samples", "ensembles/pooled_phi0.7000_r-3.00") == 4);
   if (f.has_dataset("fit/representative/coefficients")) {
     BOOST_TEST(f.read_attribute_string("fixed", "fit/representative") == "q, 1/(z nu)");
