@@ -176,10 +176,18 @@ void write_verdict_files(const std::string& directory, const std::string& name,
 
 namespace {
 
+/// The verdicts of one campaign of compare_with: verdicts[begin, end).
+struct Comparison {
+  std::string directory;
+  std::size_t begin = 0, end = 0;
+};
+
 /// `all` of a campaign whose file names `compare_with`: each of those campaigns judged against
 /// this one (`jam check compare OTHER --against THIS`), its verdicts named by both campaigns.
-void append_comparisons(std::vector<checks::Verdict>& verdicts, const CampaignPart& campaign,
-                        const checks::CheckInputs& in) {
+std::vector<Comparison> append_comparisons(std::vector<checks::Verdict>& verdicts,
+                                           const CampaignPart& campaign,
+                                           const checks::CheckInputs& in) {
+  std::vector<Comparison> out;
   for (const std::string& other : campaign.compare_with) {
     if (!std::filesystem::is_directory(other))
       throw std::runtime_error(fmt::format("compare_with: {}: no such campaign directory", other));
@@ -187,6 +195,7 @@ void append_comparisons(std::vector<checks::Verdict>& verdicts, const CampaignPa
     compare.directory = other;
     compare.baseline_directory = in.directory;
     const std::string other_name = checks::read_stats(other).campaign;
+    out.push_back({other, verdicts.size(), verdicts.size()});
     for (checks::Verdict v : checks::run_checks("compare", compare)) {
       if (const auto at = v.case_name.find("DIR vs REF"); at != std::string::npos)
         v.case_name.replace(at, 10, fmt::format("{} vs {}", other_name, campaign.name));
@@ -194,7 +203,49 @@ void append_comparisons(std::vector<checks::Verdict>& verdicts, const CampaignPa
         v.case_name = fmt::format("{} vs {}: {}", other_name, campaign.name, v.case_name);
       verdicts.push_back(std::move(v));
     }
+    out.back().end = verdicts.size();
   }
+  return out;
+}
+
+/// "PASS", "FAIL" or "INCONCLUSIVE", as the report's headline words them (expected failures
+/// apart).
+std::string outcome_word(const std::vector<checks::Verdict>& verdicts) {
+  const int status = checks::exit_status(verdicts);
+  return status == 1 ? "FAIL" : status == 3 ? "INCONCLUSIVE" : "PASS";
+}
+
+/// With compare_with: the headline of this campaign's own checks, then one line per compared
+/// campaign. Another code's verdicts never turn this campaign's headline (a planted wrong code
+/// once made the reference FAIL); they count in the exit status (checks::exit_status of all).
+void print_headlines(const std::vector<checks::Verdict>& verdicts,
+                     const std::vector<Comparison>& comparisons) {
+  if (comparisons.empty()) return;
+  const std::vector<checks::Verdict> own(
+      verdicts.begin(), verdicts.begin() + static_cast<std::ptrdiff_t>(comparisons[0].begin));
+  fmt::print("this campaign's own checks: {}: {}\n", outcome_word(own),
+             checks::outcome_counts(own));
+  for (const Comparison& c : comparisons) {
+    const std::vector<checks::Verdict> theirs(
+        verdicts.begin() + static_cast<std::ptrdiff_t>(c.begin),
+        verdicts.begin() + static_cast<std::ptrdiff_t>(c.end));
+    fmt::print("compare with {}: {}: {}\n", c.directory, outcome_word(theirs),
+               checks::outcome_counts(theirs));
+  }
+}
+
+/// Whether `all` judges the stored LAMMPS self-checks: when asked (--with-lammps; [question]
+/// checks naming lammps run it by name), never for another simulator's runs (they test jam).
+bool lammps_in_all(const CheckArgs& a, const checks::CheckInputs& in) {
+  return a.judging.with_lammps && !in.runs_of_another_simulator;
+}
+
+/// The line `all` prints when it left the stored LAMMPS self-checks out.
+void print_lammps_left_out() {
+  fmt::print(
+      "lammps: the LAMMPS self-checks were not run (they test jam against LAMMPS, not this "
+      "campaign's data): `jam check lammps DIR`, `--with-lammps` or [question] checks naming "
+      "lammps runs them\n");
 }
 
 }  // namespace
@@ -269,19 +320,33 @@ int run_check_command(const CheckArgs& a) {
   in.lammps.regenerate = a.regenerate;
   in.runs_of_another_simulator = is_external_campaign(a.directory);
   std::vector<checks::Verdict> verdicts;
+  std::vector<Comparison> comparisons;
+  bool lammps_judged = a.name != "all";
   if (a.name == "all" && !campaign.question.checks.empty()) {
     // The checks the question wants, each by name (a part through its check), never the rest.
     const std::vector<std::string>& wanted = campaign.question.checks;
-    for (const std::string& name : checks_to_run(wanted))
+    for (const std::string& name : checks_to_run(wanted)) {
+      lammps_judged = lammps_judged || name == "lammps";
       for (auto& v : checks::run_checks(name, in))
         if (question_wants(wanted, v.check)) verdicts.push_back(std::move(v));
-    if (question_wants(wanted, "compare")) append_comparisons(verdicts, campaign, in);
+    }
+    if (!lammps_judged && lammps_in_all(a, in)) {
+      lammps_judged = true;
+      for (auto& v : checks::run_checks("lammps", in)) verdicts.push_back(std::move(v));
+    }
+    if (question_wants(wanted, "compare")) comparisons = append_comparisons(verdicts, campaign, in);
   } else {
     verdicts = checks::run_checks(a.name, in);
-    if (a.name == "all") append_comparisons(verdicts, campaign, in);
+    if (a.name == "all" && lammps_in_all(a, in)) {
+      lammps_judged = true;
+      for (auto& v : checks::run_checks("lammps", in)) verdicts.push_back(std::move(v));
+    }
+    if (a.name == "all") comparisons = append_comparisons(verdicts, campaign, in);
   }
   mark_expected_failures(verdicts, campaign.expected);
   print_verdicts(verdicts, a.table);
+  print_headlines(verdicts, comparisons);
+  if (!lammps_judged && !in.runs_of_another_simulator) print_lammps_left_out();
   // `all` writes checks.*, the files reports read; a single check writes checks-NAME.*, so
   // that it never replaces the full set.
   write_verdict_files(

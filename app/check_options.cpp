@@ -96,6 +96,11 @@ std::vector<JudgingOption> make_table() {
       {"--no-lmp", "no_lmp", &JudgingArgs::no_lmp,
        "lammps: use the stored LAMMPS result even if lmp is installed",
        [](const JudgingArgs&) { return ""; }},
+      {"--with-lammps", "with_lammps", &JudgingArgs::with_lammps,
+       "all: also the LAMMPS self-checks (the lammps check: jam against LAMMPS on stored "
+       "inputs, about 20 s when lmp runs; a test of jam, not of the campaign's data); without "
+       "it only `jam check lammps DIR` or [question] checks naming lammps judge them",
+       [](const JudgingArgs&) { return ""; }},
   };
 }
 

@@ -35,6 +35,9 @@ struct JudgingArgs {
   std::optional<double> region_near, region_far;  // absent: the campaign's, else the defaults
   std::string reference_dir = data_path("reference").string();
   bool no_lmp = false;
+  // `all` (and the pipeline) also judge the stored LAMMPS self-checks (the lammps check),
+  // which are otherwise left to `jam check lammps DIR` or [question] checks naming lammps.
+  bool with_lammps = false;
 };
 
 /// The false-alarm rate of each check when neither --alpha nor [question] alpha gives one.

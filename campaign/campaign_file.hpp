@@ -39,8 +39,9 @@ struct CampaignQuestion {
   bool states_range() const { return phi_min.has_value() && phi_max.has_value(); }
 };
 
-/// The names [question] checks accepts: the checks `jam check all` judges (parts too), and
-/// compare (the campaigns of compare_with judged against this one).
+/// The names [question] checks accepts: the checks `jam check all` judges (parts too), compare
+/// (the campaigns of compare_with judged against this one) and lammps (the LAMMPS
+/// self-checks, which `all` judges only when asked).
 std::vector<std::string> question_check_names();
 
 struct Campaign {

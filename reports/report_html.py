@@ -9,6 +9,7 @@ control character in a case name never reaches the terminal raw.
 import html
 import math
 import numbers
+import re
 
 STYLE = """
 body { font-family: sans-serif; max-width: 1200px; margin: 2em auto; color: #222; }
@@ -195,6 +196,58 @@ def headlines(verdicts):
     return [headline(check, vs) for check, vs in by_check(verdicts).items()]
 
 
+# The checks that judge the campaigns of compare_with against this one: compare and its parts
+# (checks/check_registry.hpp). Their verdicts are another code's, not this campaign's: they
+# get a headline line of their own and never turn this campaign's.
+COMPARE_CHECKS = ("compare", "compare_jamming", "compare_fit", "compare_fit_phi_j")
+
+
+def own_verdicts(verdicts):
+    """The verdicts of the campaign's own checks (every one but compare_with's)."""
+    return [v for v in verdicts if v.check not in COMPARE_CHECKS]
+
+
+def outcome_word(n):
+    if not any(n.values()):
+        return "NOTHING JUDGED"  # e.g. a question that asks for compare alone
+    return "FAIL" if n["fail"] else ("INCONCLUSIVE" if n["inconclusive"] else "PASS")
+
+
+def _compare_with(c):
+    """The directories of the campaign file's compare_with ([] when it has none or cannot be
+    read: the verdicts then name each campaign by its name alone)."""
+    try:
+        import tomllib
+        listed = tomllib.loads(c.campaign_text or "").get("compare_with", [])
+    except (ImportError, ValueError, AttributeError):
+        return []
+    return [d for d in listed if isinstance(d, str)] if isinstance(listed, list) else []
+
+
+def comparisons(c):
+    """other campaign -> its compare verdicts, in the order met. The other campaign is named
+    in each case ("... OTHER vs THIS, constant phi", "OTHER vs THIS: all"); by its directory
+    in compare_with where that directory's last part is its name."""
+    out = {}
+    found = re.compile(r"(?:^|: )(\S+) vs " + re.escape(str(c.name)) + r"(?:[,:]|$)")
+    directories = _compare_with(c)
+    for v in c.verdicts:
+        if v.check not in COMPARE_CHECKS:
+            continue
+        m = found.search(str(v.case))
+        name = m.group(1) if m else "another campaign"
+        where = next((d for d in directories
+                      if d.rstrip("/").rsplit("/", 1)[-1] == name), name)
+        out.setdefault(where, []).append(v)
+    return out
+
+
+def comparison_lines(c):
+    """One line per compared campaign: "compare with DIR: FAIL: 4 passed, 4 failed, ..."."""
+    return [f"compare with {plain(where)}: {outcome_word(counts(mine))}: "
+            f"{counts_text(counts(mine))}" for where, mine in comparisons(c).items()]
+
+
 def verdict_table_html(verdicts):
     """One check's verdicts as a table: the cells `jam check` prints (checks.json `table`), the
     case with its short reason and whole reason, then the statistic."""
@@ -257,11 +310,59 @@ def fit_rows(c):
     return out
 
 
+# A number in a fit's failure reason: reasons that differ only in these are one kind.
+_NUMBER = re.compile(r"[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?")
+
+
+def folded_failures(failures):
+    """stats.h5 fit/scan's `failures` (one line per failed row, "rate_max R window +-W:
+    reason") folded as `jam stats` prints them (stats/scan_failures.cpp): each kind of reason
+    once, with its rows, "6 rows, e.g.: reason | 1 row: reason"."""
+    kinds = {}
+    for line in str(failures or "").splitlines():
+        reason = line.split(": ", 1)[-1].strip()
+        reason = reason[len("fit: "):] if reason.startswith("fit: ") else reason
+        if not reason or reason == "none":
+            continue
+        kind = kinds.setdefault(_NUMBER.sub("#", reason), [reason, 0, False])
+        kind[1] += 1
+        kind[2] = kind[2] or reason != kind[0]
+    return " | ".join(f"{rows} row{'' if rows == 1 else 's'}{', e.g.' if differ else ''}: "
+                      f"{reason}" for reason, rows, differ in kinds.values())
+
+
+def _fitted_rates(c):
+    """The log10 rates of the ensembles at the fit's phi_init (every ensemble without one)."""
+    phi_init = (c.fit or {}).get("attrs", {}).get("phi_init")
+    return sorted({e.log10_rate for e in c.ensembles
+                   if not _is_number(phi_init) or abs(e.phi_init - phi_init) < 1e-9},
+                  reverse=True)
+
+
+def no_fit_sentence(c):
+    """Why the campaign has no scaling fit, in one sentence: fewer than 3 rates, else the
+    scan's distinct failure reasons when none of its fits could be made, else why no fit was
+    taken as the representative."""
+    fit = c.fit or {}
+    if not fit:
+        return "No scaling fit: stats.h5 has none (jam stats --no-fit, or no ensemble to fit)."
+    rates = _fitted_rates(c)
+    if len(rates) < 3:
+        listed = ", ".join(f"1e{r:g}" for r in rates) or "none"
+        return (f"No scaling fit: fewer than 3 rates (the fitted ensembles have {len(rates)}: "
+                f"{listed}); a scaling fit needs at least 3, with 2 phi_J and q trade off.")
+    scan = fit.get("scan") or {}
+    phi_j = scan.get("phi_j", [])
+    if len(phi_j) and not any(math.isfinite(x) for x in phi_j):
+        return (f"No scaling fit: none of the {len(phi_j)} fits of the scan could be made "
+                f"({folded_failures(fit.get('scan_failures'))}).")
+    return f"No scaling fit: {fit.get('attrs', {}).get('failure', 'no representative fit')}."
+
+
 def fit_table_html(c):
     rows = fit_rows(c)
     if not rows:
-        failure = (c.fit or {}).get("attrs", {}).get("failure", "no fit in stats.h5")
-        return f"<p>No scaling fit: {text(str(failure))}</p>"
+        return f"<p>{text(no_fit_sentence(c), longest=CAPTION_LONGEST)}</p>"
     rep = c.fit["representative"]
     quality = str(rep.get("quality", "ok"))
     flag = ("" if quality == "ok" else
@@ -341,10 +442,14 @@ def contents_html(parts):
 
 def page(c, figures, provenance):
     """The page: the headline (verdict counts, one line per check), the contents, the sections."""
-    n = counts(c.verdicts)
+    own = own_verdicts(c.verdicts)
+    n = counts(own)
     parts = sections(c, figures, provenance)
-    verdict_word = "FAIL" if n["fail"] else ("INCONCLUSIVE" if n["inconclusive"] else "PASS")
-    lines = "".join(f"<li>{text(h)}</li>" for h in headlines(c.verdicts))
+    verdict_word = outcome_word(n)
+    # The campaign's own checks make its headline; each compared campaign gets a line apart.
+    lines = "".join(f"<li>{text(h)}</li>" for h in headlines(own))
+    compared = "".join(f"<p class='summary compare'><b>{text(line)}</b></p>"
+                       for line in comparison_lines(c))
     asked = question_text(c.question)
     question_html = f"<p class='question'>{text(asked)}</p>" if asked else ""
     body = "\n".join(part for _, _, part in parts)
@@ -354,6 +459,7 @@ def page(c, figures, provenance):
 <body>
 <h1>Campaign <code>{text(c.name)}</code>, {num(c.dim)}D</h1>
 <p class="summary"><b>{verdict_word}</b>: {text(counts_text(n))}.</p>
+{compared}
 {question_html}
 <ul class="headlines">{lines}</ul>
 {contents_html(parts)}
@@ -477,9 +583,17 @@ def text_summary(c, report_path):
                      "every one")
     lines.append(f"{len(c.verdicts)} verdicts, {counts_text(n)}")
     lines.append("")
+    compared = comparison_lines(c)
+    own = own_verdicts(c.verdicts)
+    if compared:  # this campaign's headline, then each compared campaign's apart
+        lines.append(f"this campaign's own checks: {outcome_word(counts(own))}: "
+                     f"{counts_text(counts(own))}")
+        lines.extend(compared)
     if question_text(c.question):
         lines.append(question_text(c.question))
-    lines.extend(headlines(c.verdicts))
+    lines.extend(headlines(own))
+    if not fit_rows(c):
+        lines.append(no_fit_sentence(c))
     lines.append("")
     rep = (c.fit or {}).get("representative") or {}
     for name, value, error, paper, paper_error in fit_rows(c):

@@ -15,7 +15,8 @@ the stored reports anew from the judged copy: reports/NAME/ and, where it exists
 reports/NAME-q-fixed/ (the paper's q held, as scripts/reproduce.sh makes it).
 
 The stored LAMMPS reference (reference/lammps) serves the lammps check (--no-lmp), so the
-result does not depend on whether lmp is installed. Works in a temporary copy; the stored
+result does not depend on whether lmp is installed; --with-lammps keeps those verdicts in
+checks.json (`check all` judges them only when asked). Works in a temporary copy; the stored
 directory changes only when the check ran (exit 0, 1 or 3), by rename.
 """
 import argparse
@@ -142,8 +143,10 @@ def main():
                            check=True, stdout=subprocess.DEVNULL)
             if args.refit:
                 fits += (to_json(work, work, "fit-free.json", refit, ()),)
-        done = subprocess.run([args.jam, "check", "all", work, "--no-lmp", "--reference-dir",
-                               os.path.join(SOURCE, "reference")])
+        # --with-lammps: the stored results keep their LAMMPS self-checks, which `check all`
+        # judges only when asked.
+        done = subprocess.run([args.jam, "check", "all", work, "--no-lmp", "--with-lammps",
+                               "--reference-dir", os.path.join(SOURCE, "reference")])
         if done.returncode not in (0, 1, 3):
             sys.exit(f"rejudge: jam check exited {done.returncode}; nothing changed")
         provenance["checks_rejudged"] = {

@@ -110,7 +110,7 @@ if [ -f "reference/campaigns/$name-jamming.toml" ]; then
   stage jamming_campaign $jam campaign run "reference/campaigns/$name-jamming.toml" $quiet
   measure jamming_campaign "runs/$name-jamming"
   stage jamming_stats $jam stats "runs/$name-jamming" --no-fit >/dev/null
-  verdicts "runs/$name-jamming/checks.json" $jam check all "runs/$name-jamming"
+  verdicts "runs/$name-jamming/checks.json" $jam check all "runs/$name-jamming" --with-lammps
   $jam report "runs/$name-jamming" --out "reports/$name-jamming" --quiet
 fi
 
@@ -131,7 +131,9 @@ scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-held.json" \
 # ... and the result: the free fit, nothing held (the checks use its phi_J).
 stage stats $jam stats "runs/$name" --order 3 >/dev/null
 scripts/fit_to_json.py "runs/$name/stats.h5" "$fits/fit-free.json" "jam stats --order 3"
-stage checks verdicts "runs/$name/checks.json" $jam check all "runs/$name"
+# --with-lammps: the stored results carry the LAMMPS self-checks (`check all` judges them only
+# when asked).
+stage checks verdicts "runs/$name/checks.json" $jam check all "runs/$name" --with-lammps
 cp "runs/$name"/{checks.json,checks.h5} "$qfixed/"
 
 # fit_window STATS: the representative scaling fit's "phi_min phi_max"; nothing when the fit

@@ -1,6 +1,7 @@
 // DIR/stats.h5 and the printed summary of `jam stats` (schema in reference/schema.md).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -15,6 +16,7 @@
 #include "sim/version.hpp"
 #include "stats/campaign_stats.hpp"
 #include "stats/papers_protocol.hpp"
+#include "stats/scan_failures.hpp"
 
 namespace jam::stats {
 namespace {
@@ -369,6 +371,16 @@ std::string format_stats_summary(const CampaignStats& s) {
   for (const auto& [title, scan] :
        {std::pair{"constant phi", &s.fit}, std::pair{"constant Z", &s.fit_z}}) {
     if (scan->rows.empty()) continue;
+    const std::size_t failed = static_cast<std::size_t>(std::count_if(
+        scan->rows.begin(), scan->rows.end(), [](const ScanRow& r) { return !r.result; }));
+    // Every row failed: one line with each reason once (stats.h5 fit/scan keeps every row).
+    if (failed == scan->rows.size()) {
+      out << fmt::format(
+          "\nscaling fit at {} (phi_init {:g}, N {}): none of the {} fits could be made ({})\n",
+          title, s.fit_phi_init, s.fit_size ? std::to_string(s.fit_size) : "pooled", failed,
+          scan_failure_words(*scan));
+      continue;
+    }
     out << fmt::format(
         "\nscaling fit at {} (phi_init {:g}, N {}): phi_J, beta = (1-q) z nu, y = q z nu; "
         "jackknife over samples, bias-corrected (plain fit in the representative line)\n",
@@ -378,11 +390,7 @@ std::string format_stats_summary(const CampaignStats& s) {
                        "it", "flag");
     for (std::size_t k = 0; k < scan->rows.size(); ++k) {
       const auto& row = scan->rows[k];
-      if (!row.result) {
-        out << fmt::format("{:>9.2e} {:>15}   fit failed: {}\n", row.rate_max,
-                           fmt::format("+-{:g}", row.half_window), row.failure);
-        continue;
-      }
+      if (!row.result) continue;  // folded into one line below the table
       const auto& r = *row.result;
       out << fmt::format(
           "{:>9.2e} {:>15} {:>8.5f}({:>7.5f}) {:>6.3f}({:>5.3f}) {:>6.3f}({:>5.3f}) {:>9.3f} "
@@ -393,6 +401,9 @@ std::string format_stats_summary(const CampaignStats& s) {
           scan->chosen == k ? "  <- representative" : "",
           scan->papers_protocol == k ? "  <- the paper's protocol" : "");
     }
+    if (failed > 0)
+      out << fmt::format("not fitted: {} of the {} rows ({})\n", failed, scan->rows.size(),
+                         scan_failure_words(*scan));
     if (const auto* r = scan->representative()) {
       out << fmt::format(
           "representative: phi_J {:.5f}({:.5f}) [plain {:.5f}], q {:.4f} [{:.4f}], "

@@ -84,8 +84,11 @@ def write_other_code(cwd, jam, folder, pressure_factor=1.0):
 
 
 def compare_verdicts(cwd, directory):
+    """The pooled compare verdicts (one per rate at constant phi and Z; the regions around
+    jamming beside them are left to tests/test_compare_ranges.cpp)."""
     with open(os.path.join(cwd, directory, "checks-compare.json")) as f:
-        return [v for v in json.load(f)["verdicts"] if v["check"] == "compare"]
+        return [v for v in json.load(f)["verdicts"]
+                if v["check"] == "compare" and v.get("region", "pooled") == "pooled"]
 
 
 def main():
@@ -143,13 +146,29 @@ def main():
         # report shows the comparison first.
         with open(os.path.join(cwd, "reference.toml"), "a") as f:
             f.write('compare_with = ["runs/other", "runs/planted"]\n')
-        run([jam, "pipeline", "reference.toml", "--no-lmp", "--report", "report"], cwd)
+        piped = run([jam, "pipeline", "reference.toml", "--no-lmp", "--report", "report"], cwd)
         with open(os.path.join(cwd, "runs", "reference", "checks.json")) as f:
-            named = [v["case"] for v in json.load(f)["verdicts"] if v["check"] == "compare"]
+            judged = json.load(f)["verdicts"]
+        named = [v["case"] for v in judged
+                 if v["check"] == "compare" and v.get("region", "pooled") == "pooled"]
         assert len(named) == 8 and all(" vs reference, constant" in c for c in named), named
         with open(os.path.join(cwd, "report", "index.html")) as f:
-            images = re.findall(r"src=['\"]([a-z_]+)\.png", f.read())
+            page = f.read()
+        images = re.findall(r"src=['\"]([a-z_]+)\.png", page)
         assert images and images[0] == "compare", images
+        # The planted code fails its own headline line; the reference's headline judges the
+        # reference's own checks alone (reports/report_html.py, app/check_command.cpp).
+        own = [v["status"] for v in judged if not v["check"].startswith("compare")]
+        word = ("FAIL" if "fail" in own else "INCONCLUSIVE" if "inconclusive" in own
+                else "PASS")
+        assert re.search(r'<p class="summary"><b>' + word + "</b>", page), word
+        assert "<b>compare with runs/planted: FAIL: " in page, page[:3000]
+        for line in (f"this campaign's own checks: {word}: ", "compare with runs/planted: FAIL: "):
+            assert piped.stdout.count(line) == 2, (line, piped.stdout)  # checks, then report
+        # `jam check all` still exits 1: the comparisons count in its exit status.
+        checked = run([jam, "check", "all", "runs/reference", "--no-lmp"], cwd, expect=(0, 1, 3))
+        assert checked.returncode == 1, checked.stdout
+        assert "lammps: the LAMMPS self-checks were not run" in checked.stdout, checked.stdout
 
         # The stored demonstration judged again from its stored statistics (copies: a check
         # writes next to them): LAMMPS of the model passes every comparison, the planted wrong

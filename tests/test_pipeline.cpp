@@ -67,6 +67,10 @@ BOOST_AUTO_TEST_CASE(runs_judges_draws_and_then_redoes_nothing) {
   BOOST_TEST(options["alpha"] == 0.05, options.dump());
   BOOST_TEST(options["no_lmp"] == true, options.dump());
   BOOST_TEST(options["margins"]["finite_size"] == 0.1, options.dump());
+  // The LAMMPS self-checks test jam, not the campaign: left out unless asked, in one line.
+  BOOST_TEST(options["with_lammps"] == false, options.dump());
+  for (const auto& v : judged["verdicts"]) BOOST_TEST(v["check"] != "lammps", v.dump());
+  BOOST_TEST(count(first.output, "lammps: the LAMMPS self-checks were not run") == 1, first.output);
   const auto again = jam::test::run_jam_logged(kDir / "again.txt", pipeline_args());
   BOOST_TEST(again.status == 0, again.output);
   for (const char* stage : {"stats: ", "checks: ", "report: "})
@@ -98,6 +102,20 @@ BOOST_AUTO_TEST_CASE(other_check_options_judge_again_and_the_same_do_not) {
   const auto back = jam::test::run_jam_logged(kDir / "back.txt", pipeline_args());
   BOOST_TEST(back.output.find("judged with other options") != std::string::npos, back.output);
   BOOST_TEST(checks_json()["options"]["alpha"] == 0.05);
+}
+
+BOOST_AUTO_TEST_CASE(with_lammps_judges_again_with_the_self_checks) {
+  const auto asked = jam::test::run_jam_logged(kDir / "lammps.txt",
+                                               pipeline_args() + " --with-lammps --reference-dir " +
+                                                   std::string(JAM_SOURCE_DIR) + "/reference");
+  BOOST_TEST(asked.status == 0, asked.output);
+  BOOST_TEST(asked.output.find("judged with other options") != std::string::npos, asked.output);
+  const nlohmann::json judged = checks_json();
+  BOOST_TEST(judged["options"]["with_lammps"] == true);
+  std::size_t lammps = 0;
+  for (const auto& v : judged["verdicts"]) lammps += v["check"] == "lammps";
+  BOOST_TEST(lammps == 18u);
+  BOOST_TEST(asked.output.find("self-checks were not run") == std::string::npos, asked.output);
 }
 
 BOOST_AUTO_TEST_CASE(a_bad_check_option_is_one_line_naming_it_before_any_run) {

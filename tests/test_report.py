@@ -142,9 +142,11 @@ class Report(unittest.TestCase):
              "--quiet"], cls.work)
         run([jam, "stats", "runs/ci"], cls.work)
         # Status 1 (a failed verdict) and 3 (an inconclusive one) still leave a complete set of
-        # checks to report on.
-        cls.checked = run([jam, "check", "all", "runs/ci", "--no-lmp", "--reference-dir",
-                           os.path.join(src, "reference")], cls.work, expect=(0, 1, 3))
+        # checks to report on. --with-lammps: the stored LAMMPS self-checks, which `all` judges
+        # only when asked, so that the lammps figure is drawn too.
+        cls.checked = run([jam, "check", "all", "runs/ci", "--no-lmp", "--with-lammps",
+                           "--reference-dir", os.path.join(src, "reference")], cls.work,
+                          expect=(0, 1, 3))
         cls.result = run([jam, "report", "runs/ci"], cls.work)
         cls.out = os.path.join(cls.work, "reports", "ci")
         with open(os.path.join(cls.out, "index.html")) as f:
@@ -158,12 +160,15 @@ class Report(unittest.TestCase):
 
     def test_every_figure_exists_and_shows_something(self):
         # The CI campaign has 2 samples per ensemble: sample_pairs needs 3 and is inconclusive, so its
-        # figure is absent; the collapse is drawn only when the fit found a representative row
-        # (two fast rates rarely give one); every other section of the report must be there.
+        # figure is absent; its 2 rates give no scaling fit, so neither the scan nor the
+        # collapse is drawn (each only when a row of the scan has a result, and a
+        # representative); every other section of the report must be there.
         expected = {"pressure.png", "finite_size.png", "finite_size_z.png", "pressure_rate.png",
                     "relative_errors.png", "jamming_points.png", "jamming_width.png",
-                    "fit_scan.png", "lammps.png"}
+                    "lammps.png"}
         with h5py.File(os.path.join(self.work, "runs", "ci", "stats.h5"), "r") as f:
+            if np.isfinite(f["fit/scan/phi_j"][:]).any():
+                expected.add("fit_scan.png")
             if "fit/representative" in f:
                 expected.add("collapse.png")
         self.assertEqual(set(self.parser.images), expected)
@@ -349,6 +354,108 @@ class QuestionAndWholeCompression(unittest.TestCase):
         self.assertIn("in the range asked 0 passed, 1 failed, 0 inconclusive", line)
         self.assertNotIn("pooled only", line)
         self.assertNotIn(h.POOLED_ONLY, h.check_table("finite_size", asked))
+
+
+class NoFitWithoutAResult(unittest.TestCase):
+    """A scan none of whose fits could be made draws no scan and no collapse figure; the fit's
+    section says in one sentence why (fewer than 3 rates, else the scan's distinct reasons),
+    and so does the summary (reports/report_figures_fit.py, report_html.py)."""
+
+    @staticmethod
+    def modules():
+        sys.path.insert(0, os.path.join(os.path.abspath(ARGS.source), "reports"))
+        import report_data
+        import report_figures_fit
+        import report_html
+        return report_data, report_figures_fit, report_html
+
+    def campaign(self, log10_rates, failures):
+        data, _, _ = self.modules()
+        rows = len(failures)
+        nan = np.full(rows, np.nan)
+        scan = {name: nan.copy() for name in data.SCAN}
+        scan["rate_max"] = np.full(rows, 10.0 ** log10_rates[0])
+        scan["half_window"] = np.array([0.01, 0.02, 0.03] * rows)[:rows]
+        fit = {"attrs": {"phi_init": 0.7, "n": 0, "rates_note": "-", "failure": failures[-1]},
+               "scan": scan,
+               "scan_failures": "".join(f"rate_max 0.001 window +-0.01: {f}\n"
+                                        for f in failures)}
+        ensembles = [data.Ensemble(f"n64_r{r}", 64, 0.7, r, 10.0 ** r, 3, {}, {}, None)
+                     for r in log10_rates]
+        return data.Campaign("d", "small", 2, {"paper": {}}, ensembles, fit, [], {}, {}, "",
+                             [])
+
+    def test_no_figure_and_one_sentence_with_two_rates(self):
+        _, figures, h = self.modules()
+        c = self.campaign([-2.5, -3.0], ["fit: 2 rate(s) at or below rate_max 0.00316; a "
+                                         "scaling fit needs at least 3"] * 3)
+        with tempfile.TemporaryDirectory() as out:
+            self.assertIsNone(figures.scan_figure(c, out))
+            self.assertIsNone(figures.collapse_figure(c, out))
+            self.assertEqual(os.listdir(out), [])
+        section = h.fit_table_html(c)
+        self.assertEqual(section.count("<p>"), 1, section)
+        self.assertIn("No scaling fit: fewer than 3 rates (the fitted ensembles have 2: "
+                      "1e-2.5, 1e-3)", section)
+        summary = h.text_summary(c, "index.html")
+        self.assertEqual(summary.count("No scaling fit"), 1, summary)
+
+    def test_the_scans_distinct_reasons_when_it_has_rates_enough(self):
+        _, figures, h = self.modules()
+        c = self.campaign([-4.0, -4.5, -5.0, -5.5],
+                          ["fit: phi_J = 0.9 lies outside the packings",
+                           "fit ends on a bound: q = 1.2 (0 < q < 1)",
+                           "fit: phi_J = 0.91 lies outside the packings"])
+        with tempfile.TemporaryDirectory() as out:
+            self.assertIsNone(figures.scan_figure(c, out))
+        self.assertEqual(
+            h.no_fit_sentence(c),
+            "No scaling fit: none of the 3 fits of the scan could be made (2 rows, e.g.: "
+            "phi_J = 0.9 lies outside the packings | 1 row: fit ends on a bound: q = 1.2 "
+            "(0 < q < 1)).")
+        # A row with a result: the scan is drawn (its failures said in the caption).
+        c.fit["scan"]["phi_j"][1] = 0.84
+        for name in ("phi_j_error", "beta", "beta_error", "y", "y_error"):
+            c.fit["scan"][name][1] = 0.1
+        with tempfile.TemporaryDirectory() as out:
+            self.assertIsNotNone(figures.scan_figure(c, out))
+
+
+class CompareWithHeadline(unittest.TestCase):
+    """The verdicts of compare_with's campaigns (another code against this one) never turn the
+    campaign's own headline: they get a line of their own, on the page and in the summary."""
+
+    def test_a_wrong_code_fails_its_own_line_not_the_campaigns(self):
+        sys.path.insert(0, os.path.join(os.path.abspath(ARGS.source), "reports"))
+        import report_data
+        import report_html as h
+
+        def verdict(check, case, status):
+            return report_data.Verdict(check, case, status, "r", "s", 1.0, 2.0, 0.05, 0.08, {},
+                                       margin=0.05)
+        verdicts = [verdict("finite_size", "n64 vs n128, pooled", "pass"),
+                    verdict("compare", "n64 phi_init 0.7 rate 1e-3: other vs ref, constant phi",
+                            "pass"),
+                    verdict("compare", "n64 phi_init 0.7 rate 1e-3: planted vs ref, constant phi",
+                            "fail"),
+                    verdict("compare_fit", "planted vs ref: all", "inconclusive")]
+        c = report_data.Campaign("d", "ref", 2, {"paper": {}}, [], None, verdicts, {}, {},
+                                 'name = "ref"\ncompare_with = ["runs/other", "runs/planted"]\n',
+                                 [])
+        page = h.page(c, [], {})
+        self.assertIn('<p class="summary"><b>PASS</b>: 1 passed, 0 failed, 0 inconclusive.',
+                      page)
+        self.assertIn("<b>compare with runs/planted: FAIL: 0 passed, 1 failed, 1 inconclusive"
+                      "</b>", page)
+        self.assertIn("<b>compare with runs/other: PASS: 1 passed", page)
+        summary = h.text_summary(c, "index.html")
+        self.assertIn("this campaign's own checks: PASS: 1 passed, 0 failed, 0 inconclusive\n",
+                      summary)
+        self.assertIn("compare with runs/planted: FAIL: 0 passed, 1 failed, 1 inconclusive\n",
+                      summary)
+        # The per-check headlines are the campaign's own.
+        self.assertNotIn("\ncompare: no effect", summary)
+        self.assertIn("\nfinite size: no effect above 5% in 1 of 1\n", summary)
 
 
 class WidthPowerLaw(unittest.TestCase):

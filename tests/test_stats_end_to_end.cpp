@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -228,6 +229,77 @@ BOOST_AUTO_TEST_CASE(checks_write_json_and_junit_and_exit_with_the_verdict) {
   BOOST_TEST(slurp(kDir / "ci" / "checks.json") == json);
   BOOST_TEST(run_jam("check regression " + dir, &out) != 0);
   BOOST_TEST(out.find("--against") != std::string::npos, out);
+}
+
+// The CI campaign's 2 rates give no scaling fit in any row of the scan: one line per scan
+// (constant phi, constant Z) naming the reason once with its count, never a line per row;
+// stats.h5 keeps every row and its reason.
+BOOST_AUTO_TEST_CASE(a_scan_whose_fits_all_fail_is_one_line) {
+  std::string out;
+  BOOST_TEST_REQUIRE(run_jam("stats " + (kDir / "ci").string(), &out) == 0, out);
+  BOOST_TEST(out.find("fit failed") == std::string::npos, out);
+  for (const char* scan : {"scaling fit at constant phi", "scaling fit at constant Z"}) {
+    const auto at = out.find(scan);
+    BOOST_TEST_REQUIRE(at != std::string::npos, out);
+    const std::string line = out.substr(at, out.find('\n', at) - at);
+    BOOST_TEST(line.find("none of the 3 fits could be made (3 rows: 2 rate(s) at or below") !=
+                   std::string::npos,
+               line);
+    BOOST_TEST(line.find("a scaling fit needs at least 3") != std::string::npos, line);
+    // The next line is blank or the next scan's: nothing per row follows.
+    const auto next = out.find('\n', at) + 1;
+    BOOST_TEST((out.compare(next, 1, "\n") == 0 || out.compare(next, 5, "wrote") == 0), out);
+  }
+  const jam::h5::File f = jam::h5::File::open_read((kDir / "ci" / "stats.h5").string());
+  const std::string failures = f.read_attribute_string("failures", "fit/scan");
+  BOOST_TEST(std::count(failures.begin(), failures.end(), '\n') == 3, failures);
+}
+
+namespace {
+
+std::size_t lammps_verdicts(const fs::path& checks_json) {
+  const std::string json = slurp(checks_json);
+  std::size_t n = 0;
+  for (auto at = json.find("\"check\": \"lammps\""); at != std::string::npos;
+       at = json.find("\"check\": \"lammps\"", at + 1))
+    ++n;
+  return n;
+}
+
+}  // namespace
+
+// The LAMMPS self-checks test jam, not the campaign: `check all` judges them only when asked
+// (--with-lammps, [question] checks naming lammps, or `check lammps`), and says in one line how
+// to ask when it leaves them out.
+BOOST_AUTO_TEST_CASE(lammps_self_checks_only_when_asked) {
+  const std::string dir = (kDir / "ci").string();
+  const std::string reference =
+      " --no-lmp --reference-dir " + std::string(JAM_SOURCE_DIR) + "/reference ";
+  const std::string note = "lammps: the LAMMPS self-checks were not run";
+  BOOST_TEST_REQUIRE(run_jam("stats " + dir) == 0);
+  std::string out;
+  run_jam("check all" + reference + dir, &out);
+  BOOST_TEST(lammps_verdicts(kDir / "ci" / "checks.json") == 0u);
+  const auto at = out.find(note);
+  BOOST_TEST_REQUIRE(at != std::string::npos, out);
+  BOOST_TEST(out.find(note, at + 1) == std::string::npos, out);
+  BOOST_TEST(out.find("`jam check lammps DIR`, `--with-lammps`") != std::string::npos, out);
+  // Asked on the command line: every stored self-check, and the record says so.
+  run_jam("check all --with-lammps" + reference + dir, &out);
+  BOOST_TEST(lammps_verdicts(kDir / "ci" / "checks.json") == 18u);
+  BOOST_TEST(out.find(note) == std::string::npos, out);
+  BOOST_TEST(slurp(kDir / "ci" / "checks.json").find("\"with_lammps\": true") != std::string::npos);
+  // Asked by the campaign's question.
+  const fs::path stored = kDir / "ci" / "campaign.toml";
+  const std::string text = slurp(stored);
+  std::ofstream(stored) << text << "\n[question]\nchecks = [\"finite_size\", \"lammps\"]\n";
+  run_jam("check all" + reference + dir, &out);
+  BOOST_TEST(lammps_verdicts(kDir / "ci" / "checks.json") == 18u);
+  BOOST_TEST(out.find(note) == std::string::npos, out);
+  std::ofstream(stored) << text;
+  // By name, as ever.
+  BOOST_TEST(run_jam("check lammps" + reference + dir, &out) == 0, out);
+  BOOST_TEST(lammps_verdicts(kDir / "ci" / "checks-lammps.json") == 18u);
 }
 
 BOOST_AUTO_TEST_CASE(no_finished_runs_is_an_error) {
