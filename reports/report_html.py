@@ -12,7 +12,7 @@ import numbers
 import re
 
 STYLE = """
-body { font-family: sans-serif; max-width: 1200px; margin: 2em auto; color: #222; }
+body { font-family: sans-serif; max-width: 1200px; margin: 1em auto; color: #222; }
 h1 { margin-bottom: 0.2em; }
 table { border-collapse: collapse; font-size: 0.85em; margin: 1em 0; }
 th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: left; vertical-align: top; }
@@ -21,7 +21,7 @@ tr.pass td.status { background: #d8f0d8; }
 tr.fail td.status { background: #f6caca; font-weight: bold; }
 tr.inconclusive td.status { background: #f3ecd0; color: #665; }
 tr.expected td.status { background: #eadcf2; }
-ul.headlines { font-size: 1.05em; margin: 0.3em 0; }
+ul.headlines { font-size: 1em; margin: 0.3em 0; }
 .reason { color: #555; font-size: 0.9em; }
 figure { margin: 0.5em 0 1em; }
 h2 { margin: 1.2em 0 0.3em; font-size: 1.25em; }
