@@ -243,8 +243,11 @@ def stats_flat(s):
         if fit is not None:
             put_attrs(out, f"/{key}", fit.attrs)
             put_group(out, f"/{key}/scan", fit.scan)
-            for name, family in fit.families.items():
-                where = f"/{key}/families/{name}"
+            fitted = [(f"/{key}/families/{name}", family)
+                      for name, family in fit.families.items()]
+            if fit.papers_protocol is not None:
+                fitted.append((f"/{key}/papers_protocol", fit.papers_protocol))
+            for where, family in fitted:
                 put_attrs(out, where, family.attrs, family.units)
                 if family.coefficients is not None:
                     out[("data", where + "/coefficients")] = family.coefficients

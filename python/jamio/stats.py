@@ -105,7 +105,9 @@ class Fit:
     `representative/` (None without a representative fit); `coefficients`: its c_0..c_K;
     `collapse`, `scan`: Groups (`scan.attrs["failures"]` says why rows failed);
     `families`: `families/` (each (N, phi_init) fitted as the representative), name ->
-    FamilyFit; `units`: the unit of `coefficients` where the file states one."""
+    FamilyFit; `units`: the unit of `coefficients` where the file states one;
+    `papers_protocol`: `papers_protocol/` (the paper's protocol fitted whole: its attributes,
+    with `how`, or `how` and `failure`), a FamilyFit, None where the file has none."""
 
     attrs: dict
     representative: dict | None
@@ -114,6 +116,7 @@ class Fit:
     scan: Group | None
     families: dict = field(default_factory=dict)
     units: dict = field(default_factory=dict)
+    papers_protocol: "FamilyFit | None" = None
 
     def __repr__(self):
         rows = 0 if self.scan is None else len(next(iter(self.scan.values()), []))
@@ -198,12 +201,17 @@ def _fit(f, name):
         k: FamilyFit(attrs(v), _coefficients(v), optional_group(v, "collapse"),
                      _coefficient_units(v))
         for k, v in members(families).items() if isinstance(v, h5py.Group)}
+    papers = member(g, "papers_protocol")
+    papers = None if not isinstance(papers, h5py.Group) else FamilyFit(
+        attrs(papers), _coefficients(papers), optional_group(papers, "collapse"),
+        _coefficient_units(papers))
     rep = member(g, "representative")
     if not isinstance(rep, h5py.Group):
-        return Fit(attrs(g), None, None, None, optional_group(g, "scan"), families)
+        return Fit(attrs(g), None, None, None, optional_group(g, "scan"), families,
+                   papers_protocol=papers)
     coefficients = _coefficients(rep)
     return Fit(attrs(g), attrs(rep), coefficients, optional_group(rep, "collapse"),
-               optional_group(g, "scan"), families, _coefficient_units(rep))
+               optional_group(g, "scan"), families, _coefficient_units(rep), papers)
 
 
 def _coefficient_units(g):
