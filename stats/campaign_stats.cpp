@@ -108,13 +108,7 @@ void fit_families(CampaignStats& s, const StatsOptions& o) {
   const ScalingFitResult* representative = s.fit.representative();
   if (!representative) return;
   const ScanRow& row = s.fit.rows[*s.fit.chosen];
-  ScalingFitOptions fo;
-  fo.order = o.order;
-  fo.half_window = row.half_window;
-  fo.rate_max = row.rate_max;
-  fo.fixed_phi_j = o.fixed_phi_j;
-  fo.fixed_q = o.fixed_q;
-  fo.fixed_inv_znu = o.fixed_inv_znu;
+  const ScalingFitOptions fo = fit_options(o, o.order, row.half_window, row.rate_max);
   std::set<std::pair<std::int64_t, double>> families;
   for (const auto& e : s.ensembles) families.insert({e.key.n, e.key.phi_init});
   for (const auto& [n, phi_init] : families) {

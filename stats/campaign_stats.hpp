@@ -23,6 +23,20 @@ struct StatsOptions {
   bool fit = true;
 };
 
+/// The options of one scaling fit of the campaign: its order and held parameters, at this
+/// window and rate_max (the scan's rows, the per-size fits and the paper's protocol alike).
+inline ScalingFitOptions fit_options(const StatsOptions& o, int order, double half_window,
+                                     double rate_max) {
+  ScalingFitOptions f;
+  f.order = order;
+  f.fixed_phi_j = o.fixed_phi_j;
+  f.fixed_q = o.fixed_q;
+  f.fixed_inv_znu = o.fixed_inv_znu;
+  f.half_window = half_window;
+  f.rate_max = rate_max;
+  return f;
+}
+
 /// phi_Ji over the samples of an ensemble (runs with jamming_point).
 struct JammingStats {
   std::vector<double> samples;  // per run, NaN where the run did not bracket it

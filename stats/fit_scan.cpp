@@ -129,15 +129,8 @@ FitScan scan_and_choose(std::vector<FitEnsemble> data, const StatsOptions& o,
       ScanRow row;
       row.rate_max = rm;
       row.half_window = half;
-      ScalingFitOptions f;
-      f.order = o.order;
-      f.fixed_phi_j = o.fixed_phi_j;
-      f.fixed_q = o.fixed_q;
-      f.fixed_inv_znu = o.fixed_inv_znu;
-      f.half_window = half;
-      f.rate_max = rm;
       try {
-        row.result = fit_scaling(data, f);
+        row.result = fit_scaling(data, fit_options(o, o.order, half, rm));
       } catch (const FitError& e) {
         row.failure = e.what();
       }

@@ -126,15 +126,9 @@ std::optional<PapersProtocolFit> fit_papers_protocol(const CampaignStats& s,
       pool ? why : "the largest size alone (" + why + ")", kPapersOrder, kPapersLog10RateMax,
       p.row.half_window,
       pool ? fmt::format("{}", fmt::join(sizes, " and ")) : std::to_string(*sizes.rbegin()));
-  ScalingFitOptions f;
-  f.order = kPapersOrder;
-  f.half_window = p.row.half_window;
-  f.rate_max = p.row.rate_max * (1 + 1e-9);
-  f.fixed_phi_j = o.fixed_phi_j;
-  f.fixed_q = o.fixed_q;
-  f.fixed_inv_znu = o.fixed_inv_znu;
   try {
-    p.result = fit_scaling(data, f);
+    p.result = fit_scaling(data, fit_options(o, kPapersOrder, p.row.half_window,
+                                             p.row.rate_max * (1 + 1e-9)));
   } catch (const FitError& e) {
     p.failure = e.what();
   }
