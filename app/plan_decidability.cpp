@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <tuple>
@@ -46,8 +47,12 @@ ScatterFit fit(const std::vector<ScatterPoint>& p) {
   // c1 free (held at kHeldNExponent), one rate c2 (held at 0, no rate dependence).
   f.n_exponent_held = f.n_max <= f.n_min * (1 + 1e-9);
   f.rate_slope_held = f.rate_max <= f.rate_min + 1e-9;
+  const auto points = static_cast<Eigen::Index>(p.size());
+  // Fewer points than coefficients (one verdict: two points) holds the rate slope, then the N
+  // exponent; never a model left at zero (s = 1, thousands of samples "needed").
+  if (points < 1 + !f.n_exponent_held + !f.rate_slope_held) f.rate_slope_held = true;
+  if (points < 1 + !f.n_exponent_held + !f.rate_slope_held) f.n_exponent_held = true;
   const Eigen::Index free = 1 + !f.n_exponent_held + !f.rate_slope_held;
-  if (static_cast<Eigen::Index>(p.size()) <= free) return f;
   Eigen::MatrixXd x(p.size(), free);
   Eigen::VectorXd y(p.size()), w(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -66,10 +71,14 @@ ScatterFit fit(const std::vector<ScatterPoint>& p) {
   f.c1 = f.n_exponent_held ? kHeldNExponent : c(col++);
   f.c2 = f.rate_slope_held ? 0.0 : c(col++);
   const Eigen::VectorXd r = y - x * c;
+  // As many points as coefficients (a pilot of two sizes at one rate): the model passes
+  // through them and has no residual to estimate.
+  f.exact = points == free;
+  if (f.exact) return f;
   double ss = 0, sw = 0;
   for (Eigen::Index i = 0; i < r.size(); ++i) ss += w(i) * w(i) * r(i) * r(i), sw += w(i) * w(i);
-  f.residual = std::sqrt(ss / sw * static_cast<double>(p.size()) /
-                         static_cast<double>(static_cast<Eigen::Index>(p.size()) - free));
+  f.residual = std::sqrt(ss / sw * static_cast<double>(points) /
+                         static_cast<double>(points - free));
   return f;
 }
 
@@ -204,9 +213,11 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
   const ScatterFit& shown = model.at_phi;
   fmt::print(
       "  what it can decide (window scatter ln s^2 = {:.2f} {:+.2f} ln N{} {:+.2f} log10 rate{} at "
-      "constant phi, residual factor {:.2f} on s, from {}):\n",
+      "constant phi, {}, from {}):\n",
       shown.c0, shown.c1, shown.n_exponent_held ? " (held: one size in the data)" : "", shown.c2,
-      shown.rate_slope_held ? " (held: one rate in the data)" : "", std::exp(shown.residual / 2),
+      shown.rate_slope_held ? " (held: one rate in the data)" : "",
+      shown.exact ? std::string("through its points exactly: no residual to estimate")
+                  : fmt::format("residual factor {:.2f} on s", std::exp(shown.residual / 2)),
       fmt::join(model.sources, ", "));
   // Per-sample core-seconds of every ensemble (the cost of one more sample there).
   std::map<EnsembleKey, double> cost, runs;
@@ -224,9 +235,14 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
   const auto samples = static_cast<double>(c.samples);
   for (const auto& p : planned) ++count[kind_of(p)];
   int warnings = 0;
+  std::set<std::string> unmodelled;  // no verdict of that kind in the data: no scatter to use
   for (const auto& p : planned) {
     const std::string kind = kind_of(p);
     const ScatterFit& f = p.at_z ? model.at_z : model.at_phi;
+    if (f.points == 0) {
+      unmodelled.insert(kind);
+      continue;
+    }
     const double margin =
         c.margins.contains(p.check) ? c.margins.at(p.check) : checks::default_margin(p.check);
     // Only the pass level matters here (a TOST at the check's alpha).
@@ -253,6 +269,12 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
     }
   }
   for (const auto& [kind, total] : count) {
+    if (unmodelled.contains(kind)) {
+      ++warnings;
+      fmt::print("    warning: {}: no verdict of its kind in {}: nothing to plan it from\n", kind,
+                 fmt::join(model.sources, ", "));
+      continue;
+    }
     const int yes = decided[kind];
     if (yes == total) {
       fmt::print("    {}: all {} comparisons decide with {} samples\n", kind, total, c.samples);

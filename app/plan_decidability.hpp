@@ -31,6 +31,7 @@ struct ScatterFit {
   double n_min = 0, n_max = 0, rate_min = 0, rate_max = 0;  // the data's span
   bool n_exponent_held = false;  // one size in the data: c1 = -1 (self-averaging, s^2 ~ 1/N)
   bool rate_slope_held = false;  // one rate in the data: c2 = 0
+  bool exact = false;            // as many points as coefficients: no residual estimated
   double scatter(double n, double log10_rate) const;
 };
 

@@ -6,6 +6,7 @@
 // phi_init findings of a judged directory are printed; data of one size hold the N exponent.
 #include <boost/test/unit_test.hpp>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -35,6 +36,13 @@ fs::path write_campaign(const std::string& name, const std::string& body) {
 struct Cleanup {
   ~Cleanup() { fs::remove_all(kDir); }
 } cleanup;
+
+// A coefficient as the plan prints it ("{:+.2f}").
+std::string fmt_two(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+.2f", x);
+  return buf;
+}
 
 const std::string kSizes =
     "dim = 2\nsizes = [256, 1024]\nphi_init = [0.4]\nlog10_rates = [-4.0, -5.0]\n"
@@ -198,4 +206,36 @@ BOOST_AUTO_TEST_CASE(the_plan_says_which_range_its_verdicts_judge) {
              asked.output);
   // The stored model's source judged no range asked: said beside it.
   BOOST_TEST(asked.output.find("it judged no range asked") != std::string::npos, asked.output);
+}
+
+// A pilot of two sizes at one rate gives two points for two coefficients: the model passes
+// through them (said), never left at zero, which would predict s = 1 and thousands of samples
+// needed. A kind of comparison the data hold no verdict of (constant Z here) is said, not
+// planned from a zero model.
+BOOST_AUTO_TEST_CASE(a_two_point_pilot_is_fitted_exactly_and_a_missing_kind_is_said) {
+  const fs::path dir = kDir / "two-point";
+  fs::create_directories(dir);
+  std::ofstream(dir / "checks.json")
+      << "[{\"values\": {\"log10_rate\": -3, \"n_a\": 128, \"n_b\": 512, \"constant_z\": 0, "
+         "\"scatter_a\": 0.04, \"scatter_b\": 0.027, \"samples_a\": 20, \"samples_b\": 20}}]\n";
+  const std::string design = write_campaign("two-point-design",
+                                            "dim = 2\nsizes = [128, 512]\nphi_init = [0.8]\n"
+                                            "log10_rates = [-3.0]\nphi_stop = 0.87\nseed = 1\n"
+                                            "samples = 20\n")
+                                 .string();
+  const auto r = run_jam("campaign plan " + design + " --scatter-from " + dir.string());
+  BOOST_TEST(r.status == 0, r.output);
+  // ln s^2 through (ln 128, ln 0.04^2) and (ln 512, ln 0.027^2): slope 2 ln(0.027/0.04)/ln 4.
+  const double slope = 2 * std::log(0.027 / 0.04) / std::log(4.0);
+  BOOST_TEST(r.output.find(fmt_two(slope) + " ln N ") != std::string::npos, r.output);
+  BOOST_TEST(r.output.find("through its points exactly: no residual to estimate") !=
+                 std::string::npos,
+             r.output);
+  // s_a = 0.04, s_b = 0.027 at 20 samples: sigma_D 0.011, well under 0.1 / (1.645 + 1.28).
+  BOOST_TEST(r.output.find("finite_size, constant phi: all 1 comparisons decide with 20") !=
+                 std::string::npos,
+             r.output);
+  BOOST_TEST(r.output.find("finite_size, constant Z: no verdict of its kind in") !=
+                 std::string::npos,
+             r.output);
 }
