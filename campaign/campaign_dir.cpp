@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <sstream>
 
@@ -28,9 +29,9 @@ std::string record_path(const PlannedRun& run) {
   return fs::path(run.config.out).replace_extension(".record").string();
 }
 
-/// Writes path atomically, and not at all when it already holds text: its time then says when
-/// its content last changed (jam pipeline redoes later stages by such times).
-void write_text(const std::string& path, const std::string& text) {
+}  // namespace
+
+void write_text_if_changed(const std::string& path, const std::string& text) {
   check_input_file("campaign directory file", path);
   {
     std::ifstream in(path, std::ios::binary);
@@ -44,8 +45,6 @@ void write_text(const std::string& path, const std::string& text) {
   std::fputs(text.c_str(), out.stream());
   out.commit();
 }
-
-}  // namespace
 
 const char* to_string(RunStatus s) {
   switch (s) {
@@ -125,17 +124,18 @@ void prepare_campaign_directory(const Campaign& c) {
     throw CampaignError(fmt::format("{}: output: cannot create '{}': {}", c.source_path,
                                     (dir / "runs").string(), ec.message()));
   }
-  write_text(stored.string(), c.source_text);
+  write_text_if_changed(stored.string(), c.source_text);
 }
 
-RunStatus run_status(const PlannedRun& run, std::string* detail) {
-  const std::string& file = run.config.out;
+RunStatus classify_run_file(const std::string& file,
+                            const std::function<std::string()>& identity_problem,
+                            std::string* detail) {
   if (fs::exists(file)) {
-    // Done only when the file is sound and its own stored parameters are the planned run's,
+    // Done only when the file is sound and its own stored parameters are the expected run's,
     // whatever campaign.toml and manifest.toml say (they can be deleted or edited).
     const RunFileCheck check = check_run_file(file);
     std::string problem = check.problem;
-    if (problem.empty()) problem = run_identity_problem(file, run.config);
+    if (problem.empty()) problem = identity_problem();
     if (problem.empty()) {
       if (detail && !check.verified) {
         *detail = "unverified: written before run files checksummed their attributes";
@@ -143,22 +143,30 @@ RunStatus run_status(const PlannedRun& run, std::string* detail) {
       return RunStatus::kDone;
     }
     if (detail) *detail = problem;
-    // A run started from another campaign's chained start (chain_starts_from) whose campaign
-    // is not found from here has no planned start to be judged by: said so, not left as a
-    // bare mismatch against an empty identity.
-    if (detail && run.config.start_identity.empty() && !run.config.read_start.empty())
-      *detail = fmt::format(
-          "{}; its start cannot be judged from here: the campaign of {} is not found (a "
-          "relative chain_starts_from holds from the directory the campaign runs in)",
-          problem, run.config.read_start);
     return RunStatus::kCorrupt;
   }
   if (fs::exists(checkpoint_path(file))) return RunStatus::kPartial;
-  if (const std::optional<RunRecord> r = read_run_record(run); r && r->status == "failed") {
+  const std::string record = fs::path(file).replace_extension(".record").string();
+  if (const std::optional<RunRecord> r = read_run_record_at(record); r && r->status == "failed") {
     if (detail) *detail = r->error;
     return RunStatus::kFailed;
   }
   return RunStatus::kMissing;
+}
+
+RunStatus run_status(const PlannedRun& run, std::string* detail) {
+  const RunStatus s = classify_run_file(
+      run.config.out, [&run] { return run_identity_problem(run.config.out, run.config); }, detail);
+  // A run started from another campaign's chained start (chain_starts_from) whose campaign
+  // is not found from here has no planned start to be judged by: said so, not left as a
+  // bare mismatch against an empty identity.
+  if (s == RunStatus::kCorrupt && detail && run.config.start_identity.empty() &&
+      !run.config.read_start.empty())
+    *detail = fmt::format(
+        "{}; its start cannot be judged from here: the campaign of {} is not found (a "
+        "relative chain_starts_from holds from the directory the campaign runs in)",
+        *detail, run.config.read_start);
+  return s;
 }
 
 void write_run_record(const PlannedRun& run, const RunRecord& r) {
@@ -172,11 +180,14 @@ void write_run_record(const PlannedRun& run, const RunRecord& r) {
                 {"version", std::string(kVersion)},
                 {"host", std::string(host)}};
   if (!r.error.empty()) t.insert("error", r.error);
-  write_text(record_path(run), toml_text(t) + "\n");
+  write_text_if_changed(record_path(run), toml_text(t) + "\n");
 }
 
 std::optional<RunRecord> read_run_record(const PlannedRun& run) {
-  const std::string path = record_path(run);
+  return read_run_record_at(record_path(run));
+}
+
+std::optional<RunRecord> read_run_record_at(const std::string& path) {
   if (!fs::exists(path)) return std::nullopt;
   check_input_file("run record", path);  // a FIFO is an error, not an unreadable record
   try {
@@ -200,29 +211,6 @@ std::optional<double> recorded_core_seconds(const PlannedRun& run) {
   if (!r) return std::nullopt;
   if (r->cpu_seconds > 0) return r->cpu_seconds;
   return r->wall_seconds;
-}
-
-void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
-  toml::table runs;
-  for (const auto& run : plan) {
-    std::string detail;
-    const RunStatus s = run_status(run, &detail);
-    toml::table entry{{"status", to_string(s)}};
-    // A record's cost and version; what an older record lacks (cpu_seconds before they were
-    // measured) is left out rather than written as 0.
-    if (const std::optional<RunRecord> r = read_run_record(run)) {
-      if (r->wall_seconds > 0) entry.insert("wall_seconds", r->wall_seconds);
-      if (r->cpu_seconds > 0) entry.insert("cpu_seconds", r->cpu_seconds);
-      if (!r->version.empty()) entry.insert("version", r->version);
-    }
-    if (!detail.empty()) entry.insert("detail", detail);
-    runs.insert(run.name, std::move(entry));
-  }
-  toml::table manifest{{"campaign_file", c.source_path},
-                       {"campaign", c.source_text},
-                       {"code_version", std::string(kVersion)},
-                       {"runs", std::move(runs)}};
-  write_text((fs::path(c.output) / "manifest.toml").string(), toml_text(manifest) + "\n");
 }
 
 }  // namespace jam

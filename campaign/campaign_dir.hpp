@@ -1,7 +1,7 @@
 #pragma once
 // A campaign directory:
 //   <output>/campaign.toml        the campaign file the directory was last run with
-//   <output>/manifest.toml        campaign, code version, and per-run status and wall time
+//   <output>/manifest.toml        the plan as run, and per-run status and cost (manifest.hpp)
 //   <output>/runs/<name>.h5       one run file per finished run (sim schema)
 //   <output>/runs/<name>.h5.checkpoint   state of an unfinished run
 //   <output>/runs/<name>.record   status of the last attempt (TOML: status, wall time, ...)
@@ -9,6 +9,7 @@
 //   <output>/chain/<name>.start.h5   chained start of run <name> (chain_phi_init), left by the
 //                                    next faster run of its sample
 // Every file is written atomically, so the directory is consistent after any interruption.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,17 @@ Campaign stored_campaign(const std::string& directory);
 /// marked complete is kCorrupt and is never taken for a result.
 RunStatus run_status(const PlannedRun& run, std::string* detail = nullptr);
 
+/// run_status's classification of the run file at `file` (its checkpoint and record beside
+/// it), its identity judged by `identity_problem` ("" when the file is the expected run's,
+/// else what differs; it is called only for a sound file).
+RunStatus classify_run_file(const std::string& file,
+                            const std::function<std::string()>& identity_problem,
+                            std::string* detail);
+
+/// Writes path atomically, and not at all when it already holds text: its time then says when
+/// its content last changed (jam pipeline redoes later stages by such times).
+void write_text_if_changed(const std::string& path, const std::string& text);
+
 struct RunRecord {
   std::string status;  // "done" or "failed"
   double wall_seconds = 0.0;
@@ -61,11 +73,11 @@ void write_run_record(const PlannedRun& run, const RunRecord& record);
 /// The record of the run's last attempt (nullopt: none, or not readable).
 std::optional<RunRecord> read_run_record(const PlannedRun& run);
 
+/// The record at `path` (<output>/runs/<name>.record; nullopt: none, or not readable).
+std::optional<RunRecord> read_run_record_at(const std::string& path);
+
 /// The core-seconds the run's last attempt recorded: its CPU seconds, or its wall seconds in
 /// records written before they carried CPU seconds (nullopt: no readable record).
 std::optional<double> recorded_core_seconds(const PlannedRun& run);
-
-/// Rewrites <output>/manifest.toml from the run files and records.
-void write_manifest(const Campaign& campaign, const std::vector<PlannedRun>& plan);
 
 }  // namespace jam

@@ -17,6 +17,7 @@
 
 #include "campaign/campaign_dir.hpp"
 #include "campaign/campaign_lock.hpp"
+#include "campaign/manifest.hpp"
 #include "campaign/progress_estimate.hpp"
 #include "campaign/progress_text.hpp"
 #include "campaign/restore_starts.hpp"
@@ -84,6 +85,9 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
     // Other shares may be writing: only a runner that owns the whole directory cleans up.
     if (!sharded) remove_stale_temporaries(c.output);
     prepare_campaign_directory(c);
+    // The plan first, so that a campaign stopped by any means leaves a manifest of what it
+    // runs (the stages after it read the runs through it).
+    write_manifest(c, plan);
     // Runs redone from another campaign's starts: those gone rewritten there first.
     restore_starts(c, options.quiet);
   }

@@ -2,8 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+#include <functional>
+#include <optional>
+
 #include "campaign/campaign_dir.hpp"
 #include "campaign/external_campaign.hpp"
+#include "campaign/manifest.hpp"
 #include "campaign/run_plan.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/terminal_text.hpp"
@@ -48,6 +53,64 @@ CampaignData read_external_runs(const std::string& directory) {
 
 }  // namespace
 
+namespace {
+
+/// One finished run's curves from its file (run_status or manifest_run_status judged it).
+RunCurves read_run_curves(const std::string& file, std::int64_t n, double phi_init,
+                          double log10_rate, std::int64_t sample) {
+  const h5::File f = h5::File::open_read(file);
+  RunCurves c;
+  c.n = n;
+  c.phi_init = phi_init;
+  c.log10_rate = log10_rate;
+  c.sample = sample;
+  // The status has checked the file; the lengths are checked again where they are read.
+  c.phi = f.read_dataset("packing_fraction");
+  const h5::Extent points = h5::exactly(c.phi.size());
+  c.pressure = f.read_dataset("pressure", points);
+  c.contacts = f.read_dataset("contacts_per_particle", points);
+  if (f.has_dataset("contacts_per_particle_no_rattlers")) {
+    c.contacts_no_rattlers = f.read_dataset("contacts_per_particle_no_rattlers", points);
+  }
+  if (f.has_attribute("jamming_packing_fraction")) {
+    c.jamming_point = f.read_attribute_double("jamming_packing_fraction");
+  }
+  return c;
+}
+
+/// Takes or leaves out one run by its status, as both ways of listing the runs do.
+void take_run(CampaignData& data, const std::string& name, RunStatus status,
+              const std::string& detail, const std::function<RunCurves()>& read) {
+  if (status == RunStatus::kCorrupt || status == RunStatus::kFailed) {
+    fmt::print(stderr, "jam stats: warning: {} run {} left out: {}\n", to_string(status),
+               visible(name), visible(detail));
+  }
+  if (status != RunStatus::kDone) {
+    data.skipped.push_back(fmt::format("{} ({})", name, to_string(status)));
+    return;
+  }
+  data.runs.push_back(read());
+}
+
+/// The runs through the campaign's manifest, in its plan order; nullopt when a run file
+/// stores no fingerprint or another run's (the caller plans, and says what differs).
+std::optional<CampaignData> read_manifest_runs(const std::string& directory, CampaignData data,
+                                               const std::vector<ManifestRun>& runs) {
+  for (const ManifestRun& run : runs) {
+    std::string detail;
+    const std::optional<RunStatus> status = manifest_run_status(directory, run, &detail);
+    if (!status) return std::nullopt;
+    const std::string file =
+        (std::filesystem::path(directory) / "runs" / (run.name + ".h5")).string();
+    take_run(data, run.name, *status, detail, [&] {
+      return read_run_curves(file, run.n, run.phi_init, run.log10_rate, run.sample);
+    });
+  }
+  return data;
+}
+
+}  // namespace
+
 CampaignData read_campaign_runs(const std::string& directory) {
   if (is_external_campaign(directory)) return read_external_runs(directory);
   const Campaign campaign = stored_campaign(directory);
@@ -60,37 +123,19 @@ CampaignData read_campaign_runs(const std::string& directory) {
       data.chain_phi_init[campaign.log10_rates[k]] = campaign.chain_phi_init[k];
     }
   }
+  // The plan the campaign ran with, as its manifest records it; planned again only for a
+  // directory without a current manifest (restored from a snapshot, run by an older jam).
+  if (const auto manifest = read_current_manifest(directory)) {
+    if (auto read = read_manifest_runs(directory, data, *manifest)) return std::move(*read);
+  }
   Campaign located = campaign;
   located.output = directory;  // the directory may have moved since it was run
   for (const PlannedRun& run : plan_runs(located)) {
     std::string detail;
     const RunStatus status = run_status(run, &detail);
-    if (status == RunStatus::kCorrupt || status == RunStatus::kFailed) {
-      fmt::print(stderr, "jam stats: warning: {} run {} left out: {}\n", to_string(status),
-                 visible(run.name), visible(detail));
-    }
-    if (status != RunStatus::kDone) {
-      data.skipped.push_back(fmt::format("{} ({})", run.name, to_string(status)));
-      continue;
-    }
-    const h5::File f = h5::File::open_read(run.config.out);
-    RunCurves c;
-    c.n = run.n;
-    c.phi_init = run.phi_init;
-    c.log10_rate = run.log10_rate;
-    c.sample = run.sample;
-    // run_status has checked the file; the lengths are checked again where they are read.
-    c.phi = f.read_dataset("packing_fraction");
-    const h5::Extent points = h5::exactly(c.phi.size());
-    c.pressure = f.read_dataset("pressure", points);
-    c.contacts = f.read_dataset("contacts_per_particle", points);
-    if (f.has_dataset("contacts_per_particle_no_rattlers")) {
-      c.contacts_no_rattlers = f.read_dataset("contacts_per_particle_no_rattlers", points);
-    }
-    if (f.has_attribute("jamming_packing_fraction")) {
-      c.jamming_point = f.read_attribute_double("jamming_packing_fraction");
-    }
-    data.runs.push_back(std::move(c));
+    take_run(data, run.name, status, detail, [&] {
+      return read_run_curves(run.config.out, run.n, run.phi_init, run.log10_rate, run.sample);
+    });
   }
   return data;
 }

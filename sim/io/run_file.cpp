@@ -182,6 +182,16 @@ std::string run_identity_problem(const std::string& path, const SimConfig& plann
   }
 }
 
+std::optional<std::string> stored_fingerprint(const std::string& path) {
+  try {
+    const h5::File f = h5::File::open_read(path);
+    if (!f.has_attribute("fingerprint")) return std::nullopt;
+    return f.read_attribute_string("fingerprint");
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 namespace {
 
 /// The run's parameters (run_parameters.cpp): integers and flags as int64, numbers as float64,

@@ -1,6 +1,7 @@
 #pragma once
 // The run file: one HDF5 file per compression run. Schema (documented in reference/schema.md):
 // root attributes describe the run, 1-D datasets hold one entry per output point.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,9 @@ std::string run_file_problem(const std::string& path);
 /// fingerprint equals fingerprint(planned); for schema-1 files, which have none, the stored
 /// parameter attributes are compared one by one); otherwise which parameters differ.
 std::string run_identity_problem(const std::string& path, const SimConfig& planned);
+
+/// The fingerprint the run file at path stores (schema 2; nullopt: none, or unreadable).
+std::optional<std::string> stored_fingerprint(const std::string& path);
 
 /// Writes path atomically (HDF5 to "<path>.partial", renamed when closed).
 template <int D>
