@@ -164,6 +164,24 @@ BOOST_AUTO_TEST_CASE(sigterm_ends_a_large_run_with_its_checkpoint) {
   BOOST_TEST(!fs::exists(out));
 }
 
+// Slurm at a time limit sends SIGTERM to every process of the job step, and the batch script
+// forwards its own: two signals together are one request, and the run still leaves its
+// checkpoint (a second signal ended jam at once, losing the run's progress).
+BOOST_AUTO_TEST_CASE(two_sigterms_together_still_leave_the_checkpoint) {
+  const fs::path out = kDir / "twice.h5";
+  const pid_t pid = jam::test::spawn_jam(
+      "sim --quiet --n 262144 --phi-init 0.8 --phi-stop 0.84 --rate 1e-4 --out " + out.string());
+  ::sleep(3);
+  ::kill(pid, SIGTERM);
+  // 5 ms later: delivered apart (two pending SIGTERMs would merge into one), and before the
+  // checkpoint is written (0.02-0.05 s at this N).
+  ::usleep(5000);
+  ::kill(pid, SIGTERM);
+  BOOST_TEST(jam::test::wait_for(pid) == 130);
+  BOOST_TEST(fs::exists(out.string() + ".checkpoint"));
+  BOOST_TEST(!fs::exists(out));
+}
+
 BOOST_AUTO_TEST_CASE(sigterm_during_the_jamming_point_search_stops_and_resumes_bitwise) {
   // N = 1024 from 0.82 at rate 1e-2: the compression takes 0.3 s, the search for phi_Ji about
   // 5 s of FIRE minimizations, which used to run to the end whatever the signal said.
