@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/fnv1a.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/open_run_limits.hpp"
 #include "sim/io/output_path.hpp"
@@ -304,16 +305,13 @@ std::string file_checksum(const std::string& path) {
   check_input_file("file", path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot read", path));
-  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a, 64 bit
+  Fnv1a h;
   std::vector<char> buffer(1 << 16);
   while (in) {
     in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    for (std::streamsize k = 0; k < in.gcount(); ++k) {
-      h ^= static_cast<unsigned char>(buffer[static_cast<std::size_t>(k)]);
-      h *= 0x100000001b3ULL;
-    }
+    h.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
   }
-  return fmt::format("{:016x}", h);
+  return h.hex();
 }
 
 double packing_fraction_of(int dim, std::int64_t n, double diameter_ratio, double box_length) {
