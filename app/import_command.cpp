@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include "sim/dynamics/integrator_list.hpp"
 #include "sim/io/frames_import.hpp"
 #include "sim/io/output_path.hpp"
+#include "sim/model/contact_laws.hpp"
 
 namespace jam {
 
@@ -29,13 +31,14 @@ void add_import_command(CLI::App& app, ImportRequest& r) {
   lmp->add_option("--rate", l.rate, "Compression rate, 1/t0 (checked against fix deform trate)");
   lmp->add_option("--phi-init", l.phi_init, "Packing fraction at the first row");
   lmp->add_option("--diameter-ratio", l.diameter_ratio, "d_big / d_small of the model simulated");
-  lmp->add_option("--contact", l.contact, "Contact law: harmonic or hertzian")
+  lmp->add_option("--contact", l.contact, "Contact law: " + or_list(contact_law_names()))
       ->default_str("harmonic");
   lmp->add_option("--q", l.q, "Quality factor Q of an inertial run (default: overdamped)");
   lmp->add_option("--sample", l.sample, "The run's sample id in its ensemble, >= 0");
   CLI::App* frames = imp->add_subcommand(
-      "frames", "Configuration frames (docs/cross-simulator.md) -> an open run, with p, Z and "
-                "the energy measured by jam");
+      "frames",
+      "Configuration frames (docs/cross-simulator.md) -> an open run, with p, Z and "
+      "the energy measured by jam");
   r.frames_command = frames;
   frames->add_option("frames", r.frames, "Frames file (HDF5)")->required();
   frames->add_option("--out", r.frames_out, "Run file to write (HDF5)")->required();

@@ -14,6 +14,7 @@
 #include "app/import_command.hpp"
 #include "app/pipeline_command.hpp"
 #include "app/report_command.hpp"
+#include "app/schema_command.hpp"
 #include "app/sim_command.hpp"
 #include "app/stats_command.hpp"
 #include "app/validate_command.hpp"
@@ -68,6 +69,8 @@ int main(int argc, char** argv) {
   jam::add_pipeline_command(app, pipeline_args);
   jam::ValidateArgs validate_args;
   jam::add_validate_command(app, validate_args);
+  jam::SchemaArgs schema_args;
+  jam::add_schema_command(app, schema_args);
   jam::BenchArgs bench_args;
   bench_args.throughput.reference_dir = jam::data_path("reference/lammps").string();
   bench_args.accuracy.reference_dir = jam::data_path("reference/lammps").string();
@@ -97,6 +100,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("report")) return jam::run_report_command(report_args);
     if (app.got_subcommand("bench")) return jam::run_bench_command(app, bench_args, argc, argv);
     if (app.got_subcommand("validate")) return jam::run_validate_command(validate_args);
+    if (app.got_subcommand("schema")) return jam::run_schema_command(schema_args);
     if (app.got_subcommand("pipeline")) return jam::run_pipeline_command(pipeline_args, ranks);
     return 0;
   };

@@ -7,14 +7,13 @@ dynamics; an integer pressure; a NUL inside `source`; n and sample 2^62, 2^63 + 
 Z 1e300 and the flipped exponent bit 4 -> 5.4e154; ...) and their valid neighbours (phi_J NaN,
 sample 2^53, float32 series, a 32-bit n). `jam validate` and jamio.validate_run read every file;
 each must give the expected answer (accept or refuse), and they must agree. Both read their
-limits from python/jamio/open_run_limits.json; the last case changes a limit there and checks
-that jamio follows it.
+limits from reference/schema/open_run.toml (written by `jam schema open-run`); the last case
+checks that jamio's limits are that file's.
 
 Usage (ctest runs it): test_open_run_agreement.py --jam build/jam --source .
 """
 
 import argparse
-import json
 import os
 import subprocess
 import sys
@@ -215,9 +214,10 @@ class Agreement(unittest.TestCase):
                 self.assertEqual(len(jam[name][1].splitlines()), 1)
 
     def test_the_limits_come_from_the_shared_table(self):
-        table = os.path.join(ARGS.source, "python", "jamio", "open_run_limits.json")
-        with open(table) as f:
-            limits = json.load(f)
+        import tomllib
+        table = os.path.join(ARGS.source, "reference", "schema", "open_run.toml")
+        with open(table, "rb") as f:
+            limits = tomllib.load(f)["limits"]
         # The Z bound the cases above straddle is the table's, not a number of this test's.
         self.assertEqual(limits["max_contacts_per_particle"]["value"], 64.0)
         sys.path.insert(0, os.path.join(ARGS.source, "python"))

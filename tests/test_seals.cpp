@@ -12,12 +12,17 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "file_faults.hpp"
 #include "process.hpp"
+#include "sim/io/chain_start.hpp"
 #include "sim/io/checkpoint.hpp"
+#include "sim/io/content_checksum.hpp"
+#include "sim/io/fnv1a.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/open_run.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/io/sealed_file.hpp"
 #include "sim/run/compression_run.hpp"
@@ -185,6 +190,39 @@ BOOST_AUTO_TEST_CASE(schema_1_files_read_unverified) {
   BOOST_TEST(!check.verified);
   BOOST_REQUIRE(flip_bit_of(path, 2e-3));
   BOOST_TEST(jam::run_file_problem(path).find("data checksum") != std::string::npos);
+}
+
+// Every hash jam stores goes through one accumulator (sim/io/fnv1a.hpp): FNV-1a 64 as
+// published (the test vectors of its authors), and the stored files of the repository still
+// verify, so that a change to the accumulator cannot pass unnoticed by changing writer and
+// reader together.
+BOOST_AUTO_TEST_CASE(one_hash_for_every_stored_checksum) {
+  auto of = [](std::string_view s) {
+    jam::Fnv1a h;
+    h.add(s);
+    return h.hex();
+  };
+  BOOST_TEST(of("") == "cbf29ce484222325");
+  BOOST_TEST(of("a") == "af63dc4c8601ec8c");
+  BOOST_TEST(of("foobar") == "85944171f73967e8");
+  jam::Fnv1a sized;
+  sized.add_sized("foobar");  // the length as 8 bytes (little-endian here), then the text
+  BOOST_TEST(sized.hex() == "b277229a2d9d19f2");
+  BOOST_TEST(jam::checksum_text(jam::bytes_checksum("foobar")) == "85944171f73967e8");
+  BOOST_TEST(jam::chain_start_key("parent at packing 0.5") == "2238acc1b1b74878");
+  const std::string text = (kDir / "foobar.txt").string();
+  std::ofstream(text) << "foobar";
+  BOOST_TEST(jam::file_checksum(text) == "85944171f73967e8");
+  // Sealed starts and checkpoints (jam-seal fnv1a64), a run file's content checksum.
+  const fs::path source = JAM_SOURCE_DIR;
+  BOOST_TEST(jam::sealed_file_problem(
+                 (source / "tests/fuzz/corpus/checkpoint/checkpoint-2d.h5").string()) == "");
+  BOOST_TEST(jam::sealed_file_problem(
+                 (source / "tests/fuzz/corpus/checkpoint/start-3d.h5").string()) == "");
+  BOOST_TEST(
+      jam::run_file_problem(
+          (source / "reference/results/paper-2d-convergence/runs/n16384_phi0.4000_r-8.00_s000.h5")
+              .string()) == "");
 }
 
 BOOST_AUTO_TEST_SUITE_END()

@@ -25,15 +25,16 @@ from decimal import Decimal
 import numpy as np
 
 from .errors import JamioError, shown
+from .open_run import SCHEMA
 
 # The relative difference taken as round-off between a value and the one it stands for: jam's
 # grid uses the same slack (output_times in sim/run/compression_run.cpp, interpolate() in
 # stats/averages.cpp). Values a run reached differ from the grid by about 1e-16 relative.
 ROUND_OFF = 1e-12
 # Integrators that end a step on each output point (they choose their own steps), so their
-# points are on the grid to round-off; the others take fixed steps of `dt`
-# (sim/dynamics/integrator_list.hpp).
-ENDS_STEPS_ON_GRID = ("chebyshev",)
+# points are on the grid to round-off; the others take fixed steps of `dt`. From jam's own
+# integrator list (sim/dynamics/integrator_list.hpp), as the schema file states it.
+ENDS_STEPS_ON_GRID = tuple(name for name, i in SCHEMA.integrators.items() if i["adaptive"])
 
 
 @functools.lru_cache(maxsize=1 << 16)  # a campaign's runs share their grid values

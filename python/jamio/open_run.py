@@ -10,7 +10,6 @@ file, the field and the value.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
@@ -19,26 +18,70 @@ from dataclasses import dataclass, field
 import h5py
 import numpy as np
 
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python < 3.11
+    import tomli as tomllib
+
 from .errors import JamioError, cause, shown
 from .hdf5 import (MOST_STRING_BYTES, _check_size, _kind, _plain_type, member, read_hdf5,
                    value)
 
-FORMAT = "jam-open-run"
-FORMAT_VERSION = 1
-PROTOCOL = "isotropic-compression"
-UNITS = "jam"
-CONTACTS = ("harmonic", "hertzian")
-DYNAMICS = ("overdamped", "inertial")
-# The series of an open run, each with the unit its `units` attribute must state when present.
-SERIES_UNITS = {"packing_fraction": "1", "pressure": "k_e/d_s^D", "contacts_per_particle": "1",
-                "energy_per_particle": "k_e", "time": "t0"}
-REQUIRED_SERIES = ("packing_fraction", "pressure")
-# The frames file's datasets and their units.
-FRAMES_UNITS = {"box_length": "d_s", "positions": "d_s", "diameters": "d_s", "time": "t0"}
-# The format's numeric limits: one table, read by jam too (embedded at its build), so that both
-# refuse the same files (tests/test_open_run_agreement.py).
-with open(os.path.join(os.path.dirname(__file__), "open_run_limits.json"), encoding="utf-8") as _f:
-    LIMITS = json.load(_f)
+
+
+@dataclass(frozen=True)
+class Schema:
+    """The open run format as jam validates it, read from the schema file `jam schema open-run`
+    writes (reference/schema/open_run.toml): the contact laws and integrators of jam's own
+    registry, the dynamics, the attributes and series with their units, the limits."""
+
+    path: str
+    format: str
+    format_version: int
+    protocol: str
+    units: str
+    contacts: tuple
+    dynamics: tuple
+    integrators: dict  # name -> its table (dynamics, adaptive, order, force_evaluations)
+    limits: dict  # name -> its table (value or min/max or above/below, why)
+    attributes: tuple  # the root attributes an open run states, in the format's order
+    optional_attributes: tuple
+    series_units: dict  # series -> the unit its `units` attribute must state
+    required_series: tuple
+    frames_units: dict  # a frames file's datasets -> their units
+
+
+def load_schema(path=None):
+    """The schema at `path` (default: the one jamio ships, schema/open_run.toml)."""
+    path = os.fspath(path) if path is not None else os.path.join(
+        os.path.dirname(__file__), "schema", "open_run.toml")
+    try:
+        with open(path, "rb") as f:
+            t = tomllib.load(f)
+        attributes = t["attribute"]
+        dynamics = next(a["allowed"] for a in attributes if a["name"] == "dynamics")
+        return Schema(
+            path=path, format=t["format"], format_version=t["format_version"],
+            protocol=t["protocol"], units=t["units"],
+            contacts=tuple(c["name"] for c in t["contact_law"]), dynamics=tuple(dynamics),
+            integrators={i["name"]: i for i in t["integrator"]}, limits=t["limits"],
+            attributes=tuple(a["name"] for a in attributes if a["required"] != "no"),
+            optional_attributes=tuple(a["name"] for a in attributes if a["required"] == "no"),
+            series_units={d["name"]: d["units"] for d in t["dataset"]},
+            required_series=tuple(d["name"] for d in t["dataset"] if d["required"]),
+            frames_units={d["name"]: d["units"] for d in t["frames_dataset"]})
+    except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError, StopIteration) as e:
+        raise JamioError(path, f"cannot read the open run schema ({cause(e)})") from None
+
+
+# The schema of jam's own registry and limits, and its values under their former names.
+SCHEMA = load_schema()
+FORMAT, FORMAT_VERSION = SCHEMA.format, SCHEMA.format_version
+PROTOCOL, UNITS = SCHEMA.protocol, SCHEMA.units
+CONTACTS, DYNAMICS = SCHEMA.contacts, SCHEMA.dynamics
+SERIES_UNITS, REQUIRED_SERIES = SCHEMA.series_units, SCHEMA.required_series
+FRAMES_UNITS = SCHEMA.frames_units
+LIMITS = SCHEMA.limits
 MAX_WHOLE = LIMITS["max_whole"]["value"]  # n and sample: 2^53
 MAX_POINTS = LIMITS["max_points"]["value"]
 MAX_CONTACTS = LIMITS["max_contacts_per_particle"]["value"]
@@ -47,10 +90,7 @@ PHI_INIT_SLACK = LIMITS["phi_init_slack"]["value"]
 # phi(t) = phi_init exp(D rate t) must hold to this, relative.
 RATE_TOLERANCE = LIMITS["rate_tolerance"]["value"]
 # The order of the root attributes in the format's table (and in a written file's listing).
-ATTRIBUTES = ("format", "format_version", "dim", "n", "diameter_ratio", "contact", "dynamics",
-              "q", "protocol", "compression_rate", "phi_init", "simulator", "simulator_version",
-              "sample", "units")
-OPTIONAL_ATTRIBUTES = ("jamming_packing_fraction", "source", "source_checksum", "interpolation")
+ATTRIBUTES, OPTIONAL_ATTRIBUTES = SCHEMA.attributes, SCHEMA.optional_attributes
 
 
 class Invalid(ValueError):
@@ -101,16 +141,16 @@ def _dim(v):
     return d
 
 
-def _n(v):
+def _n(v, schema=SCHEMA):
     n = _integer("n", v)
-    if n < 2 or n % 2 or n > MAX_WHOLE:
+    if n < 2 or n % 2 or n > schema.limits["max_whole"]["value"]:
         raise Invalid(f"n {n} must be even, >= 2 (half small, half big) and at most 2^53")
     return n
 
 
-def _diameter_ratio(v):
+def _diameter_ratio(v, schema=SCHEMA):
     r = _number("diameter_ratio", v)
-    low, high = LIMITS["diameter_ratio"]["min"], LIMITS["diameter_ratio"]["max"]
+    low, high = schema.limits["diameter_ratio"]["min"], schema.limits["diameter_ratio"]["max"]
     if not low <= r <= high:
         raise Invalid(f"diameter_ratio {shown(r)} must be in [{low:g}, {high:g}]")
     return r
@@ -130,9 +170,9 @@ def _simulator(v):
     return s
 
 
-def _sample(v):
+def _sample(v, schema=SCHEMA):
     k = _integer("sample", v)
-    if k < 0 or k > MAX_WHOLE:
+    if k < 0 or k > schema.limits["max_whole"]["value"]:
         raise Invalid(f"sample {k} must be >= 0 and at most 2^53")
     return k
 
@@ -148,10 +188,10 @@ def _q(dynamics, v, zero_is_absent=False):
     raise Invalid(f"q {shown(v)} is only for dynamics 'inertial' (dynamics is {shown(dynamics)})")
 
 
-def _jamming_packing_fraction(v):
+def _jamming_packing_fraction(v, schema=SCHEMA):
     x = _number("jamming_packing_fraction", v)
-    low = LIMITS["jamming_packing_fraction"]["above"]
-    high = LIMITS["jamming_packing_fraction"]["below"]
+    low = schema.limits["jamming_packing_fraction"]["above"]
+    high = schema.limits["jamming_packing_fraction"]["below"]
     if not (math.isnan(x) or low < x < high):
         raise Invalid(f"jamming_packing_fraction {shown(x)} must be in ({low:g}, {high:g}), or "
                       "NaN when not found")
@@ -175,24 +215,25 @@ def _equal(name, v, expected):
     return v
 
 
-def _model(a):
+def _model(a, schema=SCHEMA):
     """The root attributes of an open run (a dict; absent optional ones None), checked in the
     order of the format's table; the values as Python values."""
-    out = {"format": _equal("format", a["format"], FORMAT),
-           "format_version": _equal("format_version", a["format_version"], FORMAT_VERSION),
-           "dim": _dim(a["dim"]), "n": _n(a["n"]),
-           "diameter_ratio": _diameter_ratio(a["diameter_ratio"]),
-           "contact": _one_of("contact", a["contact"], CONTACTS),
-           "dynamics": _one_of("dynamics", a["dynamics"], DYNAMICS)}
+    out = {"format": _equal("format", a["format"], schema.format),
+           "format_version": _equal("format_version", a["format_version"],
+                                    schema.format_version),
+           "dim": _dim(a["dim"]), "n": _n(a["n"], schema),
+           "diameter_ratio": _diameter_ratio(a["diameter_ratio"], schema),
+           "contact": _one_of("contact", a["contact"], schema.contacts),
+           "dynamics": _one_of("dynamics", a["dynamics"], schema.dynamics)}
     out["q"] = _q(out["dynamics"], a.get("q"), zero_is_absent=a.get("_native", False))
-    out["protocol"] = _equal("protocol", a["protocol"], PROTOCOL)
+    out["protocol"] = _equal("protocol", a["protocol"], schema.protocol)
     out["compression_rate"] = _positive("compression_rate", a["compression_rate"])
     out["phi_init"] = _phi_init(a["phi_init"])
     out["simulator"] = _simulator(a["simulator"])
     out["simulator_version"] = _string("simulator_version", a["simulator_version"])
-    out["sample"] = None if a.get("sample") is None else _sample(a["sample"])
-    out["units"] = _equal("units", a["units"], UNITS)
-    checks = {"jamming_packing_fraction": _jamming_packing_fraction,
+    out["sample"] = None if a.get("sample") is None else _sample(a["sample"], schema)
+    out["units"] = _equal("units", a["units"], schema.units)
+    checks = {"jamming_packing_fraction": lambda v: _jamming_packing_fraction(v, schema),
               "source": lambda v: _string("source", v),
               "source_checksum": _source_checksum,
               "interpolation": lambda v: _string("interpolation", v)}
@@ -246,7 +287,7 @@ def _not_negative(name, x):
         raise Invalid(f"{name}[{k}] = {shown(float(x[k]))} must be >= 0")
 
 
-def _lengths(series):
+def _lengths(series, schema=SCHEMA):
     """All series of one length M >= 2 (shapes only: nothing read)."""
     first, m = next(iter(series.items()))
     for name, length in series.items():
@@ -255,18 +296,19 @@ def _lengths(series):
                           "equal lengths")
     if m < 2:
         raise Invalid(f"{first} has {m} values; a run needs at least 2 points")
-    if m > MAX_POINTS:
-        raise Invalid(f"{first} has {m} values, at most {MAX_POINTS}")
+    most = schema.limits["max_points"]["value"]
+    if m > most:
+        raise Invalid(f"{first} has {m} values, at most {most}")
     return m
 
 
-def _packing(name, phi, phi_init):
+def _packing(name, phi, phi_init, schema=SCHEMA):
     _finite(name, phi)
     k = _first_bad((phi <= 0) | (phi >= 1))
     if k is not None:
         raise Invalid(f"{name}[{k}] = {shown(float(phi[k]))} must be in (0, 1)")
     _increasing(name, phi)
-    if phi[0] < phi_init * (1 - PHI_INIT_SLACK):
+    if phi[0] < phi_init * (1 - schema.limits["phi_init_slack"]["value"]):
         raise Invalid(f"{name}[0] = {shown(float(phi[0]))} is below phi_init {shown(phi_init)}")
 
 
@@ -276,40 +318,42 @@ def _time(t):
     _increasing("time", t)
 
 
-def _at_rate(name, phi, t, phi_init, rate, dim):
-    """phi(t) = phi_init exp(D rate t) to RATE_TOLERANCE, relative."""
+def _at_rate(name, phi, t, phi_init, rate, dim, schema=SCHEMA):
+    """phi(t) = phi_init exp(D rate t) to the schema's rate_tolerance, relative."""
+    tolerance = schema.limits["rate_tolerance"]["value"]
     expected = phi_init * np.exp(dim * rate * t)
     off = phi / expected - 1
-    k = _first_bad(~(np.abs(off) <= RATE_TOLERANCE))
+    k = _first_bad(~(np.abs(off) <= tolerance))
     if k is not None:
         raise Invalid(f"{name}[{k}] = {shown(float(phi[k]))} at time {shown(float(t[k]))} is not "
                       f"phi_init exp(D rate t) = {shown(float(expected[k]))} (relative difference "
-                      f"{float(off[k]):.3g}, at most {RATE_TOLERANCE:g}): the box does not shrink "
+                      f"{float(off[k]):.3g}, at most {tolerance:g}): the box does not shrink "
                       f"at compression_rate {shown(rate)}")
 
 
-def _series(data, model):
+def _series(data, model, schema=SCHEMA):
     """The series of a run (name -> float64 array, absent ones left out), checked as the
     format's table says."""
-    for name in REQUIRED_SERIES:
+    for name in schema.required_series:
         if name not in data:
             raise Invalid(f"dataset '{name}' missing")
-    _lengths({k: len(v) for k, v in data.items()})
-    _packing("packing_fraction", data["packing_fraction"], model["phi_init"])
+    _lengths({k: len(v) for k, v in data.items()}, schema)
+    _packing("packing_fraction", data["packing_fraction"], model["phi_init"], schema)
     for name in ("pressure", "contacts_per_particle", "energy_per_particle"):
         if name in data:
             _finite(name, data[name])
             _not_negative(name, data[name])
     if "contacts_per_particle" in data:
         z = data["contacts_per_particle"]
-        k = _first_bad(z > MAX_CONTACTS)
+        most = schema.limits["max_contacts_per_particle"]["value"]
+        k = _first_bad(z > most)
         if k is not None:
             raise Invalid(f"contacts_per_particle[{k}] = {shown(float(z[k]))} must be in "
-                          f"[0, {MAX_CONTACTS:g}]")
+                          f"[0, {most:g}]")
     if "time" in data:
         _time(data["time"])
         _at_rate("packing_fraction", data["packing_fraction"], data["time"], model["phi_init"],
-                 model["compression_rate"], model["dim"])
+                 model["compression_rate"], model["dim"], schema)
 
 
 # ---- reading ------------------------------------------------------------------------------------
@@ -386,24 +430,26 @@ def _scalar_attribute(obj, key, where="attribute"):
         raise Invalid(f"{where} '{key}' cannot be read ({cause(e)})") from e
 
 
-def _root_attributes(f):
+def _root_attributes(f, schema=SCHEMA):
     """The format's root attributes of f (absent: not in the dict), and whether f is a run
     file of jam's own."""
     native = "format" not in f.attrs and "checksum" in f.attrs
     if "format" not in f.attrs and not native:
         raise Invalid("attribute 'format' missing: neither an open run (format "
                       f"{FORMAT!r}) nor a run file of jam's own (attribute 'checksum')")
-    names = ATTRIBUTES + OPTIONAL_ATTRIBUTES + (("version", "checksum") if native else ())
+    names = (schema.attributes + schema.optional_attributes
+             + (("version", "checksum") if native else ()))
     a = {k: _scalar_attribute(f, k) for k in names if k in f.attrs}
     if native:
         # jam's own run files: simulator "jam" at its version; protocol and units need not be
         # stated (their `units` is a sentence), q is 0 for overdamped runs, sample is there
         # for campaign runs only; files from before the contact law was a choice are harmonic.
         version = _string("version", a.get("version", ""))
-        a.update(format=FORMAT, format_version=FORMAT_VERSION, protocol=PROTOCOL, units=UNITS,
-                 simulator="jam", simulator_version=version, _native=True)
+        a.update(format=schema.format, format_version=schema.format_version,
+                 protocol=schema.protocol, units=schema.units, simulator="jam",
+                 simulator_version=version, _native=True)
         a.setdefault("contact", "harmonic")
-    for k in ATTRIBUTES:
+    for k in schema.attributes:
         if k not in a and k not in ("q", "sample"):
             raise Invalid(f"attribute '{k}' missing")
     if not native and "sample" not in a:
@@ -411,18 +457,18 @@ def _root_attributes(f):
     return a, native
 
 
-def _read_series(f):
+def _read_series(f, schema=SCHEMA):
     """The series of f as float64 arrays: each an HDF5 dataset of one dimension of floats, all
     of one length, its units attribute (if any) the format's; shapes, types and sizes checked
     before any value is read."""
     datasets = {}
-    for name in SERIES_UNITS:
+    for name in schema.series_units:
         try:
             d = member(f, name)
         except ValueError as e:  # a link out of the file, or soft links without end
             raise Invalid(str(e)) from e
         if d is None:
-            if name in REQUIRED_SERIES:
+            if name in schema.required_series:
                 raise Invalid(f"dataset '{name}' missing")
             continue
         if not isinstance(d, h5py.Dataset):
@@ -432,14 +478,14 @@ def _read_series(f):
         if d.dtype.kind != "f" or d.dtype.names or d.dtype.subdtype is not None:
             raise Invalid(f"dataset '{name}' is {_kind(d.dtype)}, expected floating point")
         datasets[name] = d
-    _lengths({k: d.shape[0] for k, d in datasets.items()})
+    _lengths({k: d.shape[0] for k, d in datasets.items()}, schema)
     units = {}
     for name, d in datasets.items():
         if "units" in d.attrs:
             u = _scalar_attribute(d, "units", where=f"dataset '{name}': attribute")
-            if u != SERIES_UNITS[name]:
+            if u != schema.series_units[name]:
                 raise Invalid(f"dataset '{name}' has units {shown(u)}, expected "
-                              f"{shown(SERIES_UNITS[name])}")
+                              f"{shown(schema.series_units[name])}")
             units[name] = u
     data = {}
     for name, d in datasets.items():
@@ -451,23 +497,23 @@ def _read_series(f):
     return data, units
 
 
-def _read_run(path, f):
+def _read_run(path, f, schema):
     try:
-        a, native = _root_attributes(f)
-        model = _model(a)
-        data, units = _read_series(f)
-        _series(data, model)
+        a, native = _root_attributes(f, schema)
+        model = _model(a, schema)
+        data, units = _read_series(f, schema)
+        _series(data, model, schema)
     except Invalid as e:
         raise JamioError(path, str(e)) from None
     del model["format"], model["format_version"], model["protocol"], model["units"]
     run = OpenRun(path=path, native=native, data=data, series_units=units, **model)
     if not native:
         run.format, run.format_version, run.protocol, run.units = (
-            FORMAT, FORMAT_VERSION, PROTOCOL, UNITS)
+            schema.format, schema.format_version, schema.protocol, schema.units)
     return run
 
 
-def validate_run(path):
+def validate_run(path, schema=None):
     """Reads the run file at `path` and checks it as the open run format says
     (docs/cross-simulator.md): every root attribute one value of its type and within its
     range, the series one-dimensional float datasets of one length (shapes before values),
@@ -475,9 +521,13 @@ def validate_run(path):
     (recognised by its `checksum` and no `format`) is read as simulator "jam" at its
     `version`; its checksum is not verified here (jam does that).
 
+    `schema`: a Schema (load_schema) other than jam's own, for example that of a jam built with
+    another contact law; by default the schema file jamio ships.
+
     Returns an OpenRun; raises JamioError, one line naming the file, the field and the value."""
     path = os.fspath(path)
-    return read_hdf5(path, "run file", lambda f: _read_run(path, f))
+    schema = SCHEMA if schema is None else schema
+    return read_hdf5(path, "run file", lambda f: _read_run(path, f, schema))
 
 
-__all__ = ["OpenRun", "validate_run"]
+__all__ = ["OpenRun", "Schema", "load_schema", "validate_run"]

@@ -25,8 +25,9 @@ import h5py
 import numpy as np
 
 from .errors import JamioError, cause, shown
-from .open_run import (ATTRIBUTES, FORMAT, FORMAT_VERSION, FRAMES_UNITS, OPTIONAL_ATTRIBUTES,
-                       PROTOCOL, SERIES_UNITS, UNITS, Invalid, OpenRun, _array, _at_rate,
+from .open_run import (ATTRIBUTES, FORMAT, FORMAT_VERSION, FRAMES_UNITS, LIMITS,
+                       OPTIONAL_ATTRIBUTES, PROTOCOL, SERIES_UNITS, UNITS, Invalid, OpenRun,
+                       _array, _at_rate,
                        _finite, _first_bad, _lengths, _model, _packing, _series, _time,
                        validate_run)
 
@@ -260,6 +261,13 @@ def write_frames(path, box_length, positions, diameters, *, dim, n, rate, phi_in
             t = _array("time", time)
             series["time"] = len(t)
         m = _lengths(series)
+        # jam import frames reads the positions whole: its bounds on N and M (the schema's).
+        for name, value, count in (("max_frame_particles", m_n, "n"),
+                                   ("max_frames", m, "frames")):
+            most = LIMITS[name]["value"]
+            if value > most:
+                raise Invalid(f"{count} {value} is more than a frames file holds (at most {most}: "
+                              "jam import frames reads its positions whole)")
         if x.shape != (m, m_n, d):
             raise Invalid(f"positions has shape {x.shape}, expected (frames, n, dim) = "
                           f"{(m, m_n, d)}")

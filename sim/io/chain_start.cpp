@@ -8,6 +8,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/checkpoint.hpp"
+#include "sim/io/fnv1a.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/particle_datasets.hpp"
 #include "sim/io/sealed_file.hpp"
@@ -33,12 +34,9 @@ std::string chain_start_identity(const std::string& parent_fingerprint, double p
 }
 
 std::string chain_start_key(const std::string& identity) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a, 64 bit
-  for (const unsigned char c : identity) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return fmt::format("{:016x}", h);
+  Fnv1a h;
+  h.add(identity);
+  return h.hex();
 }
 
 template <int D>

@@ -8,27 +8,10 @@
 #include <set>
 #include <stdexcept>
 
+#include "sim/io/fnv1a.hpp"
+
 namespace jam {
 namespace {
-
-constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ULL;
-constexpr std::uint64_t kFnvPrime = 0x100000001b3ULL;
-
-struct Hash {
-  std::uint64_t h = kFnvOffset;
-  void bytes(const void* data, std::size_t n) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < n; ++k) {
-      h ^= b[k];
-      h *= kFnvPrime;
-    }
-  }
-  void text(const std::string& s) {
-    const std::uint64_t size = s.size();
-    bytes(&size, sizeof size);
-    bytes(s.data(), s.size());
-  }
-};
 
 void check(bool ok, const std::string& what) {
   if (!ok) throw std::runtime_error(what);
@@ -40,7 +23,7 @@ void check(bool ok, const std::string& what) {
 /// values of a sound file take at most its size: a flipped dimension asking for more is
 /// corrupt before anything is allocated.
 struct Walk {
-  Hash hash;
+  Fnv1a hash;
   const std::vector<std::string>& skip;
   hsize_t budget;  // bytes of values (in the file's types) left
   std::set<haddr_t> visited;
@@ -82,21 +65,21 @@ void spend(Walk& walk, hid_t file_type, hsize_t count, const std::string& what) 
 void add_values(Walk& walk, H5T_class_t cls, hid_t file_type, hsize_t count,
                 const std::function<herr_t(hid_t, void*)>& read, const std::string& what) {
   spend(walk, file_type, count, what);
-  Hash& hash = walk.hash;
+  Fnv1a& hash = walk.hash;
   const auto n = static_cast<std::size_t>(count);
-  hash.bytes(&cls, sizeof cls);
+  hash.add(&cls, sizeof cls);
   if (cls == H5T_INTEGER) {
     std::vector<std::int64_t> v(n);
     check(read(H5T_NATIVE_INT64, v.data()) >= 0, "cannot read " + what);
-    hash.bytes(v.data(), v.size() * sizeof(std::int64_t));
+    hash.add(v.data(), v.size() * sizeof(std::int64_t));
   } else if (cls == H5T_FLOAT) {
     std::vector<double> v(n);
     check(read(H5T_NATIVE_DOUBLE, v.data()) >= 0, "cannot read " + what);
-    hash.bytes(v.data(), v.size() * sizeof(double));
+    hash.add(v.data(), v.size() * sizeof(double));
   } else if (cls == H5T_STRING && H5Tis_variable_str(file_type) <= 0) {
     std::string v(n * H5Tget_size(file_type), '\0');
     check(read(file_type, v.data()) >= 0, "cannot read " + what);
-    hash.text(v.substr(0, v.find_last_not_of('\0') + 1));
+    hash.add_sized(v.substr(0, v.find_last_not_of('\0') + 1));
   } else {
     throw std::runtime_error(what + ": a kind of value the checksum does not cover");
   }
@@ -117,7 +100,7 @@ void add_attributes(Walk& walk, hid_t object, const std::string& where) {
     h5::Handle space(H5Aget_space(attr.get()), H5Sclose);
     check(type.get() >= 0 && space.get() >= 0, "cannot read attribute " + name);
     const hsize_t count = h5::values_in(space.get(), "attribute " + where + name);
-    walk.hash.text("attribute " + where + name);
+    walk.hash.add_sized("attribute " + where + name);
     add_values(
         walk, H5Tget_class(type.get()), type.get(), count,
         [&](hid_t mem, void* buf) { return H5Aread(attr.get(), mem, buf); }, name);
@@ -131,8 +114,8 @@ void add_dataset(Walk& walk, hid_t set, const std::string& path) {
   h5::Handle space(H5Dget_space(set), H5Sclose);
   check(type.get() >= 0 && space.get() >= 0, "cannot read the shape of " + path);
   const std::vector<hsize_t> dims = h5::extent(space.get(), path);
-  walk.hash.text("dataset " + path);
-  walk.hash.bytes(dims.data(), dims.size() * sizeof(hsize_t));
+  walk.hash.add_sized("dataset " + path);
+  walk.hash.add(dims.data(), dims.size() * sizeof(hsize_t));
   const hsize_t count = h5::values_in(space.get(), path);
   // Declared but never written (a chunked dataset with no chunks): HDF5 would make up its
   // values; whatever the size, the file does not hold them.
@@ -174,7 +157,7 @@ void add_group(Walk& walk, hid_t group, const std::string& where) {
     const std::string path = where + link.name;
     h5::Handle object = open_once(walk, group, link, path);
     if (H5Iget_type(object.get()) == H5I_GROUP) {
-      walk.hash.text("group " + path);
+      walk.hash.add_sized("group " + path);
       add_group(walk, object.get(), path + "/");
     } else if (H5Iget_type(object.get()) == H5I_DATASET) {
       add_dataset(walk, object.get(), path);
@@ -188,7 +171,7 @@ void add_group(Walk& walk, hid_t group, const std::string& where) {
 }  // namespace
 
 std::uint64_t content_checksum(const h5::File& f, const std::vector<std::string>& skip) {
-  Walk walk{Hash{}, skip, f.size_bytes(), {}, 0};
+  Walk walk{Fnv1a{}, skip, f.size_bytes(), {}, 0};
   H5O_info_t root;
   check(H5Oget_info2(f.id(), &root, H5O_INFO_BASIC) >= 0, f.path() + ": cannot read its root");
   walk.visited.insert(root.addr);
@@ -197,13 +180,13 @@ std::uint64_t content_checksum(const h5::File& f, const std::vector<std::string>
   } catch (const std::exception& e) {
     throw std::runtime_error(fmt::format("{}: corrupt: {}", f.path(), e.what()));
   }
-  return walk.hash.h;
+  return walk.hash.value();
 }
 
 std::uint64_t bytes_checksum(const std::string& bytes) {
-  Hash hash;
-  hash.bytes(bytes.data(), bytes.size());
-  return hash.h;
+  Fnv1a hash;
+  hash.add(bytes);
+  return hash.value();
 }
 
 std::string checksum_text(std::uint64_t h) {

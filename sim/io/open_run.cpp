@@ -10,7 +10,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "sim/dynamics/integrator_list.hpp"
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/fnv1a.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/open_run_limits.hpp"
 #include "sim/io/output_path.hpp"
@@ -20,21 +22,8 @@
 namespace jam {
 namespace {
 
-// Each dataset of the format, the unit its `units` attribute must state, and whether it must be
-// there.
-struct Field {
-  const char* name;
-  const char* unit;
-  bool required;
-  std::vector<double> OpenRun::*values;
-};
-const Field kFields[] = {
-    {"packing_fraction", "1", true, &OpenRun::packing_fraction},
-    {"pressure", "k_e/d_s^D", true, &OpenRun::pressure},
-    {"contacts_per_particle", "1", false, &OpenRun::contacts_per_particle},
-    {"energy_per_particle", "k_e", false, &OpenRun::energy_per_particle},
-    {"time", "t0", false, &OpenRun::time},
-};
+using Field = OpenRunSeries;
+constexpr const auto& kFields = kOpenRunSeries;
 
 [[noreturn]] void refuse(const std::string& where, const std::string& what) {
   throw std::runtime_error(fmt::format("{}: {}", where, what));
@@ -51,7 +40,8 @@ bool hex16(const std::string& s) {
 
 }  // namespace
 
-void validate_open_run_model(const OpenRun& r, const std::string& where) {
+void validate_open_run_model(const OpenRun& r, const std::string& where,
+                             const OpenRunSchema& schema) {
   const OpenRunLimits& lim = open_run_limits();
   if (r.dim != 2 && r.dim != 3) refuse(where, fmt::format("dim {} must be 2 or 3", r.dim));
   if (r.n < 2 || r.n % 2 != 0 || r.n > lim.max_whole)
@@ -60,13 +50,13 @@ void validate_open_run_model(const OpenRun& r, const std::string& where) {
   if (!(r.diameter_ratio >= lim.diameter_ratio_min && r.diameter_ratio <= lim.diameter_ratio_max))
     refuse(where, fmt::format("diameter_ratio {} must be in [{}, {}]", r.diameter_ratio,
                               lim.diameter_ratio_min, lim.diameter_ratio_max));
-  if (r.contact != "harmonic" && r.contact != "hertzian")
-    refuse(where, fmt::format("contact '{}' must be harmonic or hertzian", r.contact));
+  if (std::find(schema.contacts.begin(), schema.contacts.end(), r.contact) == schema.contacts.end())
+    refuse(where, fmt::format("contact '{}' must be {}", r.contact, or_list(schema.contacts)));
   if (r.dynamics == "inertial") {
     if (!(r.q > 0.0 && std::isfinite(r.q)))
       refuse(where, fmt::format("q {} must be > 0 and finite for inertial dynamics", r.q));
   } else if (r.dynamics != "overdamped") {
-    refuse(where, fmt::format("dynamics '{}' must be overdamped or inertial", r.dynamics));
+    refuse(where, fmt::format("dynamics '{}' must be {}", r.dynamics, or_list(kDynamics)));
   } else if (r.q != 0.0) {
     refuse(where,
            fmt::format("q {} is only for dynamics 'inertial' (dynamics is 'overdamped')", r.q));
@@ -75,9 +65,9 @@ void validate_open_run_model(const OpenRun& r, const std::string& where) {
 
 namespace {
 
-void check_attributes(const OpenRun& r, const std::string& where) {
+void check_attributes(const OpenRun& r, const std::string& where, const OpenRunSchema& schema) {
   const OpenRunLimits& lim = open_run_limits();
-  validate_open_run_model(r, where);
+  validate_open_run_model(r, where, schema);
   if (!(r.compression_rate > 0.0 && std::isfinite(r.compression_rate)))
     refuse(where, fmt::format("compression_rate {} must be > 0 and finite", r.compression_rate));
   if (!(r.phi_init > 0.0 && r.phi_init < 1.0))
@@ -194,12 +184,12 @@ void read_datasets(const h5::File& f, OpenRun& r) {
 
 }  // namespace
 
-void validate_open_run(const OpenRun& r, const std::string& where) {
-  check_attributes(r, where);
+void validate_open_run(const OpenRun& r, const std::string& where, const OpenRunSchema& schema) {
+  check_attributes(r, where, schema);
   check_values(r, where);
 }
 
-OpenRun read_open_run(const std::string& path) {
+OpenRun read_open_run(const std::string& path, const OpenRunSchema& schema) {
   check_input_file("run", path);
   OpenRun r;
   {
@@ -255,13 +245,13 @@ OpenRun read_open_run(const std::string& path) {
   if (r.jam_native)
     if (const std::string why = run_file_problem(path); !why.empty())
       throw std::runtime_error(fmt::format("{}: {}", path, why));
-  validate_open_run(r, path);
+  validate_open_run(r, path, schema);
   return r;
 }
 
-void write_open_run(const std::string& path, const OpenRun& r) {
+void write_open_run(const std::string& path, const OpenRun& r, const OpenRunSchema& schema) {
   if (r.jam_native) throw std::logic_error("write_open_run: jam's own runs have their writer");
-  validate_open_run(r, path);
+  validate_open_run(r, path, schema);
   const std::string target = output_file_target(path);
   const std::string temporary = AtomicFile::temporary_name(target);
   try {
@@ -304,16 +294,13 @@ std::string file_checksum(const std::string& path) {
   check_input_file("file", path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot read", path));
-  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a, 64 bit
+  Fnv1a h;
   std::vector<char> buffer(1 << 16);
   while (in) {
     in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    for (std::streamsize k = 0; k < in.gcount(); ++k) {
-      h ^= static_cast<unsigned char>(buffer[static_cast<std::size_t>(k)]);
-      h *= 0x100000001b3ULL;
-    }
+    h.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
   }
-  return fmt::format("{:016x}", h);
+  return h.hex();
 }
 
 double packing_fraction_of(int dim, std::int64_t n, double diameter_ratio, double box_length) {

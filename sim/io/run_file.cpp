@@ -13,6 +13,7 @@
 
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/content_checksum.hpp"
+#include "sim/io/fnv1a.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/run/run_parameters.hpp"
 #include "sim/version.hpp"
@@ -26,31 +27,15 @@ constexpr const char* kChecksummed[] = {
     "energy_per_particle", "time",     "contacts_per_particle_no_rattlers",
     "rattler_fraction",    "stress"};
 
-/// FNV-1a (64 bit) over each dataset's name and the bytes of its values.
-void add_to_checksum(std::uint64_t& h, const std::string& name, const std::vector<double>& v) {
-  auto add = [&h](const unsigned char* bytes, std::size_t n) {
-    for (std::size_t k = 0; k < n; ++k) {
-      h ^= bytes[k];
-      h *= 0x100000001b3ULL;
-    }
-  };
-  add(reinterpret_cast<const unsigned char*>(name.data()), name.size());
-  for (double x : v) {
-    unsigned char b[sizeof x];
-    std::memcpy(b, &x, sizeof x);
-    add(b, sizeof b);
-  }
+/// Adds each dataset's name and the bytes of its values (schema 1's data_checksum).
+void add_to_checksum(Fnv1a& h, const std::string& name, const std::vector<double>& v) {
+  h.add(name);
+  h.add(v.data(), v.size() * sizeof(double));
 }
 
 // The most output points a run file holds (sim_config.hpp's kMaxOutputPoints, beyond which a
 // run is refused).
 constexpr auto kMaxRunFilePoints = static_cast<std::size_t>(kMaxOutputPoints);
-
-constexpr std::uint64_t kChecksumStart = 0xcbf29ce484222325ULL;
-
-std::string hex(std::uint64_t h) {
-  return fmt::format("{:016x}", h);
-}
 
 }  // namespace
 
@@ -75,7 +60,7 @@ RunFileCheck check_run_file(const std::string& path) {
     const std::vector<double> phi =
         f.read_dataset("packing_fraction", h5::at_most(kMaxRunFilePoints));
     const std::size_t m = phi.size();
-    std::uint64_t h = kChecksumStart;
+    Fnv1a h;
     for (const char* name : kChecksummed) {
       if (!f.has_dataset(name)) continue;
       // One entry per output point; the stress a D x D matrix per point (D = 2 or 3).
@@ -89,8 +74,8 @@ RunFileCheck check_run_file(const std::string& path) {
     }
     // Schema 1 (no "checksum"): only the datasets were checksummed; such a file stays readable
     // but is flagged as unverified, since its attributes could have changed unnoticed.
-    if (!result.verified && f.read_attribute_string("data_checksum") != hex(h)) {
-      return problem(fmt::format("data checksum {} does not match the stored {}", hex(h),
+    if (!result.verified && f.read_attribute_string("data_checksum") != h.hex()) {
+      return problem(fmt::format("data checksum {} does not match the stored {}", h.hex(),
                                  f.read_attribute_string("data_checksum")));
     }
     for (std::size_t k = 0; k < phi.size(); ++k) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/io/atomic_file.hpp"
+#include "sim/io/fnv1a.hpp"
 
 namespace jam {
 namespace {
@@ -23,18 +24,15 @@ using FilePtr = std::unique_ptr<std::FILE, Closer>;
 
 /// FNV-1a (64 bit) of the bytes from kSealBytes to the end; the count through `bytes`.
 std::uint64_t hash_after_seal(std::FILE* f, std::uint64_t& bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
+  Fnv1a h;
   bytes = 0;
   std::vector<unsigned char> buffer(1 << 16);
-  if (std::fseek(f, static_cast<long>(kSealBytes), SEEK_SET) != 0) return h;
+  if (std::fseek(f, static_cast<long>(kSealBytes), SEEK_SET) != 0) return h.value();
   for (std::size_t got; (got = std::fread(buffer.data(), 1, buffer.size(), f)) > 0;) {
-    for (std::size_t k = 0; k < got; ++k) {
-      h ^= buffer[k];
-      h *= 0x100000001b3ULL;
-    }
+    h.add(buffer.data(), got);
     bytes += got;
   }
-  return h;
+  return h.value();
 }
 
 std::string seal_text(std::uint64_t h, std::uint64_t bytes) {

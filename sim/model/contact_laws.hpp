@@ -16,17 +16,19 @@ namespace jam {
 
 using ContactLaws = std::tuple<HarmonicContact, HertzianContact>;
 
-/// The names of the laws, in the list's order (the first is the default).
-inline std::vector<std::string> contact_law_names() {
+/// The names of the laws, in the list's order (the first is the default). Laws: the list, by
+/// default this one (a test may pass a longer list: tests/open_run_registry_tool.cpp).
+template <class Laws = ContactLaws>
+std::vector<std::string> contact_law_names() {
   return std::apply([](auto... law) { return std::vector<std::string>{decltype(law)::kName...}; },
-                    ContactLaws{});
+                    Laws{});
 }
 
-/// Calls f.template operator()<Law>() for the law named `name` and returns its result;
+/// Calls f.template operator()<Law>() for the law of Laws named `name` and returns its result;
 /// throws std::invalid_argument for a name not in the list.
-template <class F>
+template <class Laws = ContactLaws, class F>
 auto with_contact_law(std::string_view name, F&& f) {
-  using Result = decltype(f.template operator()<std::tuple_element_t<0, ContactLaws>>());
+  using Result = decltype(f.template operator()<std::tuple_element_t<0, Laws>>());
   return std::apply(
       [&](auto... law) {
         std::optional<Result> r;
@@ -37,7 +39,7 @@ auto with_contact_law(std::string_view name, F&& f) {
         if (!r) throw std::invalid_argument("unknown contact law " + std::string(name));
         return std::move(*r);
       },
-      ContactLaws{});
+      Laws{});
 }
 
 }  // namespace jam
