@@ -159,12 +159,12 @@ def test_task_stopped_by_its_time_limit_is_resubmitted(cluster, chains):
     assert {k: after.get(k) for k in before} == before, "a run done before was written again"
 
 
-def refused(cluster, jam, source, tmp_path, mode, *options):
+def refused(cluster, jam, source, tmp_path, mode, *options, env=None):
     """submit.sh's one-line refusal; nothing submitted and nothing written."""
     (tmp_path / "ci.toml").write_text((source / "reference" / "campaigns" / "ci.toml")
                                       .read_text().replace('output = "runs/ci"', 'output = "out"'))
     r = cluster.run(str(source / "scripts" / "slurm" / "submit.sh"), mode, "ci.toml", *options,
-                    check=False, cwd=tmp_path, env={"JAM": str(jam)})
+                    check=False, cwd=tmp_path, env={"JAM": str(jam), **(env or {})})
     assert r.returncode == 2, r.stdout + r.stderr
     assert all(d != str(tmp_path) for _, d in cluster.jobs().values()), r.stderr
     assert not (tmp_path / "out" / "slurm").exists()
@@ -192,3 +192,11 @@ def test_request_that_can_never_start_is_refused(cluster, jam, source, tmp_path,
     error = refused(cluster, jam, source, tmp_path, mode, *[o.format(**n) for o in options])
     assert error.startswith(f"jam-slurm: error: {message.format(**n)}"), error
     assert error.rstrip().endswith("the job could never start"), error
+
+
+def test_mpi_job_without_an_mpi_plugin_is_refused(cluster, jam, source, tmp_path):
+    # srun would start separate jams, all but one refused by the directory's lock
+    error = refused(cluster, jam, source, tmp_path, "mpi", env={"SLURM_MPI_TYPE": "none"})
+    assert error.startswith("jam-slurm: error: srun would start separate jam processes, not "
+                            "MPI ranks: srun's MPI plugin is none (SLURM_MPI_TYPE, else the "
+                            "cluster's MpiDefault); set SLURM_MPI_TYPE"), error

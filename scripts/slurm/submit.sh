@@ -13,6 +13,8 @@
 # checked against the nodes of the partition (--partition/-p, else SBATCH_PARTITION, else the
 # default): one that no node can meet is refused in one line naming it, before anything is
 # submitted (Slurm would accept it and leave it pending for ever, reason PartitionConfig).
+# Defaults of the batch scripts' headers the partition cannot meet are cut to what it offers,
+# and Slurm itself then judges each job (sbatch --test-only), a refusal naming the option.
 #
 # e.g.  scripts/slurm/submit.sh array reference/campaigns/paper-2d.toml --array=0-31 --time=12:00:00
 #       scripts/slurm/submit.sh mpi reference/campaigns/paper-2d.toml --ntasks=128 -- --log-every 600
@@ -175,7 +177,7 @@ if [[ "$mode" == mpi ]] && ((answered)); then
     mpi_type=$(scontrol show config 2>/dev/null | sed -n 's/^MpiDefault *= *//p' || true)
   fi
   [[ "$mpi_type" != none ]] ||
-    jam_slurm_die "srun would start separate jam processes, not MPI ranks: this cluster's MpiDefault is none; set SLURM_MPI_TYPE to its MPI plugin before submit.sh (srun --mpi=list shows them; pmix for Debian's OpenMPI)"
+    jam_slurm_die "srun would start separate jam processes, not MPI ranks: srun's MPI plugin is none (SLURM_MPI_TYPE, else the cluster's MpiDefault); set SLURM_MPI_TYPE to a plugin before submit.sh (srun --mpi=list shows them; pmix for Debian's OpenMPI)"
 fi
 
 # Slurm itself judges each job of the chain as it will be submitted (sbatch --test-only, which
