@@ -29,6 +29,11 @@ import fcntl, json, os, sys
 d = os.environ["FAKE_SLURM_DIR"]
 with open(os.path.join(d, "lock"), "a+") as lock:
     fcntl.flock(lock, fcntl.LOCK_EX)
+    if "--test-only" in sys.argv[1:]:  # submits nothing: recorded apart, every request fits
+        with open(os.path.join(d, "calls.jsonl"), "a") as f:
+            f.write(json.dumps({"tool": "sbatch --test-only", "argv": sys.argv[1:]}) + "\n")
+        print("sbatch: Job 1 to start now", file=sys.stderr)
+        sys.exit(0)
     counter = os.path.join(d, "next_job_id")
     job = int(open(counter).read()) if os.path.exists(counter) else 1000
     with open(counter, "w") as f:

@@ -140,3 +140,94 @@ jam_slurm_check_fits() {
   ((minutes <= longest)) ||
     jam_slurm_die "$5 $6: the time limit of $where is $longest minutes: $never"
 }
+
+# jam_slurm_header_value SCRIPT OPTION: the value of "#SBATCH --OPTION=VALUE" in SCRIPT (the
+# batch script's own default; nothing when it has none). The headers are the one place the
+# defaults are written, so submit.sh reads them rather than repeating them.
+jam_slurm_header_value() {
+  sed -n "s/^#SBATCH --$2=\([^[:space:]]*\).*/\1/p" "$1" | tail -n 1
+}
+
+# jam_slurm_partition_defaults MODE CPUS NTASKS TIME: the work job's header defaults that the
+# partition read by jam_slurm_partition_nodes cannot meet, cut to what it offers (a request it
+# can never meet pends for ever): prints one option per line, e.g. --time=60 when the header's
+# 24:00:00 exceeds a one-hour limit. CPUS, NTASKS, TIME: what the user gave ("": nothing, so
+# the header's applies). MODE array: --cpus-per-task and --time; mpi: --ntasks and --time.
+jam_slurm_partition_defaults() {
+  local mode=$1 cpus=$2 ntasks=$3 time=$4 script="${jam_slurm_dir:?}/campaign-$1.sbatch"
+  local most_cpus=0 total_cpus=0 longest=0 c t node header
+  for node in "${jam_slurm_nodes[@]}"; do
+    read -r c _ t <<<"$node"
+    total_cpus=$((total_cpus + c))
+    if ((c > most_cpus)); then most_cpus=$c; fi
+    if ((t > longest)); then longest=$t; fi
+  done
+  if [[ -z "$time" ]]; then
+    header=$(jam_slurm_header_value "$script" time)
+    if [[ -n "$header" ]] && ((longest < $(jam_slurm_minutes "$script --time" "$header"))); then
+      printf '%s\n' "--time=$longest"
+    fi
+  fi
+  [[ -n "$cpus" ]] || cpus=$(jam_slurm_header_value "$script" cpus-per-task)
+  [[ "$cpus" =~ ^[1-9][0-9]{0,5}$ ]] || cpus=1
+  if [[ "$mode" == array && -z "$2" ]] && ((cpus > most_cpus && most_cpus > 0)); then
+    printf '%s\n' "--cpus-per-task=$most_cpus"
+  fi
+  if [[ "$mode" == mpi && -z "$ntasks" ]]; then
+    header=$(jam_slurm_header_value "$script" ntasks)
+    if [[ "$header" =~ ^[0-9]+$ ]] && ((header * cpus > total_cpus && total_cpus >= cpus)); then
+      printf '%s\n' "--ntasks=$((total_cpus / cpus))"
+    fi
+  fi
+}
+
+# jam_slurm_can_start WHAT SCRIPT OPTION... -- ARGUMENT...: asks Slurm itself whether the job
+# SCRIPT with OPTIONs (its header's for the rest) could ever start (`sbatch --test-only`, which
+# submits nothing). When not, dies in one line naming WHAT, the option to blame (the first
+# whose removal lets the job start) and Slurm's reason. sinfo cannot see everything Slurm
+# judges (core counts per socket, --ntasks against a node's cores, partitions, accounts, QOS).
+jam_slurm_can_start() {
+  local what=$1 script=$2 out reason i j
+  shift 2
+  local -a opts=() args=() rest=()
+  while (($#)) && [[ "$1" != -- ]]; do
+    opts+=("$1")
+    shift
+  done
+  (($# == 0)) || shift
+  args=("$@")
+  out=$(sbatch --test-only "${opts[@]}" "$script" "${args[@]}" 2>&1) && return 0
+  # Slurm's last line, without its prefixes ("allocation failure: ...", "sbatch: error: ...")
+  reason=$(printf '%s\n' "$out" | sed -e '/^[[:space:]]*$/d' | tail -n 1)
+  reason=${reason#allocation failure: }
+  reason=${reason#sbatch: error: }
+  # One option with its values (the words after it that do not start with -) at a time: left
+  # out (the header's value applies), or, when its value is a number, asking for 1 instead
+  # (the header's value may be too much as well).
+  local -a least
+  local try
+  for ((i = 0; i < ${#opts[@]}; i = j)); do
+    for ((j = i + 1; j < ${#opts[@]}; j++)); do
+      [[ "${opts[j]}" != -* ]] || break
+    done
+    least=()
+    if ((j == i + 2)) && [[ "${opts[i + 1]}" =~ ^[0-9] ]]; then
+      least=("${opts[i]}" 1)
+    elif [[ "${opts[i]}" =~ ^(--[a-z-]+=)[0-9] ]]; then
+      least=("${BASH_REMATCH[1]}1")
+    fi
+    for try in without least; do
+      if [[ "$try" == without ]]; then
+        rest=("${opts[@]:0:i}" "${opts[@]:j}")
+      elif ((${#least[@]})); then
+        rest=("${opts[@]:0:i}" "${least[@]}" "${opts[@]:j}")
+      else
+        continue
+      fi
+      if sbatch --test-only "${rest[@]}" "$script" "${args[@]}" >/dev/null 2>&1; then
+        jam_slurm_die "$what: ${opts[*]:i:j-i}: Slurm says '$reason' (sbatch --test-only): the job could never start"
+      fi
+    done
+  done
+  jam_slurm_die "$what: Slurm says '$reason' (sbatch --test-only ${opts[*]} $(basename -- "$script")): the job could never start"
+}

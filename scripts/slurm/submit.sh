@@ -13,6 +13,8 @@
 # checked against the nodes of the partition (--partition/-p, else SBATCH_PARTITION, else the
 # default): one that no node can meet is refused in one line naming it, before anything is
 # submitted (Slurm would accept it and leave it pending for ever, reason PartitionConfig).
+# Defaults of the batch scripts' headers the partition cannot meet are cut to what it offers,
+# and Slurm itself then judges each job (sbatch --test-only), a refusal naming the option.
 #
 # e.g.  scripts/slurm/submit.sh array reference/campaigns/paper-2d.toml --array=0-31 --time=12:00:00
 #       scripts/slurm/submit.sh mpi reference/campaigns/paper-2d.toml --ntasks=128 -- --log-every 600
@@ -129,9 +131,24 @@ cpus_label=--finish-cpus mem_label=--finish-mem
 [[ -z "$finish_time" ]] || jam_slurm_minutes --finish-time "$finish_time" >/dev/null
 partition=$(jam_slurm_option_value partition p "${kept[@]}")
 checked="not checked against the partition (no answer from sinfo)"
+answered=0 # sinfo answered: Slurm's controller is there to ask
+if command -v sinfo >/dev/null 2>&1 && sinfo -h -o %P >/dev/null 2>&1; then answered=1; fi
+defaults=()
 if jam_slurm_partition_nodes "${partition:-${SBATCH_PARTITION:-}}"; then
+  # The header's defaults the partition cannot meet (24:00:00 in a one-hour partition, 64
+  # ranks on 16 cores) are cut to what it offers and kept for every round, as if given.
+  work_ntasks=$(jam_slurm_option_value ntasks n "${kept[@]}")
+  cut=$(jam_slurm_partition_defaults "$mode" "$work_cpus" "$work_ntasks" "$work_time")
+  [[ -z "$cut" ]] || mapfile -t defaults <<<"$cut"
+  kept+=("${defaults[@]}")
+  sbatch_options+=("${defaults[@]}")
   jam_slurm_check_fits --cpus-per-task "${work_cpus:-1}" --mem "$work_mem" --time "$work_time"
   checked="checked against partition $jam_slurm_partition (sinfo)"
+elif ((answered)); then
+  label=--partition
+  [[ -n "$partition" ]] || label=SBATCH_PARTITION
+  [[ -n "$partition${SBATCH_PARTITION:-}" ]] || label="the default partition"
+  jam_slurm_die "$label '${partition:-${SBATCH_PARTITION:-}}': sinfo lists no node of it (sinfo -s lists the partitions): the job could never start"
 fi
 if jam_slurm_partition_nodes "${SBATCH_PARTITION:-}"; then
   if [[ -z "$finish_time" ]]; then
@@ -150,6 +167,34 @@ if jam_slurm_partition_nodes "${SBATCH_PARTITION:-}"; then
 fi
 export JAM_SLURM_FINISH_CPUS="$finish_cpus" JAM_SLURM_FINISH_MEM="$finish_mem"
 export JAM_SLURM_FINISH_TIME="${finish_time:-$jam_slurm_finish_default_time}"
+
+# srun starts the MPI job's ranks: where this cluster's MpiDefault is none and SLURM_MPI_TYPE
+# (srun --mpi) is not set, OpenMPI's ranks cannot find each other; each would be a jam of its
+# own, all but one refused by the directory's lock.
+if [[ "$mode" == mpi ]] && ((answered)); then
+  mpi_type=${SLURM_MPI_TYPE:-}
+  if [[ -z "$mpi_type" ]]; then
+    mpi_type=$(scontrol show config 2>/dev/null | sed -n 's/^MpiDefault *= *//p' || true)
+  fi
+  [[ "$mpi_type" != none ]] ||
+    jam_slurm_die "srun would start separate jam processes, not MPI ranks: srun's MPI plugin is none (SLURM_MPI_TYPE, else the cluster's MpiDefault); set SLURM_MPI_TYPE to a plugin before submit.sh (srun --mpi=list shows them; pmix for Debian's OpenMPI)"
+fi
+
+# Slurm itself judges each job of the chain as it will be submitted (sbatch --test-only, which
+# submits nothing): what sinfo cannot see (cores per socket, a partition or account that does
+# not exist, ...) is refused here, naming the option, rather than left pending for ever.
+if ((answered)); then
+  test_options=("${kept[@]}")
+  [[ -z "$spec" ]] || test_options+=("--array=$spec")
+  jam_slurm_can_start "the work job" "$jam_slurm_dir/campaign-$mode.sbatch" \
+    "${test_options[@]}" -- "$jam_file" "${jam_options[@]}"
+  jam_slurm_finish_resources
+  jam_slurm_can_start "the finishing job (--finish-cpus, --finish-mem, --finish-time)" \
+    "$jam_slurm_dir/campaign-finish.sbatch" "${jam_slurm_finish_options[@]}" -- "$jam_file"
+  jam_slurm_can_start "the chain step" "$jam_slurm_dir/campaign-chain.sbatch" -- "$jam_file"
+  checked="$checked, and by Slurm (sbatch --test-only)"
+  ((${#defaults[@]} == 0)) || checked="$checked; cut to the partition: ${defaults[*]}"
+fi
 
 # A new chain: the records of an earlier one would mislead its first chain step.
 mkdir -p -- "$jam_state"
