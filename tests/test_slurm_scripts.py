@@ -73,8 +73,8 @@ def test_zero_based_array_completes(cluster):
         assert rc == 0, log
     assert chain.calls("scontrol"), "the spool copy asked scontrol for its script"
     runs = [c for c in chain.calls("jam") if c["argv"][:2] == ["campaign", "run"]]
-    assert (sorted((c["task"], c["argv"][c["argv"].index("--shard") + 1])
-                            for c in runs)) == [("0", "auto"), ("1", "auto")]
+    assert sorted((c["task"], c["argv"][c["argv"].index("--shard") + 1])
+                  for c in runs) == [("0", "auto"), ("1", "auto")]
     assert chain.status() == 0, "the two tasks together complete the campaign"
     assert_nothing_more(chain, step)
     assert_finishing_job(chain, finish)
