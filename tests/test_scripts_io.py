@@ -335,3 +335,28 @@ def test_cross_lammps_runs_refuses_an_out_lammps_would_split(source, work, name)
                "--dt", "0.01", "--lmp", os.path.join(work, "no-lmp"))
     assert not os.path.lexists(out), name
     refused(r, "--out")
+
+
+# bench/plot_benchmarks.py (jam bench's figures): written whole through jamio.output.
+
+
+def test_benchmark_figure_written_whole_and_never_beside_a_directory(source, work):
+    table = os.path.join(work, "throughput.csv")
+    with open(table, "w") as f:
+        f.write("dim,mode,n,jam_particle_steps_per_s,lammps_particle_steps_per_s\n"
+                "2,1 core,64,1e6,2e6\n2,1 core,256,1.1e6,2e6\n")
+    plot = [sys.executable, os.path.join(source, "bench", "plot_benchmarks.py"), "throughput",
+            table]
+    png = os.path.join(work, "throughput.png")
+    r = subprocess.run(plot + [png], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert slurp(png)[:8] == b"\x89PNG\r\n\x1a\n"
+    # A directory where the figure goes: refused before drawing, nothing left beside it (the
+    # figure's temporary file was left there).
+    taken = os.path.join(work, "taken.png")
+    os.mkdir(taken)
+    r = subprocess.run(plot + [taken], capture_output=True, text=True, timeout=120)
+    assert r.returncode != 0
+    assert "is a directory" in r.stderr
+    assert sorted(os.listdir(work)) == ["taken.png", "throughput.csv", "throughput.png"]
+    assert os.listdir(taken) == []
