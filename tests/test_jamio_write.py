@@ -17,7 +17,6 @@ Usage (ctest runs it): python3 -m pytest tests/test_jamio_write.py --jam build/j
 import os
 import shutil
 import subprocess
-import sys
 import tempfile
 
 import h5py
@@ -185,7 +184,7 @@ def test_write_keeps_what_is_there(work):
 def test_write_fails_midway(work, monkeypatch):
     """A failure after the partial file was written (the check before the rename) leaves
     nothing, also when interrupted; a file that appears under the name meanwhile is kept."""
-    module = sys.modules["jamio.write"]
+    module = jamio().write
     out = os.path.join(work, "run.h5")
 
     def disk_full(path):
@@ -238,7 +237,7 @@ def test_temporary_name_taken(work, monkeypatch):
     def disk_full(path):
         assert path != taken, "checked the other writer's file"
         raise OSError(28, "No space left on device")
-    monkeypatch.setattr(sys.modules["jamio.write"], "validate_run", disk_full)
+    monkeypatch.setattr(jamio().write, "validate_run", disk_full)
     refused(lambda: write(out), "run.h5", "no space left")
     only(work, [os.path.basename(taken), "victim.txt"])
     with open(taken, "rb") as f:
