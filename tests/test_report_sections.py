@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Sections of the report on made-up campaigns, without jam (reports/report_html.py,
-report_figures_fit.py, report_figures_jamming.py): the question a campaign asked and a pool over
+"""Sections of the report on made-up campaigns, without jam (reports/report_words.py,
+report_html.py, report_figures_fit.py, report_figures_jamming.py): the question a campaign asked and a pool over
 the whole compression as the headline says them; no scan or collapse figure without a fit, and
 one sentence why; compare_with's verdicts on lines of their own; the jamming width's power law
 on planted widths. The report of a real campaign, end to end: tests/test_report.py.
@@ -25,7 +25,7 @@ def report_module(name):
 
 
 # ---- the question a campaign asked and a pool over the whole compression ------------------------
-# (checks.json "question"), as the report's headline and summary say them (reports/report_html.py),
+# (checks.json "question"), as the report's headline and summary say them (reports/report_words.py),
 # the same words as `jam check`'s table (checks/verdict_table.cpp).
 
 
@@ -36,7 +36,7 @@ def verdict(region, status, values=None):
 
 
 def test_the_question_is_one_line():
-    h = report_module("report_html")
+    h = report_module("report_words")
     q = {"range": {"phi_min": 0.83, "phi_max": 0.85, "from": "[question] phi_min, phi_max"},
          "pooled": "the scaling fit's window, else the whole compression",
          "checks": ["finite_size"], "margins": {"finite_size": 0.1}, "alpha": 0.05}
@@ -48,15 +48,15 @@ def test_the_question_is_one_line():
 
 
 def test_a_whole_compression_pool_says_so_and_the_range_asked_is_counted():
-    h = report_module("report_html")
+    words, h = report_module("report_words"), report_module("report_html")
     whole = [verdict("pooled", "pass", {"whole_compression": 1.0})]
-    assert "pooled over the whole compression" in h.headline("finite_size", whole)
-    assert h.POOLED_WHOLE in h.check_table("finite_size", whole)
+    assert "pooled over the whole compression" in words.headline("finite_size", whole)
+    assert words.POOLED_WHOLE in h.check_table("finite_size", whole)
     asked = [verdict("pooled", "pass"), verdict("asked", "fail")]
-    line = h.headline("finite_size", asked)
+    line = words.headline("finite_size", asked)
     assert "in the range asked 0 passed, 1 failed, 0 inconclusive" in line
     assert "pooled only" not in line
-    assert h.POOLED_ONLY not in h.check_table("finite_size", asked)
+    assert words.POOLED_ONLY not in h.check_table("finite_size", asked)
 
 
 # ---- no fit without a result --------------------------------------------------------------------
@@ -96,13 +96,13 @@ def test_no_fit_no_figure_and_one_sentence_with_two_rates(tmp_path):
 
 
 def test_no_fit_the_scans_distinct_reasons_when_it_has_rates_enough(tmp_path):
-    figures, h = report_module("report_figures_fit"), report_module("report_html")
+    figures, words = report_module("report_figures_fit"), report_module("report_words")
     c = campaign([-4.0, -4.5, -5.0, -5.5],
                  ["fit: phi_J = 0.9 lies outside the packings",
                   "fit ends on a bound: q = 1.2 (0 < q < 1)",
                   "fit: phi_J = 0.91 lies outside the packings"])
     assert figures.scan_figure(c, str(tmp_path)) is None
-    assert h.no_fit_sentence(c) == (
+    assert words.no_fit_sentence(c) == (
         "No scaling fit: none of the 3 fits of the scan could be made (2 rows, e.g.: "
         "phi_J = 0.9 lies outside the packings | 1 row: fit ends on a bound: q = 1.2 "
         "(0 < q < 1)).")
