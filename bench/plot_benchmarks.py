@@ -3,7 +3,8 @@
 
 throughput: particle-steps/s and seconds per particle-step against N, jam and LAMMPS, per
 dimension and mode. accuracy: wall time against the largest pressure error, per dimension and
-rate, one marker per method and dt.
+rate, one marker per method and dt. The PNG is written whole (jamio's output.staged: a
+temporary name beside it, renamed when complete).
 """
 import csv
 import os
@@ -13,6 +14,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+# jamio of the same source tree (python/ beside bench/).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "python"))
+from jamio.output import staged  # noqa: E402
 
 
 def rows_of(path):
@@ -45,7 +51,7 @@ def throughput(rows, png):
     axes[1].set_ylabel("ns per particle-step (1 core; flat = cost linear in N)")
     axes[1].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(png, dpi=110)
+    fig.savefig(png, dpi=110, format="png")  # by format: the temporary name is not *.png
 
 
 def accuracy(rows, png):
@@ -75,15 +81,14 @@ def accuracy(rows, png):
         ax.set_ylabel("wall time (s)")
         ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(png, dpi=110)
+    fig.savefig(png, dpi=110, format="png")  # by format: the temporary name is not *.png
 
 
 def main():
     kind, path, png = sys.argv[1:4]
     rows = rows_of(path)
-    tmp = png + ".partial.png"
-    (throughput if kind == "throughput" else accuracy)(rows, tmp)
-    os.replace(tmp, png)
+    with staged(png, kind="figure") as partial:
+        (throughput if kind == "throughput" else accuracy)(rows, partial)
 
 
 if __name__ == "__main__":

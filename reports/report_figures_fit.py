@@ -105,7 +105,7 @@ def _failure_reasons(text):
 def scan_figure(c, out_dir):
     """The paper's Fig. 2: fit parameters against rate_max for the three phi windows. None
     when no row of the scan has a result: empty axes say nothing, and the fit's section says
-    in one sentence why there is no fit (report_html.no_fit_sentence)."""
+    in one sentence why there is no fit (report_words.no_fit_sentence)."""
     scan = (c.fit or {}).get("scan")
     if not scan or not len(scan.get("rate_max", [])):
         return None

@@ -1,9 +1,11 @@
 """Where the report is written: the checks on the output path before any work, the temporary
 directory next to it, the move into place, and the cleanup when something fails.
 
-The report is built in `<out>.partial-*` next to `<out>` and renamed to `<out>` when complete.
-On failure the temporary directory is removed, and so is every parent directory this run
-created for it that is still empty; a directory that existed before is never removed.
+The report is built in `<out>.<pid>.partial` next to `<out>` and renamed to `<out>` when
+complete. On failure the temporary directory is removed, and so is every parent directory this
+run created for it that is still empty; a directory that existed before is never removed. The
+temporary names, the cleanup and the writing of each text file whole are jamio's
+(python/jamio/output.py), as for jamio's writers and the scripts.
 
 A report directory is jam's own: it holds `.jam-report`, the list of the files the report
 wrote. A report replaces only such a directory, or an empty one, and when it does it deletes
@@ -19,12 +21,12 @@ a user's file.
 
 import contextlib
 import os
-import shutil
 import stat
 import sys
 import tempfile
 
-from report_data import cause, shown as _shown
+from report_data import cause, shown as _shown  # report_data puts jamio on the path
+from jamio import output
 
 # What a path that is not a directory is, in words, by its stat mode.
 KINDS = [(stat.S_ISREG, "a regular file"), (stat.S_ISFIFO, "a FIFO"),
@@ -197,8 +199,8 @@ def staging(out):
     try:
         _make_parents(parent, created)
         try:
-            temporary = tempfile.mkdtemp(prefix=os.path.basename(out) + ".partial-", dir=parent)
-        except OSError as e:
+            temporary = output.claim_temporary(out, directory=True)
+        except (OSError, output.Unwritable) as e:
             raise ReportOutputError(f"{parent}: {cause(e)}") from e
         yield temporary
     except OSError as e:
@@ -207,7 +209,7 @@ def staging(out):
     finally:
         failed = temporary is None or os.path.lexists(temporary)
         if temporary and failed:
-            shutil.rmtree(temporary, ignore_errors=True)
+            output.remove(temporary)
         if failed:
             _remove_empty(created)
 
@@ -252,11 +254,6 @@ def publish(temporary, out):
 
 
 def write_text(path, text):
-    """Writes `text` to `path`; an error on write or close names the file."""
-    try:
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(text)
-    except OSError as e:
-        if e.filename is None:
-            e.filename = path
-        raise
+    """Writes `text` to `path` (whole: jamio's output.write_text); an error on write or close
+    names the file."""
+    output.write_text(path, text)

@@ -14,7 +14,7 @@ import matplotlib.colors  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from report_html import plain  # noqa: E402
+from report_words import plain  # noqa: E402
 
 DPI = 110
 # SVG element ids from a fixed salt and no date: the same report twice gives the same files.

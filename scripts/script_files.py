@@ -11,13 +11,12 @@
 
 An output is written under a temporary name in its own directory (the same file system, so the
 rename is atomic) and renamed into place when complete: a failure part-way leaves the old file
-as it was, and nothing that could be mistaken for a result.
+as it was, and nothing that could be mistaken for a result. The temporary names, the rename and
+the cleanup are jamio's (python/jamio/output.py), as for jamio's writers and the report.
 """
-import contextlib
 import os
 import shutil
 import sys
-import tempfile
 
 # jamio of the same source tree (python/ beside scripts/).
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
@@ -51,13 +50,6 @@ def refuse_same(output, field, source, source_field):
         fail(f"{field} {output}: is the input {source_field} {source}; write it elsewhere")
 
 
-def _mode():
-    """The mode a new file gets (0666 less the umask), which mkstemp's 0600 would not be."""
-    umask = os.umask(0o022)
-    os.umask(umask)
-    return 0o666 & ~umask
-
-
 class Staged:
     """Files written under temporary names beside their targets; commit() renames them into
     place once every one is written, so a failure while they are written changes no target.
@@ -70,22 +62,20 @@ class Staged:
         return self
 
     def __exit__(self, *exc):
+        from jamio.output import remove
         for temporary, _ in self.pending:
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(temporary)
+            remove(temporary)
         self.pending = []
 
     def _open(self, target):
-        fd, temporary = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.",
-                                         suffix=".partial",
-                                         dir=os.path.dirname(os.path.abspath(target)))
+        from jamio.output import claim_temporary
+        temporary = claim_temporary(target)  # a new file's mode, not mkstemp's 0600
         self.pending.append((temporary, target))
-        return temporary, os.fdopen(fd, "wb")
+        return temporary, open(temporary, "wb")
 
     def text(self, target, text):
         _, out = self._open(target)
         with out:
-            os.fchmod(out.fileno(), _mode())
             out.write(text.encode())
 
     def copy(self, source, target):
@@ -100,9 +90,10 @@ class Staged:
             shutil.copystat(source, temporary)
 
     def commit(self):
+        from jamio.output import publish
         while self.pending:
             temporary, target = self.pending[0]
-            os.replace(temporary, target)
+            publish(temporary, target, overwrite=True)
             self.pending.pop(0)
 
 

@@ -8,8 +8,9 @@
 #                              cross-checks run live), OpenMPI, clang with its sanitizer and
 #                              fuzzer runtimes, Chromium (the report test), Python venv and pip
 #                              (the jamio test), pandas and xarray (jamio's frames), gsd (the
-#                              HOOMD-blue GSD import), hdf5-tools, Slurm and munge (the test
-#                              starts a private single-node Slurm; no service is configured)
+#                              HOOMD-blue GSD import), hdf5-tools, pytest (the Python tests),
+#                              Slurm and munge (the test starts a private single-node Slurm; no
+#                              service is configured)
 # Why each package is there: docs/development.md#dependencies.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,7 +31,7 @@ if $tests; then
     libboost-test-dev hdf5-tools lammps libopenmpi-dev openmpi-bin
     clang-14 libclang-rt-14-dev llvm-14 chromium
     python3-venv python3-pip python3-setuptools python3-pandas python3-xarray python3-gsd
-    slurmctld slurmd slurm-client munge
+    python3-pytest slurmctld slurmd slurm-client munge
   )
 fi
 

@@ -1,7 +1,8 @@
 """The broken and hostile files of tests/test_jamio.py: what they are (made outside the venv,
 by make_broken from the files jam wrote) and the cases that read them inside the venv, each
 expecting one JamioError line naming the file (or a child process that neither hangs nor
-exhausts memory). Imported by test_jamio.py; not a suite of its own.
+exhausts memory). make_broken is imported by test_jamio.py, the cases by jamio_in_venv.py (one
+parametrised test); not a suite of its own.
 """
 
 import os

@@ -1,25 +1,18 @@
-"""What the jamio writer tests share (tests/test_jamio_write.py, tests/test_jamio_gsd.py): the
-command line (--jam, --source), a small valid run, the refusal and leftover checks, and the
-runner that prints one line per case and `N passed, M failed`."""
+"""What the jamio writer tests share (tests/test_jamio_write.py, tests/test_jamio_gsd.py): a small
+valid run, and the refusal and leftover checks."""
 
 
-import argparse
-import contextlib
 import os
-import shutil
-import sys
-import tempfile
 
 import numpy as np
 
-ARGS = None  # the parsed command line, set by run()
 KEY = "log/md/compute/ThermodynamicQuantities/pressure"
 N, DIM, RATE, DT, PHI_INIT, RATIO = 64, 2, 1e-2, 0.005, 0.8, 1.4
 STEPS = (1000, 1100, 1200, 1400, 1600, 2000)
 
 
 def jamio():
-    import jamio as module
+    import jamio as module  # from --source's python/ (tests/conftest.py)
     return module
 
 
@@ -45,11 +38,6 @@ def only(directory, names=()):
         raise AssertionError(f"{directory} holds {found}, expected {sorted(names)}")
 
 
-def check(condition, what):
-    if not condition:
-        raise AssertionError(what)
-
-
 def series(m=6, phi_init=PHI_INIT, rate=RATE, dim=DIM):
     t = np.linspace(0.0, 3.0, m)
     phi = phi_init * np.exp(dim * rate * t)
@@ -70,45 +58,3 @@ def good_run(**change):
 def write(path, **change):
     kw = good_run(**change)
     return jamio().write_run(path, kw.pop("packing_fraction"), kw.pop("pressure"), **kw)
-
-
-# ---- write_run and validate_run ------------------------------------------------------------------
-
-
-def run(cases, description, prefix):
-    """Runs each case in a scratch directory of its own; the exit status (1 if any failed)."""
-    global ARGS
-    parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("--jam", required=True, help="the jam binary (build/jam)")
-    parser.add_argument("--source", required=True, help="the source tree (holds python/)")
-    parser.add_argument("--keep", action="store_true", help="keep the temporary directory")
-    ARGS = parser.parse_args()
-    ARGS.source = os.path.abspath(ARGS.source)
-    if os.sep in ARGS.jam:
-        ARGS.jam = os.path.abspath(ARGS.jam)
-    sys.path.insert(0, os.path.join(ARGS.source, "python"))
-    top = tempfile.mkdtemp(prefix=prefix)
-    passed = failed = skipped = 0
-    try:
-        for case in cases:
-            name = case.__name__.removeprefix("case_")
-            work = os.path.join(top, name)
-            os.mkdir(work)
-            try:
-                if case(work) == "skipped":
-                    print(f"skipped {name}")
-                    skipped += 1
-                    continue
-                print(f"passed  {name}")
-                passed += 1
-            except Exception as e:  # a case that crashes fails, the others still run
-                print(f"FAILED  {name}: {type(e).__name__}: {e}")
-                failed += 1
-    finally:
-        if ARGS.keep:
-            print(f"kept {top}")
-        else:
-            with contextlib.suppress(OSError):
-                shutil.rmtree(top)
-    print(f"{passed} passed, {failed} failed" + (f", {skipped} skipped" if skipped else ""))
-    return 1 if failed else 0

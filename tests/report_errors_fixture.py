@@ -24,7 +24,7 @@ CAMPAIGN = os.path.join("reference", "results", "reduced-2d")
 TIMEOUT = 300  # seconds for one report (about 12 s of CPU; more on a loaded machine): a hang fails its case
 
 
-# The intact campaign's report, made once by the driver (test_report_errors.check_fixture).
+# The intact campaign's report, made once by test_report_errors.py's `intact` fixture.
 INTACT_REPORT = None
 
 

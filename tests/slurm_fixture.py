@@ -6,10 +6,9 @@
 its command, sinfo prints FAKE_SINFO (unset: it fails as without a controller). A Chain is one fake
 cluster with a copy of the CI campaign; the tests play Slurm by running the recorded jobs with the
 variables Slurm would set. jam as the jobs see it records its commands; `check` and `report` are
-recorded, not run.
+recorded, not run. A Cluster (a test module's fixture) holds the fake tools and a copy of jam.
 """
 
-import argparse
 import json
 import os
 import re
@@ -17,12 +16,7 @@ import shutil
 import signal
 import stat
 import subprocess
-import sys
-import tempfile
 import time
-import unittest
-
-ARGS = None  # set by main(): --jam, --source, --scripts
 
 FAKE_SBATCH = r'''#!/usr/bin/python3
 import fcntl, json, os, sys
@@ -121,13 +115,13 @@ def array_indices(spec):
 class Chain:
     """One fake cluster: a directory with calls.jsonl and job ids, and the campaign copy."""
 
-    def __init__(self, test, name, campaign_text=None):
-        self.test = test
-        self.dir = os.path.join(test.tmp, name)
+    def __init__(self, cluster, name, campaign_text=None):
+        self.cluster = cluster
+        self.dir = os.path.join(cluster.tmp, name)
         os.makedirs(self.dir)
         self.campaign_dir = os.path.join(self.dir, "runs", "ci")
         if campaign_text is None:
-            with open(os.path.join(ARGS.source, "reference", "campaigns", "ci.toml")) as f:
+            with open(os.path.join(cluster.source, "reference", "campaigns", "ci.toml")) as f:
                 campaign_text = f.read()
         text = campaign_text
         # relative output: the jobs run in the submit directory, as under Slurm
@@ -135,9 +129,9 @@ class Chain:
         self.file = os.path.join(self.dir, "ci.toml")
         with open(self.file, "w") as f:
             f.write(text)
-        self.env = {"PATH": f"{test.bin}:/usr/bin:/bin", "HOME": self.dir, "LANG": "C.UTF-8",
-                    "FAKE_SLURM_DIR": self.dir, "REAL_JAM": test.jam,
-                    "JAM": os.path.join(test.bin, "jam")}
+        self.env = {"PATH": f"{cluster.bin}:/usr/bin:/bin", "HOME": self.dir, "LANG": "C.UTF-8",
+                    "FAKE_SLURM_DIR": self.dir, "REAL_JAM": cluster.jam,
+                    "JAM": os.path.join(cluster.bin, "jam")}
 
     def calls(self, tool=None):
         path = os.path.join(self.dir, "calls.jsonl")
@@ -148,9 +142,9 @@ class Chain:
         return [c for c in calls if tool is None or c["tool"] == tool]
 
     def submit(self, *args, expect=0):
-        r = subprocess.run([os.path.join(ARGS.scripts, "submit.sh"), *args], cwd=self.dir,
+        r = subprocess.run([os.path.join(self.cluster.scripts, "submit.sh"), *args], cwd=self.dir,
                            env=self.env, capture_output=True, text=True, timeout=60)
-        self.test.assertEqual(r.returncode, expect, r.stdout + r.stderr)
+        assert r.returncode == expect, r.stdout + r.stderr
         return r
 
     def job(self, call, slurm, env=None, script=None, term_after=None):
@@ -170,7 +164,7 @@ class Chain:
         log = open(os.path.join(self.dir, f"job-{slurm['SLURM_JOB_ID']}.log"), "w+")
         p = subprocess.Popen([script or argv[at], *argv[at + 1:]], cwd=call["cwd"], env=full,
                              stdout=log, stderr=subprocess.STDOUT)
-        self.test.addCleanup(log.close)  # finish() closes it; this, when a test fails first
+        self.cluster.logs.append(log)  # finish() closes it; the cluster, when a test fails first
         p.log = log
         p.term_after = term_after
         return p
@@ -194,11 +188,11 @@ class Chain:
         started = time.time()
         runs = os.path.join(self.campaign_dir, "runs")
         while not (os.path.isdir(runs) and os.listdir(runs)):
-            self.test.assertIsNone(p.poll(), "the job ended before any run started")
-            self.test.assertLess(time.time() - started, 60, "no run started")
+            assert p.poll() is None, "the job ended before any run started"
+            assert time.time() - started < 60, "no run started"
             time.sleep(0.05)
         time.sleep(then)
-        self.test.assertIsNone(p.poll(), "the job ended before the signal")
+        assert p.poll() is None, "the job ended before the signal"
 
     def finish(self, procs):
         """Waits for the processes (SIGTERM to those asked for, once a run is under way);
@@ -208,12 +202,12 @@ class Chain:
                 self.wait_for_a_run(p, p.term_after)
                 # jam is held (SIGSTOP) until the script has passed the SIGTERM on, so the
                 # signal cannot come after jam finished its last run on a fast machine.
-                jam = campaign_run_child(p.pid, self.test)
+                jam = campaign_run_child(p.pid)
                 os.kill(jam, signal.SIGSTOP)
                 p.send_signal(signal.SIGTERM)
                 deadline = time.time() + 30
                 while not signal_pending(jam, signal.SIGTERM):
-                    self.test.assertLess(time.time(), deadline, "SIGTERM not passed on")
+                    assert time.time() < deadline, "SIGTERM not passed on"
                     time.sleep(0.01)
                 os.kill(jam, signal.SIGCONT)
         out = []
@@ -228,7 +222,7 @@ class Chain:
         return self.finish([self.job(call, slurm, **kw)])[0]
 
     def status(self):
-        return subprocess.run([self.test.jam, "campaign", "status", self.campaign_dir],
+        return subprocess.run([self.cluster.jam, "campaign", "status", self.campaign_dir],
                               capture_output=True, text=True, timeout=60).returncode
 
     def state(self, name, text):
@@ -260,7 +254,7 @@ def children(pid):
     return out
 
 
-def campaign_run_child(pid, test):
+def campaign_run_child(pid):
     """The one child of pid that runs the campaign (an argument `run`), once it is there: the
     scripts first ask `jam campaign output`, a child of their own that must not be taken for
     it (a SIGSTOP there would hold the wrong process)."""
@@ -276,7 +270,7 @@ def campaign_run_child(pid, test):
                 continue
         if len(runs) == 1:
             return runs[0]
-        test.assertLess(time.time(), deadline, f"no single campaign run under {pid}: {runs}")
+        assert time.time() < deadline, f"no single campaign run under {pid}: {runs}"
         time.sleep(0.01)
 
 
@@ -290,69 +284,61 @@ def script_of(argv):
     return os.path.basename(next(a for a in argv if a.endswith(".sbatch")))
 
 
-class SlurmTestCase(unittest.TestCase):
-    """A fake cluster's tools and a copy of jam, for every test of the class."""
+class Cluster:
+    """The fake cluster's tools and a copy of jam, shared by a module's tests (its `cluster`
+    fixture); close() ends it."""
 
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="jam-slurm-")
-        cls.bin = os.path.join(cls.tmp, "bin")
-        os.makedirs(cls.bin)
-        write_executable(os.path.join(cls.bin, "sbatch"), FAKE_SBATCH)
+    def __init__(self, jam, source, tmp):
+        self.tmp = str(tmp)
+        self.source = str(source)
+        self.scripts = os.path.join(self.source, "scripts", "slurm")
+        self.logs = []  # the jobs' logs, closed at the end when a test failed before finish()
+        self.bin = os.path.join(self.tmp, "bin")
+        os.makedirs(self.bin)
+        write_executable(os.path.join(self.bin, "sbatch"), FAKE_SBATCH)
         for tool in ("srun", "scancel", "scontrol"):
-            write_executable(os.path.join(cls.bin, tool), FAKE_TOOL)
-        write_executable(os.path.join(cls.bin, "sinfo"), FAKE_SINFO)
-        write_executable(os.path.join(cls.bin, "jam"), JAM_WRAPPER)
+            write_executable(os.path.join(self.bin, tool), FAKE_TOOL)
+        write_executable(os.path.join(self.bin, "sinfo"), FAKE_SINFO)
+        write_executable(os.path.join(self.bin, "jam"), JAM_WRAPPER)
         # a copy: a rebuild of the build tree meanwhile does not pull it away under the jobs
-        cls.jam = shutil.copy2(ARGS.jam, os.path.join(cls.tmp, "jam-under-test"))
+        self.jam = shutil.copy2(jam, os.path.join(self.tmp, "jam-under-test"))
 
-    @classmethod
-    def tearDownClass(cls):
-        shutil.rmtree(cls.tmp, ignore_errors=True)
-
-    def submitted(self, chain, before):
-        """The sbatch calls since `before` of them, as (work, finish, chain step)."""
-        new = chain.calls("sbatch")[before:]
-        self.assertEqual([script_of(c["argv"]) for c in new][1:],
-                         ["campaign-finish.sbatch", "campaign-chain.sbatch"],
-                         "a round is the work job, the finishing job and the chain step")
-        work, finish, step = new
-        self.assertEqual(option(finish["argv"], "dependency"), f"afterok:{work['job']}")
-        self.assertEqual(option(step["argv"], "dependency"), f"afterany:{work['job']}")
-        self.assertEqual(step["env"]["JAM_SLURM_WORK_JOB"], str(work["job"]))
-        self.assertEqual(step["env"]["JAM_SLURM_FINISH_JOB"], str(finish["job"]))
-        return work, finish, step
-
-    def assert_finishing_job(self, chain, finish):
-        jam_before = len(chain.calls("jam"))
-        rc, log = chain.run_job(finish, {"SLURM_JOB_ID": finish["job"]})
-        self.assertEqual(rc, 0, log)
-        commands = [c["argv"] for c in chain.calls("jam")[jam_before:]]
-        self.assertEqual(commands, [["campaign", "output", chain.file],
-                                    ["campaign", "status", chain.campaign_dir],
-                                    ["stats", chain.campaign_dir],
-                                    ["check", "all", chain.campaign_dir],
-                                    ["report", chain.campaign_dir]], log)
-        self.assertTrue(os.path.exists(os.path.join(chain.campaign_dir, "stats.h5")), log)
-
-    def assert_nothing_more(self, chain, step):
-        sbatch_before, cancel_before = len(chain.calls("sbatch")), len(chain.calls("scancel"))
-        rc, log = chain.run_job(step, {"SLURM_JOB_ID": step["job"]})
-        self.assertEqual(rc, 0, log)
-        self.assertIn("campaign complete", log)
-        self.assertEqual(len(chain.calls("sbatch")), sbatch_before, "submitted more: " + log)
-        self.assertEqual(len(chain.calls("scancel")), cancel_before, log)
+    def close(self):
+        for log in self.logs:
+            log.close()
 
 
-def main(doc):
-    """Parses --jam, --source, --scripts into ARGS and runs the calling module's tests."""
-    global ARGS
-    parser = argparse.ArgumentParser(description=doc.split("\n")[0])
-    parser.add_argument("--jam", required=True, help="the jam executable")
-    parser.add_argument("--source", required=True, help="the source tree")
-    parser.add_argument("--scripts", help="the scripts (default: SOURCE/scripts/slurm)")
-    ARGS, rest = parser.parse_known_args()
-    ARGS.jam = os.path.abspath(ARGS.jam)
-    ARGS.source = os.path.abspath(ARGS.source)
-    ARGS.scripts = os.path.abspath(ARGS.scripts or os.path.join(ARGS.source, "scripts", "slurm"))
-    unittest.main(module="__main__", argv=[sys.argv[0], *rest], verbosity=2)
+def submitted(chain, before):
+    """The sbatch calls since `before` of them, as (work, finish, chain step)."""
+    new = chain.calls("sbatch")[before:]
+    assert [script_of(c["argv"]) for c in new][1:] == \
+        ["campaign-finish.sbatch", "campaign-chain.sbatch"], \
+        "a round is the work job, the finishing job and the chain step"
+    work, finish, step = new
+    assert option(finish["argv"], "dependency") == f"afterok:{work['job']}"
+    assert option(step["argv"], "dependency") == f"afterany:{work['job']}"
+    assert step["env"]["JAM_SLURM_WORK_JOB"] == str(work["job"])
+    assert step["env"]["JAM_SLURM_FINISH_JOB"] == str(finish["job"])
+    return work, finish, step
+
+
+def assert_finishing_job(chain, finish):
+    jam_before = len(chain.calls("jam"))
+    rc, log = chain.run_job(finish, {"SLURM_JOB_ID": finish["job"]})
+    assert rc == 0, log
+    commands = [c["argv"] for c in chain.calls("jam")[jam_before:]]
+    assert commands == [["campaign", "output", chain.file],
+                        ["campaign", "status", chain.campaign_dir],
+                        ["stats", chain.campaign_dir],
+                        ["check", "all", chain.campaign_dir],
+                        ["report", chain.campaign_dir]], log
+    assert os.path.exists(os.path.join(chain.campaign_dir, "stats.h5")), log
+
+
+def assert_nothing_more(chain, step):
+    sbatch_before, cancel_before = len(chain.calls("sbatch")), len(chain.calls("scancel"))
+    rc, log = chain.run_job(step, {"SLURM_JOB_ID": step["job"]})
+    assert rc == 0, log
+    assert "campaign complete" in log
+    assert len(chain.calls("sbatch")) == sbatch_before, "submitted more: " + log
+    assert len(chain.calls("scancel")) == cancel_before, log

@@ -11,23 +11,38 @@ units, integer datasets, a series kept in another file) and on a run file of jam
 sim`); write_frames' file (attributes, shapes, units) and its refusals. The HOOMD-blue import:
 tests/test_jamio_gsd.py.
 
-Usage (ctest runs it): test_jamio_write.py --jam build/jam --source .
-Prints one line per case and a last line `N passed, M failed`; exit status 1 if any failed.
+Usage (ctest runs it): python3 -m pytest tests/test_jamio_write.py --jam build/jam --source .
 """
 
 import os
 import shutil
 import subprocess
-import sys
+import tempfile
 
 import h5py
 import numpy as np
+import pytest
 
-import jamio_write_fixture as fixture
-from jamio_write_fixture import (DIM, N, PHI_INIT, RATE, RATIO, check, good_run, jamio, only,
-                                 refused, series, write)
+from jamio_write_fixture import (DIM, N, PHI_INIT, RATE, RATIO, good_run, jamio, only, refused,
+                                 series, write)
 
-def case_round_trip(work):
+
+@pytest.fixture
+def work(tmp_path):
+    """The test's scratch directory, as a string."""
+    return str(tmp_path)
+
+
+@pytest.fixture
+def short_work():
+    """A scratch directory of a short path: a refusal shortens the long paths it quotes, and
+    some must show the file name at their end (pytest's tmp_path is long)."""
+    work = tempfile.mkdtemp(prefix="jamio-")
+    yield work
+    shutil.rmtree(work, ignore_errors=True)
+
+
+def test_round_trip(work):
     out = os.path.join(work, "run.h5")
     change = dict(dynamics="inertial", q=2.5, diameter_ratio=1.25, contact="hertzian",
                   jamming_packing_fraction=0.8412, source="/data/traj.gsd",
@@ -45,109 +60,115 @@ def case_round_trip(work):
                     native=False)
     for name, value in expected.items():
         got = getattr(run, name)
-        check(got == value and type(got) is type(value), f"{name}: {got!r}, wrote {value!r}")
-    check(returned.path == run.path and returned.sample == 3, "write_run's return value")
+        assert got == value and type(got) is type(value), f"{name}: {got!r}, wrote {value!r}"
+    assert returned.path == run.path and returned.sample == 3, "write_run's return value"
     names = ("packing_fraction", "pressure", "contacts_per_particle", "energy_per_particle",
              "time")
-    check(sorted(run.data) == sorted(names), f"series {sorted(run.data)}")
+    assert sorted(run.data) == sorted(names), f"series {sorted(run.data)}"
     for name in names:
-        check(np.array_equal(run[name], np.asarray(given[name], dtype=np.float64)),
-              f"{name} read back differs")
+        assert np.array_equal(run[name], np.asarray(given[name], dtype=np.float64)), \
+            f"{name} read back differs"
     units = {"packing_fraction": "1", "pressure": "k_e/d_s^D", "contacts_per_particle": "1",
              "energy_per_particle": "k_e", "time": "t0"}
-    check(run.series_units == units, f"units {run.series_units}")
-    check("my-gpu-code" in repr(run) and "\n" not in repr(run), f"repr {repr(run)}")
+    assert run.series_units == units, f"units {run.series_units}"
+    assert "my-gpu-code" in repr(run) and "\n" not in repr(run), f"repr {repr(run)}"
     # The file as h5py sees it: scalar attributes of the stated types, float64 datasets.
     with h5py.File(out, "r") as f:
         for name in expected:
             if name == "native":
                 continue
             a = f.attrs.get_id(name)
-            check(a.shape == (), f"attribute {name} has shape {a.shape}")
-        check(f.attrs["format"] == b"jam-open-run" and f.attrs["units"] == b"jam", "strings")
+            assert a.shape == (), f"attribute {name} has shape {a.shape}"
+        assert f.attrs["format"] == b"jam-open-run" and f.attrs["units"] == b"jam", "strings"
         for name in ("format_version", "dim", "n", "sample"):
-            check(f.attrs[name].dtype == np.int64, f"{name} is {f.attrs[name].dtype}")
+            assert f.attrs[name].dtype == np.int64, f"{name} is {f.attrs[name].dtype}"
         for name in ("diameter_ratio", "q", "compression_rate", "phi_init"):
-            check(f.attrs[name].dtype == np.float64, f"{name} is {f.attrs[name].dtype}")
-        check(sorted(f) == sorted(names), f"datasets {sorted(f)}")
+            assert f.attrs[name].dtype == np.float64, f"{name} is {f.attrs[name].dtype}"
+        assert sorted(f) == sorted(names), f"datasets {sorted(f)}"
         for name in names:
-            check(f[name].dtype == np.float64 and f[name].shape == (6,), f"{name} type, shape")
-            check(f[name].attrs["units"] == units[name].encode(), f"{name} units")
+            assert f[name].dtype == np.float64 and f[name].shape == (6,), f"{name} type, shape"
+            assert f[name].attrs["units"] == units[name].encode(), f"{name} units"
     # An overdamped run without the optional series: q absent, None back.
     minimal = os.path.join(work, "minimal.h5")
     t, phi = series()
     jamio().write_run(minimal, phi, np.zeros(6), dim=3, n=2, rate=RATE, phi_init=PHI_INIT,
                       simulator="x", sample=0)
     run = jamio().validate_run(minimal)
-    check(run.q is None and run.dim == 3 and "time" not in run and run.source is None,
-          f"minimal run {vars(run)}")
+    assert run.q is None and run.dim == 3 and "time" not in run and run.source is None, \
+        f"minimal run {vars(run)}"
     with h5py.File(minimal, "r") as f:
-        check("q" not in f.attrs and "source" not in f.attrs, "absent attributes written")
+        assert "q" not in f.attrs and "source" not in f.attrs, "absent attributes written"
 
 
-def case_write_refused(work):
+# Each malformed input to write_run: (the change to a valid call, words of the refusal).
+T, PHI = series()
+WRITE_REFUSALS = [
+    (dict(dim=4), ("dim 4",)), (dict(dim=2.0), ("dim 2.0", "integer")),
+    (dict(dim=True), ("dim True",)), (dict(n=63), ("n 63", "even")), (dict(n=0), ("n 0",)),
+    (dict(diameter_ratio=2.5), ("write_run: diameter_ratio 2.5 must be in [1, 2]",)),
+    (dict(diameter_ratio=0.9), ("diameter_ratio 0.9",)),
+    (dict(diameter_ratio="1.4"), ("diameter_ratio '1.4'", "number")),
+    (dict(contact="lj"), ("contact 'lj'", "harmonic")),
+    (dict(dynamics="brownian"), ("dynamics 'brownian'",)),
+    (dict(q=2.0), ("q 2.0", "inertial")), (dict(dynamics="inertial"), ("q missing",)),
+    (dict(dynamics="inertial", q=-1.0), ("q -1.0",)),
+    (dict(rate=0.0), ("compression_rate 0.0",)),
+    (dict(rate=float("inf")), ("compression_rate inf",)),
+    (dict(phi_init=1.2), ("phi_init 1.2",)), (dict(phi_init=0), ("phi_init 0",)),
+    (dict(simulator=""), ("simulator ''",)), (dict(simulator=7), ("simulator 7",)),
+    (dict(simulator_version=None), ("simulator_version None",)),
+    (dict(sample=-1), ("sample -1",)), (dict(sample=1.5), ("sample 1.5", "integer")),
+    (dict(sample=None), ("sample missing",)),
+    (dict(jamming_packing_fraction=1.5), ("jamming_packing_fraction 1.5",)),
+    (dict(source_checksum="xyz"), ("source_checksum 'xyz'", "16 hex")),
+    (dict(source=b"bytes"), ("source b'bytes'",)),
+    (dict(packing_fraction=PHI[::-1]), ("packing_fraction[1]", "increase")),
+    (dict(packing_fraction=PHI.reshape(2, 3)), ("packing_fraction", "(2, 3)")),
+    (dict(packing_fraction=np.where(np.arange(6) == 2, 1.5, PHI)),
+     ("packing_fraction[2] = 1.5",)),
+    (dict(packing_fraction=PHI * 0.99), ("packing_fraction[0]", "below phi_init")),
+    (dict(packing_fraction=PHI * (1 + 1e-4)), ("packing_fraction[0]", "rate")),
+    (dict(packing_fraction=["a"] * 6), ("packing_fraction", "numbers")),
+    (dict(pressure=-np.ones(6)), ("pressure[0] = -1.0",)),
+    # A masked array: its raw values behind the mask (here 5.0) must not be written.
+    (dict(pressure=np.ma.masked_array(np.full(6, 5.0), mask=[0, 0, 1, 0, 0, 0])),
+     ("pressure has a masked value", "index 2")),
+    (dict(contacts_per_particle=np.full(6, 1e300)),
+     ("contacts_per_particle[0] = 1e+300", "[0, 64]")),
+    (dict(sample=1 << 62), ("sample 4611686018427387904", "2^53")),
+    (dict(pressure=np.where(np.arange(6) == 4, np.nan, 0.0)), ("pressure[4] = nan",)),
+    (dict(pressure=np.zeros(5)), ("pressure has 5 values", "packing_fraction 6")),
+    (dict(packing_fraction=PHI[:1], pressure=[0.0], time=T[:1],
+          contacts_per_particle=None, energy_per_particle=None), ("at least 2",)),
+    (dict(contacts_per_particle=-np.ones(6)), ("contacts_per_particle[0] = -1.0",)),
+    (dict(energy_per_particle=np.full(6, np.inf)), ("energy_per_particle[0] = inf",)),
+    (dict(time=T * 2), ("packing_fraction[1]", "time", "does not shrink")),
+    (dict(time=T - 1), ("time[0] = -1.0",)),
+    (dict(time=T[::-1], packing_fraction=PHI), ("time",)),
+]
+
+
+@pytest.mark.parametrize("change, words", WRITE_REFUSALS,
+                         ids=[",".join(sorted(c)) for c, _ in WRITE_REFUSALS])
+
+
+def test_write_refused(work, change, words):
     """Each malformed input: refused, naming the field and the value; nothing written."""
-    t, phi = series()
+    refused(lambda: write(os.path.join(work, "run.h5"), **change), "run.h5", *words)
+    only(work)
+
+
+def test_write_keeps_what_is_there(work):
     out = os.path.join(work, "run.h5")
-    cases = [
-        (dict(dim=4), ("dim 4",)), (dict(dim=2.0), ("dim 2.0", "integer")),
-        (dict(dim=True), ("dim True",)), (dict(n=63), ("n 63", "even")), (dict(n=0), ("n 0",)),
-        (dict(diameter_ratio=2.5), ("write_run: diameter_ratio 2.5 must be in [1, 2]",)),
-        (dict(diameter_ratio=0.9), ("diameter_ratio 0.9",)),
-        (dict(diameter_ratio="1.4"), ("diameter_ratio '1.4'", "number")),
-        (dict(contact="lj"), ("contact 'lj'", "harmonic")),
-        (dict(dynamics="brownian"), ("dynamics 'brownian'",)),
-        (dict(q=2.0), ("q 2.0", "inertial")), (dict(dynamics="inertial"), ("q missing",)),
-        (dict(dynamics="inertial", q=-1.0), ("q -1.0",)),
-        (dict(rate=0.0), ("compression_rate 0.0",)),
-        (dict(rate=float("inf")), ("compression_rate inf",)),
-        (dict(phi_init=1.2), ("phi_init 1.2",)), (dict(phi_init=0), ("phi_init 0",)),
-        (dict(simulator=""), ("simulator ''",)), (dict(simulator=7), ("simulator 7",)),
-        (dict(simulator_version=None), ("simulator_version None",)),
-        (dict(sample=-1), ("sample -1",)), (dict(sample=1.5), ("sample 1.5", "integer")),
-        (dict(sample=None), ("sample missing",)),
-        (dict(jamming_packing_fraction=1.5), ("jamming_packing_fraction 1.5",)),
-        (dict(source_checksum="xyz"), ("source_checksum 'xyz'", "16 hex")),
-        (dict(source=b"bytes"), ("source b'bytes'",)),
-        (dict(packing_fraction=phi[::-1]), ("packing_fraction[1]", "increase")),
-        (dict(packing_fraction=phi.reshape(2, 3)), ("packing_fraction", "(2, 3)")),
-        (dict(packing_fraction=np.where(np.arange(6) == 2, 1.5, phi)),
-         ("packing_fraction[2] = 1.5",)),
-        (dict(packing_fraction=phi * 0.99), ("packing_fraction[0]", "below phi_init")),
-        (dict(packing_fraction=phi * (1 + 1e-4)), ("packing_fraction[0]", "rate")),
-        (dict(packing_fraction=["a"] * 6), ("packing_fraction", "numbers")),
-        (dict(pressure=-np.ones(6)), ("pressure[0] = -1.0",)),
-        # A masked array: its raw values behind the mask (here 5.0) must not be written.
-        (dict(pressure=np.ma.masked_array(np.full(6, 5.0), mask=[0, 0, 1, 0, 0, 0])),
-         ("pressure has a masked value", "index 2")),
-        (dict(contacts_per_particle=np.full(6, 1e300)),
-         ("contacts_per_particle[0] = 1e+300", "[0, 64]")),
-        (dict(sample=1 << 62), ("sample 4611686018427387904", "2^53")),
-        (dict(pressure=np.where(np.arange(6) == 4, np.nan, 0.0)), ("pressure[4] = nan",)),
-        (dict(pressure=np.zeros(5)), ("pressure has 5 values", "packing_fraction 6")),
-        (dict(packing_fraction=phi[:1], pressure=[0.0], time=t[:1],
-              contacts_per_particle=None, energy_per_particle=None), ("at least 2",)),
-        (dict(contacts_per_particle=-np.ones(6)), ("contacts_per_particle[0] = -1.0",)),
-        (dict(energy_per_particle=np.full(6, np.inf)), ("energy_per_particle[0] = inf",)),
-        (dict(time=t * 2), ("packing_fraction[1]", "time", "does not shrink")),
-        (dict(time=t - 1), ("time[0] = -1.0",)),
-        (dict(time=t[::-1], packing_fraction=phi), ("time",)),
-    ]
-    for change, words in cases:
-        try:
-            refused(lambda: write(out, **change), "run.h5", *words)
-            only(work)
-        except AssertionError as e:
-            raise AssertionError(f"{change}: {e}") from None
     # A file already there is kept; overwrite=True replaces it.
     with open(out, "wb") as f:
         f.write(b"keep me")
     refused(lambda: write(out), "exists", "overwrite")
     only(work, ["run.h5"])
     with open(out, "rb") as f:
-        check(f.read() == b"keep me", "the existing file was changed")
+        assert f.read() == b"keep me", "the existing file was changed"
     write(out, overwrite=True)
-    check(jamio().validate_run(out).sample == 3, "overwritten run")
+    assert jamio().validate_run(out).sample == 3, "overwritten run"
     only(work, ["run.h5"])
     # A directory, a FIFO (not waited on), a directory that does not exist.
     directory = os.path.join(work, "dir.h5")
@@ -160,15 +181,14 @@ def case_write_refused(work):
     only(work, ["dir.h5", "fifo.h5", "run.h5"])
 
 
-def case_write_fails_midway(work):
+def test_write_fails_midway(work, monkeypatch):
     """A failure after the partial file was written (the check before the rename) leaves
     nothing, also when interrupted; a file that appears under the name meanwhile is kept."""
-    module = sys.modules["jamio.write"]
-    saved = module.validate_run
+    module = jamio().write
     out = os.path.join(work, "run.h5")
 
     def disk_full(path):
-        check(os.path.exists(path) and path.endswith(".partial"), f"checked {path}")
+        assert os.path.exists(path) and path.endswith(".partial"), f"checked {path}"
         raise OSError(28, "No space left on device")
 
     def interrupt(path):
@@ -178,27 +198,21 @@ def case_write_fails_midway(work):
         with open(out, "wb") as f:
             f.write(b"the other writer's")
 
-    try:
-        module.validate_run = disk_full
-        refused(lambda: write(out), "run.h5", "cannot be written", "no space left")
-        only(work)
-        module.validate_run = interrupt
-        try:
-            write(out)
-            raise AssertionError("the interrupt was swallowed")
-        except KeyboardInterrupt:
-            pass
-        only(work)
-        module.validate_run = another_writer
-        refused(lambda: write(out), "run.h5", "exists")
-        only(work, ["run.h5"])
-        with open(out, "rb") as f:
-            check(f.read() == b"the other writer's", "a file that appeared was overwritten")
-    finally:
-        module.validate_run = saved
+    monkeypatch.setattr(module, "validate_run", disk_full)
+    refused(lambda: write(out), "run.h5", "cannot be written", "no space left")
+    only(work)
+    monkeypatch.setattr(module, "validate_run", interrupt)
+    with pytest.raises(KeyboardInterrupt):  # not swallowed
+        write(out)
+    only(work)
+    monkeypatch.setattr(module, "validate_run", another_writer)
+    refused(lambda: write(out), "run.h5", "exists")
+    only(work, ["run.h5"])
+    with open(out, "rb") as f:
+        assert f.read() == b"the other writer's", "a file that appeared was overwritten"
 
 
-def case_temporary_name_taken(work):
+def test_temporary_name_taken(work, monkeypatch):
     """The temporary name `<path>.<pid>.partial` already taken, by a symbolic link to another
     file or by a file another writer is writing: neither is opened, written or removed (the
     link's target was truncated, and the name unlinked after the write); the run is written
@@ -211,28 +225,23 @@ def case_temporary_name_taken(work):
     os.symlink(victim, taken)
     write(out)
     only(work, ["run.h5", os.path.basename(taken), "victim.txt"])
-    check(os.path.islink(taken) and os.readlink(taken) == victim, "the link was removed")
+    assert os.path.islink(taken) and os.readlink(taken) == victim, "the link was removed"
     with open(victim, "rb") as f:
-        check(f.read() == b"not jamio's", "the link's target was written")
-    check(jamio().validate_run(out).sample == 3, "the run written")
+        assert f.read() == b"not jamio's", "the link's target was written"
+    assert jamio().validate_run(out).sample == 3, "the run written"
     os.unlink(taken)
     os.unlink(out)
     with open(taken, "wb") as f:
         f.write(b"the other writer's")
-    module = sys.modules["jamio.write"]
-    saved = module.validate_run
 
     def disk_full(path):
-        check(path != taken, "checked the other writer's file")
+        assert path != taken, "checked the other writer's file"
         raise OSError(28, "No space left on device")
-    try:
-        module.validate_run = disk_full
-        refused(lambda: write(out), "run.h5", "no space left")
-    finally:
-        module.validate_run = saved
+    monkeypatch.setattr(jamio().write, "validate_run", disk_full)
+    refused(lambda: write(out), "run.h5", "no space left")
     only(work, [os.path.basename(taken), "victim.txt"])
     with open(taken, "rb") as f:
-        check(f.read() == b"the other writer's", "the other writer's file was changed")
+        assert f.read() == b"the other writer's", "the other writer's file was changed"
 
 
 def malformed_copy(work, name, change):
@@ -298,57 +307,63 @@ def outside(work, how):
     return change
 
 
-def case_validate_malformed(work):
-    t, phi = series()
-    rows = np.vstack([phi[:3], phi[3:]])
-    cases = [
-        ("phi_2d.h5", replace("packing_fraction", rows), ("packing_fraction", "(2, 3)")),
-        # Shape before value: 10^12 x 10^12 declared, refused without reading (8 TB otherwise).
-        ("phi_huge_2d.h5", huge("packing_fraction", (10 ** 6, 10 ** 6)),
-         ("packing_fraction", "(1000000, 1000000)")),
-        ("phi_huge.h5", huge("pressure", (10 ** 11,)), ("pressure", "100000000000")),
-        ("dim_array.h5", set_attribute("dim", np.array([2, 2])), ("'dim'", "array")),
-        ("dim_one_element.h5", set_attribute("dim", np.array([2])), ("'dim'", "array")),
-        ("dim_float.h5", set_attribute("dim", 2.0), ("dim 2.0", "integer")),
-        ("phi_decreasing.h5", replace("packing_fraction", phi[::-1]),
-         ("packing_fraction[1]", "increase")),
-        ("phi_off_rate.h5", set_attribute("compression_rate", 2 * RATE),
-         ("packing_fraction[1]", "does not shrink", "compression_rate 0.02")),
-        ("no_ratio.h5", delete_attribute("diameter_ratio"), ("'diameter_ratio' missing",)),
-        ("no_sample.h5", delete_attribute("sample"), ("'sample' missing",)),
-        ("pressure_units.h5", replace("pressure", np.zeros(6), units=b"k_e"),
-         ("pressure", "units 'k_e'", "k_e/d_s^D")),
-        ("root_units.h5", set_attribute("units", b"lj"), ("units 'lj'", "'jam'")),
-        ("format.h5", set_attribute("format", b"other"), ("format 'other'",)),
-        ("format_version.h5", set_attribute("format_version", 2), ("format_version 2",)),
-        ("no_format.h5", delete_attribute("format"), ("'format' missing", "checksum")),
-        ("protocol.h5", set_attribute("protocol", b"shear"), ("protocol 'shear'",)),
-        ("no_pressure.h5", lambda f: f.__delitem__("pressure"), ("'pressure' missing",)),
-        ("pressure_int.h5", replace("pressure", np.zeros(6, dtype=np.int64)),
-         ("pressure", "integer", "floating point")),
-        ("pressure_short.h5", replace("pressure", np.zeros(5)), ("pressure has 5 values",)),
-        ("pressure_group.h5", lambda f: (f.__delitem__("pressure"), f.create_group("pressure")),
-         ("'pressure' is not a dataset",)),
-        ("q_overdamped.h5", set_attribute("q", 3.0), ("q 3.0", "inertial")),
-        ("time_negative.h5", replace("time", t - 1), ("time[0] = -1.0",)),
-        ("z_negative.h5", replace("contacts_per_particle", -np.ones(6)),
-         ("contacts_per_particle[0] = -1.0",)),
-        ("simulator_empty.h5", set_attribute("simulator", b""), ("simulator ''",)),
-        ("sample_bool.h5", set_attribute("sample", np.True_), ("sample True",)),
-        # Followed, these were read from good.h5 (and a FIFO there blocked for ever).
-        ("external_link.h5", outside(work, "external link"),
-         ("'/pressure' is an external link", "good.h5", "not followed")),
-        ("soft_link_out.h5", outside(work, "soft link"),
-         ("'/elsewhere' is an external link", "not followed")),
-        ("external_storage.h5", outside(work, "external storage"),
-         ("dataset '/pressure'", "another file", "not read")),
-    ]
-    for name, change, words in cases:
-        path = malformed_copy(work, name, change)
-        try:
-            refused(lambda: jamio().validate_run(path), path, *words)
-        except AssertionError as e:
-            raise AssertionError(f"{name}: {e}") from None
+# Hand-made malformed files: (name, the change to a valid run, words of the refusal); a string
+# for the change is outside()'s `how`.
+MALFORMED = [
+    ("phi_2d.h5", replace("packing_fraction", np.vstack([PHI[:3], PHI[3:]])),
+     ("packing_fraction", "(2, 3)")),
+    # Shape before value: 10^12 x 10^12 declared, refused without reading (8 TB otherwise).
+    ("phi_huge_2d.h5", huge("packing_fraction", (10 ** 6, 10 ** 6)),
+     ("packing_fraction", "(1000000, 1000000)")),
+    ("phi_huge.h5", huge("pressure", (10 ** 11,)), ("pressure", "100000000000")),
+    ("dim_array.h5", set_attribute("dim", np.array([2, 2])), ("'dim'", "array")),
+    ("dim_one_element.h5", set_attribute("dim", np.array([2])), ("'dim'", "array")),
+    ("dim_float.h5", set_attribute("dim", 2.0), ("dim 2.0", "integer")),
+    ("phi_decreasing.h5", replace("packing_fraction", PHI[::-1]),
+     ("packing_fraction[1]", "increase")),
+    ("phi_off_rate.h5", set_attribute("compression_rate", 2 * RATE),
+     ("packing_fraction[1]", "does not shrink", "compression_rate 0.02")),
+    ("no_ratio.h5", delete_attribute("diameter_ratio"), ("'diameter_ratio' missing",)),
+    ("no_sample.h5", delete_attribute("sample"), ("'sample' missing",)),
+    ("pressure_units.h5", replace("pressure", np.zeros(6), units=b"k_e"),
+     ("pressure", "units 'k_e'", "k_e/d_s^D")),
+    ("root_units.h5", set_attribute("units", b"lj"), ("units 'lj'", "'jam'")),
+    ("format.h5", set_attribute("format", b"other"), ("format 'other'",)),
+    ("format_version.h5", set_attribute("format_version", 2), ("format_version 2",)),
+    ("no_format.h5", delete_attribute("format"), ("'format' missing", "checksum")),
+    ("protocol.h5", set_attribute("protocol", b"shear"), ("protocol 'shear'",)),
+    ("no_pressure.h5", lambda f: f.__delitem__("pressure"), ("'pressure' missing",)),
+    ("pressure_int.h5", replace("pressure", np.zeros(6, dtype=np.int64)),
+     ("pressure", "integer", "floating point")),
+    ("pressure_short.h5", replace("pressure", np.zeros(5)), ("pressure has 5 values",)),
+    ("pressure_group.h5", lambda f: (f.__delitem__("pressure"), f.create_group("pressure")),
+     ("'pressure' is not a dataset",)),
+    ("q_overdamped.h5", set_attribute("q", 3.0), ("q 3.0", "inertial")),
+    ("time_negative.h5", replace("time", T - 1), ("time[0] = -1.0",)),
+    ("z_negative.h5", replace("contacts_per_particle", -np.ones(6)),
+     ("contacts_per_particle[0] = -1.0",)),
+    ("simulator_empty.h5", set_attribute("simulator", b""), ("simulator ''",)),
+    ("sample_bool.h5", set_attribute("sample", np.True_), ("sample True",)),
+    # Followed, these were read from good.h5 (and a FIFO there blocked for ever): outside().
+    ("external_link.h5", "external link",
+     ("'/pressure' is an external link", "good.h5", "not followed")),
+    ("soft_link_out.h5", "soft link",
+     ("'/elsewhere' is an external link", "not followed")),
+    ("external_storage.h5", "external storage",
+     ("dataset '/pressure'", "another file", "not read")),
+]
+
+
+@pytest.mark.parametrize("name, change, words", MALFORMED, ids=[m[0] for m in MALFORMED])
+def test_validate_malformed(short_work, name, change, words):
+    if isinstance(change, str):
+        change = outside(short_work, change)
+    path = malformed_copy(short_work, name, change)
+    refused(lambda: jamio().validate_run(path), path, *words)
+
+
+def test_validate_refuses_what_is_not_a_run(work):
+    write(os.path.join(work, "good.h5"))
     not_hdf5 = os.path.join(work, "text.h5")
     with open(not_hdf5, "w") as f:
         f.write("not HDF5\n")
@@ -358,27 +373,27 @@ def case_validate_malformed(work):
         jamio().validate_run(os.path.join(work, "absent.h5"))
     except jamio().JamioError as error:
         e = error
-    check(e is not None and e.missing, "a missing file is not JamioError(missing=True)")
+    assert e is not None and e.missing, "a missing file is not JamioError(missing=True)"
     refused(lambda: jamio().validate_run(work), "is a directory")
     # The file as written passes.
-    check(jamio().validate_run(os.path.join(work, "good.h5")).points == 6, "good.h5")
+    assert jamio().validate_run(os.path.join(work, "good.h5")).points == 6, "good.h5"
 
 
-def case_jam_native(work):
+def test_jam_native(jam, work):
     """A run file of jam's own (`jam sim`): recognised by its checksum, simulator "jam"."""
     out = os.path.join(work, "jam.h5")
-    subprocess.run([fixture.ARGS.jam, "sim", "--n", "64", "--phi-init", "0.7", "--phi-stop", "0.72",
-                    "--rate", "1e-2", "--phi-step", "0.005", "--quiet", "--out", out],
+    subprocess.run([jam, "sim", "--n", "64", "--phi-init", "0.7", "--phi-stop", "0.72", "--rate",
+                    "1e-2", "--phi-step", "0.005", "--quiet", "--out", out],
                    check=True, capture_output=True, timeout=600)
     run = jamio().validate_run(out)
     with h5py.File(out, "r") as f:
         version = f.attrs["version"].decode()
-        check(np.array_equal(run["pressure"], f["pressure"][()]), "pressure")
-        check(run.phi_init == float(f.attrs["phi_init"]), "phi_init")
-    check(run.native and run.simulator == "jam" and run.simulator_version == version,
-          f"native {run.native}, simulator {run.simulator} {run.simulator_version}")
-    check(run.q is None and run.sample is None and run.format is None and run.dim == 2
-          and run.n == 64 and run.contact == "harmonic", f"attributes {vars(run)}")
+        assert np.array_equal(run["pressure"], f["pressure"][()]), "pressure"
+        assert run.phi_init == float(f.attrs["phi_init"]), "phi_init"
+    assert run.native and run.simulator == "jam" and run.simulator_version == version, \
+        f"native {run.native}, simulator {run.simulator} {run.simulator_version}"
+    assert (run.q is None and run.sample is None and run.format is None and run.dim == 2
+            and run.n == 64 and run.contact == "harmonic"), f"attributes {vars(run)}"
     # Its checks apply: a rate it did not run at is refused.
     bad = os.path.join(work, "jam_rate.h5")
     shutil.copy(out, bad)
@@ -388,6 +403,7 @@ def case_jam_native(work):
 
 
 # ---- write_frames --------------------------------------------------------------------------------
+
 
 def frames_input(m=4, n=8, dim=2, phi_init=0.5, rate=RATE):
     t = np.arange(m) * 0.5
@@ -401,7 +417,7 @@ def frames_input(m=4, n=8, dim=2, phi_init=0.5, rate=RATE):
                 time=t, source="/data/traj.gsd")
 
 
-def case_write_frames(work):
+def test_write_frames(work):
     path = os.path.join(work, "frames.h5")
     kw = frames_input()
     jamio().write_frames(path, **kw)
@@ -413,19 +429,34 @@ def case_write_frames(work):
                         protocol=b"isotropic-compression", compression_rate=RATE, phi_init=0.5,
                         simulator=b"hoomd-blue", simulator_version=b"4.2", sample=1, units=b"jam",
                         source=b"/data/traj.gsd")
-        check(a == expected, f"attributes {a}")
+        assert a == expected, f"attributes {a}"
         shapes = {k: f[k].shape for k in f}
-        check(shapes == {"box_length": (4,), "positions": (4, 8, 2), "diameters": (8,),
-                         "time": (4,)}, f"datasets {shapes}")
+        assert shapes == {"box_length": (4,), "positions": (4, 8, 2), "diameters": (8,),
+                          "time": (4,)}, f"datasets {shapes}"
         for k in f:
-            check(f[k].dtype == np.float64, f"{k} is {f[k].dtype}")
-            check(np.array_equal(f[k][()], kw[k]), f"{k} differs from what was given")
-        check({k: f[k].attrs["units"] for k in f} == {"box_length": b"d_s", "positions": b"d_s",
-                                                     "diameters": b"d_s", "time": b"t0"},
-              "units")
+            assert f[k].dtype == np.float64, f"{k} is {f[k].dtype}"
+            assert np.array_equal(f[k][()], kw[k]), f"{k} differs from what was given"
+        units = {k: f[k].attrs["units"] for k in f}
+        assert units == {"box_length": b"d_s", "positions": b"d_s", "diameters": b"d_s",
+                         "time": b"t0"}, "units"
+    refused(lambda: jamio().write_frames(path, **kw), "exists")
+    # Without time the rate is not checked (there is nothing to check it against).
     out = os.path.join(work, "bad.h5")
+    no_time = dict(kw, time=None, box_length=kw["box_length"] * np.exp(-np.arange(4) * 1e-3))
+    jamio().write_frames(out, **no_time)
+    with h5py.File(out, "r") as f:
+        assert "time" not in f, "time written though not given"
+
+
+# ---- GSD import ----------------------------------------------------------------------------------
+
+
+def frames_refusals():
+    """Each malformed input to write_frames: (the change to frames_input(), words of the
+    refusal). A function: frames_input needs jamio, imported once pytest has read --source."""
+    kw = frames_input()
     x, box, t = kw["positions"], kw["box_length"], kw["time"]
-    cases = [
+    return [
         (dict(diameters=np.ones(8)), ("diameters hold 8 of 1 and 0 of 1.4", "4 of each")),
         (dict(diameters=np.full(8, 1.2)), ("diameters[0] = 1.2",)),
         (dict(diameters=np.ones(7)), ("diameters has shape (7,)",)),
@@ -434,8 +465,7 @@ def case_write_frames(work):
         (dict(positions=np.where(np.arange(8)[None, :, None] == 5, np.nan, x)),
          ("positions[0, 5]", "finite")),
         (dict(box_length=box * 1.001), ("packing fraction from box_length[0]", "phi_init")),
-        (dict(box_length=box[[0, 0, 1, 2]]), ("packing fraction from box_length[1]",
-                                              "increase")),
+        (dict(box_length=box[[0, 0, 1, 2]]), ("packing fraction from box_length[1]", "increase")),
         (dict(box_length=box * np.exp(-np.arange(4) * 1e-3)), ("does not shrink",)),
         (dict(box_length=-box), ("box_length[0]",)),
         (dict(time=t[:3]), ("time has 3 values", "box_length 4")),
@@ -443,26 +473,16 @@ def case_write_frames(work):
         (dict(n=10), ("positions has shape (4, 8, 2)", "(4, 10, 2)")),
         (dict(diameter_ratio=3.0), ("diameter_ratio 3.0",)),
     ]
-    for change, words in cases:
-        try:
-            refused(lambda: jamio().write_frames(out, **dict(kw, **change)), "write_frames",
-                    "bad.h5", *words)
-            only(work, ["frames.h5"])
-        except AssertionError as e:
-            raise AssertionError(f"{sorted(change)}: {e}") from None
-    refused(lambda: jamio().write_frames(path, **kw), "exists")
-    # Without time the rate is not checked (there is nothing to check it against).
-    no_time = dict(kw, time=None, box_length=box * np.exp(-np.arange(4) * 1e-3))
-    jamio().write_frames(out, **no_time)
-    with h5py.File(out, "r") as f:
-        check("time" not in f, "time written though not given")
 
 
-# ---- GSD import ----------------------------------------------------------------------------------
-
-
-CASES = [case_round_trip, case_write_refused, case_write_fails_midway, case_temporary_name_taken,
-         case_validate_malformed, case_jam_native, case_write_frames]
-
-if __name__ == "__main__":
-    sys.exit(fixture.run(CASES, __doc__.split("\n")[1], "test_jamio_write."))
+@pytest.mark.parametrize("k", range(14))
+def test_write_frames_refused(work, k):
+    """Refused, naming the field and the value; nothing written."""
+    cases = frames_refusals()
+    assert len(cases) == 14
+    change, words = cases[k]
+    jamio().write_frames(os.path.join(work, "frames.h5"), **frames_input())
+    out = os.path.join(work, "bad.h5")
+    refused(lambda: jamio().write_frames(out, **dict(frames_input(), **change)), "write_frames",
+            "bad.h5", *words)
+    only(work, ["frames.h5"])

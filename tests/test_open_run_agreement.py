@@ -10,20 +10,20 @@ each must give the expected answer (accept or refuse), and they must agree. Both
 limits from reference/schema/open_run.toml (written by `jam schema open-run`); the last case
 checks that jamio's limits are that file's.
 
-Usage (ctest runs it): test_open_run_agreement.py --jam build/jam --source .
+Usage (ctest runs it): python3 -m pytest tests/test_open_run_agreement.py --jam build/jam --source .
 """
 
-import argparse
+import tomllib
 import os
 import subprocess
-import sys
-import tempfile
-import unittest
 
 import h5py
 import numpy as np
+import pytest
 
-ARGS = None
+import jamio
+from jamio import open_run
+
 M = 40
 PHI_INIT, RATE, DIM, N = 0.80, 1e-4, 2, 64
 
@@ -154,9 +154,9 @@ def write_cases(directory):
     return paths
 
 
-def jam_answers(paths):
+def jam_answers(jam, paths):
     """name -> (accepted, line) from one `jam validate` over every file."""
-    r = subprocess.run([ARGS.jam, "validate", *paths.values()], capture_output=True, text=True,
+    r = subprocess.run([jam, "validate", *paths.values()], capture_output=True, text=True,
                        timeout=120)
     lines = {}
     for line in r.stdout.splitlines():
@@ -172,8 +172,6 @@ def jam_answers(paths):
 
 
 def jamio_answers(paths):
-    sys.path.insert(0, os.path.join(ARGS.source, "python"))
-    import jamio
     out = {}
     for name, path in paths.items():
         try:
@@ -184,53 +182,39 @@ def jamio_answers(paths):
     return out
 
 
-class Agreement(unittest.TestCase):
-    def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = self.tmp.name
-
-    def tearDown(self):
-        self.tmp.cleanup()
-
-    def test_both_validators_give_the_expected_answer(self):
-        paths = write_cases(self.dir)
-        jam, py = jam_answers(paths), jamio_answers(paths)
-        for name, (_, accepted) in CASES.items():
-            with self.subTest(case=name):
-                self.assertEqual(jam[name][0], accepted, f"jam: {jam[name][1]}")
-                self.assertEqual(py[name][0], accepted, f"jamio: {py[name][1]}")
-
-    def test_refusals_name_the_field(self):
-        paths = write_cases(self.dir)
-        jam, py = jam_answers(paths), jamio_answers(paths)
-        fields = {"phi_J inf": "jamming_packing_fraction", "q with overdamped": "q",
-                  "integer pressure": "pressure", "NUL inside source": "source",
-                  "n 2^62": "n", "sample 2^62": "sample", "Z 1e300": "contacts_per_particle",
-                  "n 2^63+2 unsigned": "9223372036854775810"}
-        for name, word in fields.items():
-            with self.subTest(case=name):
-                self.assertIn(word, jam[name][1])
-                self.assertIn(word, py[name][1])
-                self.assertEqual(len(jam[name][1].splitlines()), 1)
-
-    def test_the_limits_come_from_the_shared_table(self):
-        import tomllib
-        table = os.path.join(ARGS.source, "reference", "schema", "open_run.toml")
-        with open(table, "rb") as f:
-            limits = tomllib.load(f)["limits"]
-        # The Z bound the cases above straddle is the table's, not a number of this test's.
-        self.assertEqual(limits["max_contacts_per_particle"]["value"], 64.0)
-        sys.path.insert(0, os.path.join(ARGS.source, "python"))
-        from jamio import open_run
-        self.assertEqual(open_run.MAX_CONTACTS, limits["max_contacts_per_particle"]["value"])
-        self.assertEqual(open_run.MAX_WHOLE, 1 << 53)
-        self.assertEqual(open_run.RATE_TOLERANCE, limits["rate_tolerance"]["value"])
+@pytest.fixture(scope="module")
+def answers(jam, tmp_path_factory):
+    """(jam's, jamio's) answers for every case, each validator run once over all the files."""
+    paths = write_cases(tmp_path_factory.mktemp("cases"))
+    return jam_answers(jam, paths), jamio_answers(paths)
 
 
-if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--jam", required=True)
-    parser.add_argument("--source", default=os.path.dirname(os.path.dirname(
-        os.path.abspath(__file__))))
-    ARGS, rest = parser.parse_known_args()
-    unittest.main(argv=[sys.argv[0], *rest])
+@pytest.mark.parametrize("name", CASES)
+def test_both_validators_give_the_expected_answer(answers, name):
+    jam, py = answers
+    accepted = CASES[name][1]
+    assert jam[name][0] == accepted, f"jam: {jam[name][1]}"
+    assert py[name][0] == accepted, f"jamio: {py[name][1]}"
+
+
+@pytest.mark.parametrize("name, word", [
+    ("phi_J inf", "jamming_packing_fraction"), ("q with overdamped", "q"),
+    ("integer pressure", "pressure"), ("NUL inside source", "source"), ("n 2^62", "n"),
+    ("sample 2^62", "sample"), ("Z 1e300", "contacts_per_particle"),
+    ("n 2^63+2 unsigned", "9223372036854775810"),
+])
+def test_refusals_name_the_field(answers, name, word):
+    jam, py = answers
+    assert word in jam[name][1]
+    assert word in py[name][1]
+    assert len(jam[name][1].splitlines()) == 1
+
+
+def test_the_limits_come_from_the_shared_table(source):
+    with open(source / "reference" / "schema" / "open_run.toml", "rb") as f:
+        limits = tomllib.load(f)["limits"]
+    # The Z bound the cases above straddle is the table's, not a number of this test's.
+    assert limits["max_contacts_per_particle"]["value"] == 64.0
+    assert open_run.MAX_CONTACTS == limits["max_contacts_per_particle"]["value"]
+    assert open_run.MAX_WHOLE == 1 << 53
+    assert open_run.RATE_TOLERANCE == limits["rate_tolerance"]["value"]

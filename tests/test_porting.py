@@ -15,22 +15,19 @@
     import` take.
 Without lmp the LAMMPS cases are skipped, saying so.
 
-Usage (ctest runs it): test_porting.py --jam build/jam --source .
+Usage (ctest runs it): python3 -m pytest tests/test_porting.py --jam build/jam --source .
 """
 
-import argparse
 import math
 import os
 import shutil
 import subprocess
 import sys
-import tempfile
-import unittest
 
 import h5py
 import numpy as np
+import pytest
 
-ARGS = None
 LMP = shutil.which("lmp")
 
 # The columns docs/porting.md and the template's header name for `jam import lammps`.
@@ -49,6 +46,7 @@ TOLERANCE = 0.01
 JUDGED = (0.802, 0.858)
 SEED = 7
 
+
 def run(argv, cwd, expect=0, timeout=300):
     r = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, timeout=timeout)
     if expect is not None:
@@ -56,131 +54,120 @@ def run(argv, cwd, expect=0, timeout=300):
     return r
 
 
-class Base(unittest.TestCase):
-    def setUp(self):
-        self.dir = tempfile.mkdtemp(prefix="jam-porting-")
-        self.addCleanup(shutil.rmtree, self.dir, ignore_errors=True)
-
-    def reference(self, *names):
-        for name in names:
-            shutil.copy(os.path.join(ARGS.source, "reference", "lammps", name), self.dir)
+needs_lmp = pytest.mark.skipif(not LMP, reason="lmp is not installed (Debian: apt-get install "
+                                             "lammps): skipped")
 
 
-@unittest.skipUnless(LMP, "lmp is not installed (Debian: apt-get install lammps): skipped")
-class Template(Base):
-    def compress(self, name, text):
-        """Runs the template text as `name` and jam from its start; returns Delta p/p on the
-        judged grid and the path of the open run imported from the LAMMPS log."""
-        with open(os.path.join(self.dir, name + ".in"), "w") as f:
-            f.write(text)
-        lmp = run([LMP, "-in", name + ".in", "-var", "n", "64", "-var", "seed", str(SEED),
-                   "-var", "name", name, "-screen", "none", "-nocite", "-log", name + ".relax"],
-                  self.dir)
-        self.assertEqual(lmp.stderr, "")
-        jam = ARGS.jam
-        run([jam, "import", "lammps", name + ".log", "--out", name + ".h5", "--diameter-ratio",
-             "1.4", "--sample", str(SEED), *IMPORT_COLUMNS], self.dir)
-        # jam from the very start LAMMPS compressed, overdamped, at the same rate.
-        run([jam, "sim", "--read-lammps-data", name + ".start.data", "--relax", "0", "--rate",
-             "1e-3", "--phi-stop", "0.86", "--phi-step", "0.001", "--out", name + "-jam.h5"],
-            self.dir)
-        with h5py.File(os.path.join(self.dir, name + ".h5")) as f:
-            phi_l, p_l = f["packing_fraction"][:], f["pressure"][:]
-        with h5py.File(os.path.join(self.dir, name + "-jam.h5")) as f:
-            phi_j, p_j = f["packing_fraction"][:], f["pressure"][:]
-        grid = np.arange(JUDGED[0], JUDGED[1] + 1e-9, 0.002)
-        a, b = np.interp(grid, phi_j, p_j), np.interp(grid, phi_l, p_l)
-        self.assertTrue(np.all(a > 0) and np.all(b > 0))
-        delta = 2 * (a - b) / (a + b)
-        worst = int(np.argmax(np.abs(delta)))
-        print(f"{name}: largest |Delta p/p| {abs(delta[worst]):.2e} at phi {grid[worst]:.3f}",
-              file=sys.stderr)
-        return delta, grid[worst]
-
-    def test_template_agrees_with_jam(self):
-        self.reference("template_compress.in", "template_contact.table")
-        with open(os.path.join(self.dir, "template_compress.in")) as f:
-            text = f.read()
-        delta, where = self.compress("run", text)
-        self.assertLess(np.max(np.abs(delta)), TOLERANCE, f"at phi {where:.3f}")
-        jam = ARGS.jam
-        ok = run([jam, "validate", "run.h5"], self.dir)
-        self.assertIn("run.h5: ok: lammps", ok.stdout)
-        with h5py.File(os.path.join(self.dir, "run.h5")) as f:
-            self.assertIn(f.attrs["dynamics"], (b"overdamped", "overdamped"))
-            self.assertAlmostEqual(float(f.attrs["phi_init"]), 0.80, places=9)
-        run([jam, "campaign", "import", "runs/mine", "run.h5"], self.dir)
-        run([jam, "campaign", "status", "runs/mine"], self.dir)
-
-        # The same input with uniform drag is another model, and the tolerance sees it.
-        drag = "fix             drag all viscous ${gamma_s} scale 2 ${drag_ratio}\n"
-        self.assertIn(drag, text)
-        uniform = text.replace(drag, "fix             drag all viscous ${gamma_s}\n")
-        delta, where = self.compress("uniform", uniform)
-        self.assertGreater(np.max(np.abs(delta)), TOLERANCE)
-
-    def test_table_edge(self):
-        self.reference("template_contact.table")
-        # A table as one would write it: inner radius 1e-4 d, to d, nothing else considered.
-        with open(os.path.join(self.dir, "naive.table"), "w") as out:
-            for name, d in (("SS", 1.0), ("SB", 1.2), ("BB", 1.4)):
-                lo = 1e-4 * d
-                out.write(f"\n{name}\nN 201 R {lo!r} {d!r}\n\n")
-                for k in range(201):
-                    r = lo + (d - lo) * k / 200 if k < 200 else d
-                    out.write(f"{k + 1} {r!r} {0.5 * (1 - r / d) ** 2!r} {(1 - r / d) / d!r}\n")
-        # The largest distance below 1.4 (rsq the largest double below 1.4^2): a contact relaxed
-        # to r -> d from inside. dx, dy found so that dx^2 + dy^2 is exactly that double.
-        target = math.nextafter(1.4 * 1.4, 0.0)
-        dx, dy = next((x, k * 1e-9) for k in range(1, 10 ** 6)
-                      for x in [math.sqrt(target - (k * 1e-9) ** 2)]
-                      if x * x + (k * 1e-9) ** 2 == target)
-        with open(os.path.join(self.dir, "edge.in"), "w") as f:
-            f.write("units lj\ndimension 2\nboundary p p p\natom_style atomic\n"
-                    "region box block -5 5 -5 5 -0.5 0.5\ncreate_box 2 box\n"
-                    "create_atoms 2 single 0.0 0.0 0.0\n"
-                    f"create_atoms 2 single {dx!r} {dy!r} 0.0\nmass * 1.0\n"
-                    "pair_style table linear 100000\n"
-                    "pair_coeff 1 1 ${table} SS 1.0\npair_coeff 1 2 ${table} SB 1.2\n"
-                    "pair_coeff 2 2 ${table} BB 1.4\nrun 0\n")
-        for table, fails in (("naive.table", True), ("template_contact.table", False)):
-            r = run([LMP, "-in", "edge.in", "-var", "table", table, "-screen", "none", "-log",
-                     table + ".log"], self.dir, expect=None)
-            with open(os.path.join(self.dir, table + ".log")) as f:
-                log = f.read()
-            if fails:
-                self.assertNotEqual(r.returncode, 0, table)
-                self.assertIn("ERROR on proc 0: Pair distance > table outer cutoff: ijtype 2 2 "
-                              "dist 1.4", log)
-            else:
-                self.assertEqual(r.returncode, 0, table + "\n" + log)
-                self.assertNotIn("ERROR", log)
+@pytest.fixture
+def work(tmp_path):
+    """The test's scratch directory, as a string."""
+    return str(tmp_path)
 
 
-class JamioExample(Base):
-    def test_example_writes_a_valid_open_run(self):
-        script = os.path.join(ARGS.source, "python", "examples", "write_open_run.py")
-        out = run(["/usr/bin/python3", script, "--out", "run.h5", "--n", "32", "--seed", "3"],
-                  self.dir)
-        self.assertIn("sample 3", out.stdout)
-        ok = run([ARGS.jam, "validate", "run.h5"], self.dir)
-        self.assertIn("run.h5: ok: write_open_run.py example", ok.stdout)
-        run([ARGS.jam, "campaign", "import", "runs/mine", "run.h5"], self.dir)
-        # jamio refuses to write over it: nothing computed is lost
-        again = run(["/usr/bin/python3", script, "--out", "run.h5"], self.dir, expect=1)
-        self.assertIn("run.h5", again.stderr)
+def reference(source, work, *names):
+    for name in names:
+        shutil.copy(source / "reference" / "lammps" / name, work)
 
 
-def main():
-    global ARGS
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--jam", required=True)
-    parser.add_argument("--source", required=True)
-    ARGS, rest = parser.parse_known_args()
-    ARGS.jam = os.path.abspath(ARGS.jam)
-    ARGS.source = os.path.abspath(ARGS.source)
-    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)
+def compress(jam, work, name, text):
+    """Runs the template text as `name` and jam from its start; returns Delta p/p on the
+    judged grid and the path of the open run imported from the LAMMPS log."""
+    with open(os.path.join(work, name + ".in"), "w") as f:
+        f.write(text)
+    lmp = run([LMP, "-in", name + ".in", "-var", "n", "64", "-var", "seed", str(SEED),
+               "-var", "name", name, "-screen", "none", "-nocite", "-log", name + ".relax"],
+              work)
+    assert lmp.stderr == ""
+    run([jam, "import", "lammps", name + ".log", "--out", name + ".h5", "--diameter-ratio",
+         "1.4", "--sample", str(SEED), *IMPORT_COLUMNS], work)
+    # jam from the very start LAMMPS compressed, overdamped, at the same rate.
+    run([jam, "sim", "--read-lammps-data", name + ".start.data", "--relax", "0", "--rate",
+         "1e-3", "--phi-stop", "0.86", "--phi-step", "0.001", "--out", name + "-jam.h5"],
+        work)
+    with h5py.File(os.path.join(work, name + ".h5")) as f:
+        phi_l, p_l = f["packing_fraction"][:], f["pressure"][:]
+    with h5py.File(os.path.join(work, name + "-jam.h5")) as f:
+        phi_j, p_j = f["packing_fraction"][:], f["pressure"][:]
+    grid = np.arange(JUDGED[0], JUDGED[1] + 1e-9, 0.002)
+    a, b = np.interp(grid, phi_j, p_j), np.interp(grid, phi_l, p_l)
+    assert np.all(a > 0) and np.all(b > 0)
+    delta = 2 * (a - b) / (a + b)
+    worst = int(np.argmax(np.abs(delta)))
+    print(f"{name}: largest |Delta p/p| {abs(delta[worst]):.2e} at phi {grid[worst]:.3f}",
+          file=sys.stderr)
+    return delta, grid[worst]
 
 
-if __name__ == "__main__":
-    main()
+@needs_lmp
+def test_template_agrees_with_jam(jam, source, work):
+    reference(source, work, "template_compress.in", "template_contact.table")
+    with open(os.path.join(work, "template_compress.in")) as f:
+        text = f.read()
+    delta, where = compress(jam, work, "run", text)
+    assert np.max(np.abs(delta)) < TOLERANCE, f"at phi {where:.3f}"
+    ok = run([jam, "validate", "run.h5"], work)
+    assert "run.h5: ok: lammps" in ok.stdout
+    with h5py.File(os.path.join(work, "run.h5")) as f:
+        assert f.attrs["dynamics"] in (b"overdamped", "overdamped")
+        assert float(f.attrs["phi_init"]) == pytest.approx(0.80, abs=5e-10)
+    run([jam, "campaign", "import", "runs/mine", "run.h5"], work)
+    run([jam, "campaign", "status", "runs/mine"], work)
+
+    # The same input with uniform drag is another model, and the tolerance sees it.
+    drag = "fix             drag all viscous ${gamma_s} scale 2 ${drag_ratio}\n"
+    assert drag in text
+    uniform = text.replace(drag, "fix             drag all viscous ${gamma_s}\n")
+    delta, where = compress(jam, work, "uniform", uniform)
+    assert np.max(np.abs(delta)) > TOLERANCE
+
+
+@needs_lmp
+def test_table_edge(source, work):
+    reference(source, work, "template_contact.table")
+    # A table as one would write it: inner radius 1e-4 d, to d, nothing else considered.
+    with open(os.path.join(work, "naive.table"), "w") as out:
+        for name, d in (("SS", 1.0), ("SB", 1.2), ("BB", 1.4)):
+            lo = 1e-4 * d
+            out.write(f"\n{name}\nN 201 R {lo!r} {d!r}\n\n")
+            for k in range(201):
+                r = lo + (d - lo) * k / 200 if k < 200 else d
+                out.write(f"{k + 1} {r!r} {0.5 * (1 - r / d) ** 2!r} {(1 - r / d) / d!r}\n")
+    # The largest distance below 1.4 (rsq the largest double below 1.4^2): a contact relaxed
+    # to r -> d from inside. dx, dy found so that dx^2 + dy^2 is exactly that double.
+    target = math.nextafter(1.4 * 1.4, 0.0)
+    dx, dy = next((x, k * 1e-9) for k in range(1, 10 ** 6)
+                  for x in [math.sqrt(target - (k * 1e-9) ** 2)]
+                  if x * x + (k * 1e-9) ** 2 == target)
+    with open(os.path.join(work, "edge.in"), "w") as f:
+        f.write("units lj\ndimension 2\nboundary p p p\natom_style atomic\n"
+                "region box block -5 5 -5 5 -0.5 0.5\ncreate_box 2 box\n"
+                "create_atoms 2 single 0.0 0.0 0.0\n"
+                f"create_atoms 2 single {dx!r} {dy!r} 0.0\nmass * 1.0\n"
+                "pair_style table linear 100000\n"
+                "pair_coeff 1 1 ${table} SS 1.0\npair_coeff 1 2 ${table} SB 1.2\n"
+                "pair_coeff 2 2 ${table} BB 1.4\nrun 0\n")
+    for table, fails in (("naive.table", True), ("template_contact.table", False)):
+        r = run([LMP, "-in", "edge.in", "-var", "table", table, "-screen", "none", "-log",
+                 table + ".log"], work, expect=None)
+        with open(os.path.join(work, table + ".log")) as f:
+            log = f.read()
+        if fails:
+            assert r.returncode != 0, table
+            assert ("ERROR on proc 0: Pair distance > table outer cutoff: ijtype 2 2 "
+                    "dist 1.4") in log
+        else:
+            assert r.returncode == 0, table + "\n" + log
+            assert "ERROR" not in log
+
+
+def test_example_writes_a_valid_open_run(jam, source, work):
+    script = source / "python" / "examples" / "write_open_run.py"
+    out = run(["/usr/bin/python3", script, "--out", "run.h5", "--n", "32", "--seed", "3"],
+              work)
+    assert "sample 3" in out.stdout
+    ok = run([jam, "validate", "run.h5"], work)
+    assert "run.h5: ok: write_open_run.py example" in ok.stdout
+    run([jam, "campaign", "import", "runs/mine", "run.h5"], work)
+    # jamio refuses to write over it: nothing computed is lost
+    again = run(["/usr/bin/python3", script, "--out", "run.h5"], work, expect=1)
+    assert "run.h5" in again.stderr

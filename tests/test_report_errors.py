@@ -12,15 +12,12 @@ read-only case uses a mode-0555 directory instead (which only a user other than 
 The cases are in report_errors_outputs.py (where a report is written) and
 report_errors_inputs.py (what it reads), their shared fixture in report_errors_fixture.py.
 
-Usage (ctest runs it): test_report_errors.py --source .
-Prints one line per case and a last line `N passed, M failed`; exit status 1 if any failed.
+Usage (ctest runs it): python3 -m pytest tests/test_report_errors.py --source .
 """
 
-import argparse
 import os
-import shutil
-import sys
-import tempfile
+
+import pytest
 
 import report_errors_fixture as fixture
 from report_errors_fixture import Skip, campaign, report
@@ -30,57 +27,23 @@ from report_errors_outputs import OUTPUT_CASES
 CASES = [*OUTPUT_CASES, *INPUT_CASES]
 
 
-def check_fixture(keep):
-    """The unmodified campaign copy makes a report, so the failures below are the planted ones;
-    None, or why not. The report stays in keep as fixture.INTACT_REPORT."""
-    try:
-        out = os.path.join(keep, "reports", "r")
-        r = report(campaign(keep), out)
-        if r.returncode != 0 or not os.path.isfile(os.path.join(out, "index.html")):
-            return f"the intact campaign makes no report (exit {r.returncode}):\n{r.stderr}"
-        fixture.INTACT_REPORT = out
-        return None
-    except AssertionError as e:
-        return str(e)
+@pytest.fixture(scope="module")
+def intact(source, tmp_path_factory):
+    """The unmodified campaign copy makes a report, so the failures below are the planted ones.
+    The report stays as fixture.INTACT_REPORT (the output cases copy it)."""
+    fixture.SOURCE = str(source)
+    keep = str(tmp_path_factory.mktemp("intact"))
+    out = os.path.join(keep, "reports", "r")
+    r = report(campaign(keep), out)
+    assert r.returncode == 0 and os.path.isfile(os.path.join(out, "index.html")), \
+        f"the intact campaign makes no report (exit {r.returncode}):\n{r.stderr}"
+    fixture.INTACT_REPORT = out
+    return out
 
 
-def run_case(case):
-    """Runs one case in its own scratch directory: 'passed', 'failed' or 'skipped'."""
-    name = case.__name__.removeprefix("case_")
-    work = tempfile.mkdtemp(prefix="jam-report-errors-")
+@pytest.mark.parametrize("case", CASES, ids=[c.__name__.removeprefix("case_") for c in CASES])
+def test_report_error(intact, tmp_path, case):
     try:
-        case(work)
-        print(f"passed  {name}")
-        return "passed"
+        case(str(tmp_path))
     except Skip as e:
-        print(f"skipped {name}: {e}")
-        return "skipped"
-    except AssertionError as e:
-        print(f"FAILED  {name}: {e}")
-        return "failed"
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
-
-
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--source", default=fixture.SOURCE,
-                        help="the source tree (holds reports/)")
-    fixture.SOURCE = os.path.abspath(parser.parse_args().source)
-    keep = tempfile.mkdtemp(prefix="jam-report-errors-")
-    try:
-        broken = check_fixture(keep)
-        if broken:
-            print(f"FAILED  fixture: {broken}")
-            print("0 passed, 1 failed")
-            return 1
-        results = [run_case(case) for case in CASES]
-    finally:
-        shutil.rmtree(keep, ignore_errors=True)
-    passed, failed = results.count("passed"), results.count("failed")
-    print(f"{passed} passed, {failed} failed")
-    return 1 if failed else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+        pytest.skip(str(e))

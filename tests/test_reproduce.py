@@ -11,23 +11,20 @@ copy of the scripts with build/jam pointing at the jam under test:
 - nothing of the result is touched, and no temporary directory is left, when a stage fails or
   when runs/NAME-q-fixed holds something the script did not write (or is a symbolic link).
 
-Usage (ctest runs it): test_reproduce.py --jam build/jam --source .
+Usage (ctest runs it): python3 -m pytest tests/test_reproduce.py --jam build/jam --source .
+The tests run in the order written: the rerun (b_...) and the failures (c_...) start from the
+first invocation's result.
 """
 
-import argparse
 import glob
 import json
 import os
 import shutil
 import subprocess
-import sys
-import tempfile
 import tomllib
-import unittest
 
 import h5py
-
-ARGS = None
+import pytest
 
 # N = 64 and 128 compress in seconds; six rates with chained slow ones give a free fit that
 # settles (the fit needs the crossover from p ~ rate to rate independence, which rates of 1e-4
@@ -84,179 +81,167 @@ def contents(directory):
     return out
 
 
-class Reproduce(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.root = tempfile.mkdtemp(prefix="jam-reproduce-")
+class Study:
+    """A copy of the scripts and python/ with build/jam -> the jam under test, the campaigns
+    written, and reproduce.sh run once (`first`)."""
+
+    def __init__(self, jam, source, root):
+        self.root = str(root)
         ignore = shutil.ignore_patterns("__pycache__")
         for part in ("scripts", "python"):
-            shutil.copytree(os.path.join(ARGS.source, part), os.path.join(cls.root, part),
-                            ignore=ignore)
-        os.makedirs(os.path.join(cls.root, "build"))
-        os.symlink(os.path.abspath(ARGS.jam), os.path.join(cls.root, "build", "jam"))
-        os.makedirs(os.path.join(cls.root, "reference", "campaigns"))
+            shutil.copytree(source / part, self.path(part), ignore=ignore)
+        os.makedirs(self.path("build"))
+        os.symlink(os.path.abspath(jam), self.path("build", "jam"))
+        os.makedirs(self.path("reference", "campaigns"))
         for name, body in CAMPAIGNS.items():
-            cls.write_campaign(name, body)
-        cls.result = os.path.join(cls.root, "reference", "results", "tiny")
-        cls.first = cls.reproduce()
+            with open(self.path("reference", "campaigns", name + ".toml"), "w") as f:
+                f.write(f'name = "{name}"\n{COMMON}{body}output = "runs/{name}"\n')
+        self.result = self.path("reference", "results", "tiny")
+        self.first = self.reproduce()
 
-    @classmethod
-    def tearDownClass(cls):
-        shutil.rmtree(cls.root)
-
-    @classmethod
-    def write_campaign(cls, name, body):
-        with open(os.path.join(cls.root, "reference", "campaigns", name + ".toml"), "w") as f:
-            f.write(f'name = "{name}"\n{COMMON}{body}output = "runs/{name}"\n')
-
-    @classmethod
-    def reproduce(cls):
-        return subprocess.run([os.path.join(cls.root, "scripts", "reproduce.sh"), "tiny"],
-                              cwd=cls.root, capture_output=True, text=True, timeout=600)
+    def reproduce(self):
+        return subprocess.run([self.path("scripts", "reproduce.sh"), "tiny"], cwd=self.root,
+                              capture_output=True, text=True, timeout=600)
 
     def path(self, *parts):
         return os.path.join(self.root, *parts)
 
     def assert_no_temporaries(self):
-        self.assertEqual(glob.glob(self.path("reference", "results", ".tiny.*")), [])
+        assert glob.glob(self.path("reference", "results", ".tiny.*")) == []
 
-    def test_a_stored_result_as_documented(self):
-        self.assertEqual(self.first.returncode, 0, self.first.stderr)
-        self.assertEqual(set(os.listdir(self.result)), STORED)
-        self.assert_no_temporaries()
-        self.assertTrue(os.path.isfile(self.path("reports", "tiny", "index.html")))
-        self.assertTrue(os.path.isfile(self.path("reports", "tiny-q-fixed", "index.html")))
-        self.assertTrue(os.path.isfile(self.path("reports", "tiny-jamming", "index.html")))
 
-        # The stored stats.h5 is the free fit's (the last jam stats), and fit-free.json copies
-        # its representative fit; the held fits say what they held.
-        with open(os.path.join(self.result, "stats.h5"), "rb") as f:
-            stored = f.read()
-        with open(self.path("runs", "tiny", "stats.h5"), "rb") as f:
-            self.assertEqual(stored, f.read())
-        with h5py.File(os.path.join(self.result, "stats.h5"), "r") as f:
-            fit = dict(f["fit/representative"].attrs)
-        free = read_json(os.path.join(self.result, "fit-free.json"))["representative"]
-        for key in ("phi_j", "phi_j_error", "beta", "y", "phi_min", "phi_max"):
-            self.assertEqual(free[key], float(fit[key]), key)
-        self.assertEqual(free["fixed"], "none")
-        self.assertNotEqual(
-            read_json(os.path.join(self.result, "fit-q-fixed.json"))["representative"]["fixed"],
-            "none")
-        self.assertNotEqual(
-            read_json(os.path.join(self.result, "fit-held.json"))["representative"]["fixed"],
-            "none")
+@pytest.fixture(scope="module")
+def study(jam, source, tmp_path_factory):
+    return Study(jam, source, tmp_path_factory.mktemp("reproduce"))
 
-        # The phi_init campaign is judged over the free fit's window, not over its own range.
-        options = read_json(os.path.join(self.result, "phi-init-checks.json"))["options"]
-        self.assertEqual((options["phi_min"], options["phi_max"]),
-                         (free["phi_min"], free["phi_max"]))
-        # The chain check judged the campaign's chained rates against the control.
-        # Two chained rates, each judged pooled and in the three regions around phi_J.
-        chain = read_json(os.path.join(self.result, "chain-checks.json"))["verdicts"]
-        self.assertEqual(len(chain), 8, chain)
-        self.assertEqual([v["region"] for v in chain].count("pooled"), 2, chain)
 
-    def test_a_cost_of_every_campaign(self):
-        provenance = read_json(os.path.join(self.result, "provenance.json"))
-        cost = read_json(os.path.join(self.result, "cost.json"))
-        self.assertEqual(set(cost), set(COST_KEYS))
-        total = 0.0
-        for key, campaign in COST_KEYS.items():
-            seconds = provenance[key + "_core_seconds"]
-            self.assertEqual(seconds, cost[key]["cpu_seconds_total"], key)
-            # At least what the runs' own records hold (read here, not by the script).
-            recorded = 0.0
-            for record in glob.glob(self.path("runs", campaign, "runs", "*.record")):
-                with open(record, "rb") as f:
-                    recorded += float(tomllib.load(f)["cpu_seconds"])
-            self.assertGreater(recorded, 0.0, campaign)
-            self.assertGreaterEqual(seconds, recorded * (1 - 1e-9), campaign)
-            total += seconds
-        self.assertAlmostEqual(provenance["total_core_seconds"], total, delta=1e-3 * total)
-        self.assertEqual(provenance["campaign_run_core_seconds"],
-                         provenance["campaign_core_seconds"])
+def test_a_stored_result_as_documented(study):
+    assert study.first.returncode == 0, study.first.stderr
+    assert set(os.listdir(study.result)) == STORED
+    study.assert_no_temporaries()
+    assert os.path.isfile(study.path("reports", "tiny", "index.html"))
+    assert os.path.isfile(study.path("reports", "tiny-q-fixed", "index.html"))
+    assert os.path.isfile(study.path("reports", "tiny-jamming", "index.html"))
 
-    def test_b_a_rerun_keeps_what_it_did_not_write(self):
-        runs = {p: os.stat(p).st_mtime_ns
-                for p in glob.glob(self.path("runs", "*", "runs", "*.h5"))}
-        self.assertGreater(len(runs), 100)
-        notes = os.path.join(self.result, "notes.txt")
-        with open(notes, "w") as f:
-            f.write("the user's own notes\n")
-        os.makedirs(os.path.join(self.result, "until-decided"))
-        kept = os.path.join(self.result, "until-decided", "checks.json")
-        with open(kept, "w") as f:
-            f.write("{}\n")
-        # Without its jamming campaign the script writes no jamming-stats.h5: the stale one of
-        # the first invocation goes (it is the script's own file, not carried over).
-        os.rename(self.path("reference", "campaigns", "tiny-jamming.toml"),
-                  self.path("tiny-jamming.toml.away"))
-        try:
-            result = self.reproduce()
-        finally:
-            os.rename(self.path("tiny-jamming.toml.away"),
-                      self.path("reference", "campaigns", "tiny-jamming.toml"))
-        self.assertEqual(result.returncode, 0, result.stderr)
-        self.assertEqual(set(os.listdir(self.result)),
-                         STORED - {"jamming-stats.h5"} | {"notes.txt", "until-decided"})
-        with open(notes) as f:
-            self.assertEqual(f.read(), "the user's own notes\n")
-        with open(kept) as f:
-            self.assertEqual(f.read(), "{}\n")
-        # No finished run was computed again.
-        self.assertEqual({p: os.stat(p).st_mtime_ns for p in runs}, runs)
-        self.assert_no_temporaries()
+    # The stored stats.h5 is the free fit's (the last jam stats), and fit-free.json copies
+    # its representative fit; the held fits say what they held.
+    with open(os.path.join(study.result, "stats.h5"), "rb") as f:
+        stored = f.read()
+    with open(study.path("runs", "tiny", "stats.h5"), "rb") as f:
+        assert stored == f.read()
+    with h5py.File(os.path.join(study.result, "stats.h5"), "r") as f:
+        fit = dict(f["fit/representative"].attrs)
+    free = read_json(os.path.join(study.result, "fit-free.json"))["representative"]
+    for key in ("phi_j", "phi_j_error", "beta", "y", "phi_min", "phi_max"):
+        assert free[key] == float(fit[key]), key
+    assert free["fixed"] == "none"
+    for held in ("fit-q-fixed.json", "fit-held.json"):
+        assert read_json(os.path.join(study.result, held))["representative"]["fixed"] != "none"
 
-    def test_c_a_failed_stage_leaves_the_result_alone(self):
-        before = contents(self.result)
-        campaign = self.path("reference", "campaigns", "tiny.toml")
-        with open(campaign) as f:
-            text = f.read()
+    # The phi_init campaign is judged over the free fit's window, not over its own range.
+    options = read_json(os.path.join(study.result, "phi-init-checks.json"))["options"]
+    assert (options["phi_min"], options["phi_max"]) == (free["phi_min"], free["phi_max"])
+    # The chain check judged the campaign's chained rates against the control.
+    # Two chained rates, each judged pooled and in the three regions around phi_J.
+    chain = read_json(os.path.join(study.result, "chain-checks.json"))["verdicts"]
+    assert len(chain) == 8, chain
+    assert [v["region"] for v in chain].count("pooled") == 2, chain
+
+
+def test_a_cost_of_every_campaign(study):
+    provenance = read_json(os.path.join(study.result, "provenance.json"))
+    cost = read_json(os.path.join(study.result, "cost.json"))
+    assert set(cost) == set(COST_KEYS)
+    total = 0.0
+    for key, campaign in COST_KEYS.items():
+        seconds = provenance[key + "_core_seconds"]
+        assert seconds == cost[key]["cpu_seconds_total"], key
+        # At least what the runs' own records hold (read here, not by the script).
+        recorded = 0.0
+        for record in glob.glob(study.path("runs", campaign, "runs", "*.record")):
+            with open(record, "rb") as f:
+                recorded += float(tomllib.load(f)["cpu_seconds"])
+        assert recorded > 0.0, campaign
+        assert seconds >= recorded * (1 - 1e-9), campaign
+        total += seconds
+    assert provenance["total_core_seconds"] == pytest.approx(total, abs=1e-3 * total)
+    assert provenance["campaign_run_core_seconds"] == provenance["campaign_core_seconds"]
+
+
+def test_b_a_rerun_keeps_what_it_did_not_write(study):
+    runs = {p: os.stat(p).st_mtime_ns
+            for p in glob.glob(study.path("runs", "*", "runs", "*.h5"))}
+    assert len(runs) > 100
+    notes = os.path.join(study.result, "notes.txt")
+    with open(notes, "w") as f:
+        f.write("the user's own notes\n")
+    os.makedirs(os.path.join(study.result, "until-decided"))
+    kept = os.path.join(study.result, "until-decided", "checks.json")
+    with open(kept, "w") as f:
+        f.write("{}\n")
+    # Without its jamming campaign the script writes no jamming-stats.h5: the stale one of
+    # the first invocation goes (it is the script's own file, not carried over).
+    os.rename(study.path("reference", "campaigns", "tiny-jamming.toml"),
+              study.path("tiny-jamming.toml.away"))
+    try:
+        result = study.reproduce()
+    finally:
+        os.rename(study.path("tiny-jamming.toml.away"),
+                  study.path("reference", "campaigns", "tiny-jamming.toml"))
+    assert result.returncode == 0, result.stderr
+    assert set(os.listdir(study.result)) == (STORED - {"jamming-stats.h5"}
+                                             | {"notes.txt", "until-decided"})
+    with open(notes) as f:
+        assert f.read() == "the user's own notes\n"
+    with open(kept) as f:
+        assert f.read() == "{}\n"
+    # No finished run was computed again.
+    assert {p: os.stat(p).st_mtime_ns for p in runs} == runs
+    study.assert_no_temporaries()
+
+
+def test_c_a_failed_stage_leaves_the_result_alone(study):
+    before = contents(study.result)
+    campaign = study.path("reference", "campaigns", "tiny.toml")
+    with open(campaign) as f:
+        text = f.read()
+    with open(campaign, "w") as f:
+        f.write(text.replace("samples = 8", "samples = -1"))
+    try:
+        result = study.reproduce()
+    finally:
         with open(campaign, "w") as f:
-            f.write(text.replace("samples = 8", "samples = -1"))
-        try:
-            result = self.reproduce()
-        finally:
-            with open(campaign, "w") as f:
-                f.write(text)
-        self.assertNotEqual(result.returncode, 0)
-        self.assertIn("samples", result.stderr)
-        self.assertEqual(contents(self.result), before)
-        self.assert_no_temporaries()
-
-    def test_c_a_foreign_q_fixed_directory_is_refused(self):
-        before = contents(self.result)
-        qfixed = self.path("runs", "tiny-q-fixed")
-        foreign = os.path.join(qfixed, "my-analysis.h5")
-        with open(foreign, "w") as f:
-            f.write("not the script's\n")
-        try:
-            result = self.reproduce()
-            self.assertEqual(result.returncode, 2, result.stderr)
-            self.assertIn("my-analysis.h5", result.stderr)
-            with open(foreign) as f:
-                self.assertEqual(f.read(), "not the script's\n")
-        finally:
-            os.unlink(foreign)
-        # A symbolic link in its place: whatever it points at is not the script's to empty.
-        elsewhere = self.path("elsewhere")
-        shutil.move(qfixed, elsewhere)
-        os.symlink(elsewhere, qfixed)
-        try:
-            result = self.reproduce()
-            self.assertEqual(result.returncode, 2, result.stderr)
-            self.assertIn("tiny-q-fixed", result.stderr)
-            self.assertIn("stats.h5", os.listdir(elsewhere))
-        finally:
-            os.unlink(qfixed)
-            shutil.move(elsewhere, qfixed)
-        self.assertEqual(contents(self.result), before)
+            f.write(text)
+    assert result.returncode != 0
+    assert "samples" in result.stderr
+    assert contents(study.result) == before
+    study.assert_no_temporaries()
 
 
-if __name__ == "__main__":
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--jam", required=True)
-    parser.add_argument("--source", required=True)
-    ARGS, rest = parser.parse_known_args()
-    unittest.main(argv=[sys.argv[0], *rest])
+def test_c_a_foreign_q_fixed_directory_is_refused(study):
+    before = contents(study.result)
+    qfixed = study.path("runs", "tiny-q-fixed")
+    foreign = os.path.join(qfixed, "my-analysis.h5")
+    with open(foreign, "w") as f:
+        f.write("not the script's\n")
+    try:
+        result = study.reproduce()
+        assert result.returncode == 2, result.stderr
+        assert "my-analysis.h5" in result.stderr
+        with open(foreign) as f:
+            assert f.read() == "not the script's\n"
+    finally:
+        os.unlink(foreign)
+    # A symbolic link in its place: whatever it points at is not the script's to empty.
+    elsewhere = study.path("elsewhere")
+    shutil.move(qfixed, elsewhere)
+    os.symlink(elsewhere, qfixed)
+    try:
+        result = study.reproduce()
+        assert result.returncode == 2, result.stderr
+        assert "tiny-q-fixed" in result.stderr
+        assert "stats.h5" in os.listdir(elsewhere)
+    finally:
+        os.unlink(qfixed)
+        shutil.move(elsewhere, qfixed)
+    assert contents(study.result) == before

@@ -24,20 +24,18 @@ Needs gsd (Debian: python3-gsd); the rest of jamio does not.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 import os
-import shutil
 import subprocess
 import sys
-import tempfile
 
 import numpy as np
 
 from .errors import JamioError, cause, reading, require_file, shown
 from .open_run import (CONTACTS, DYNAMICS, RATE_TOLERANCE, Invalid, _diameter_ratio, _one_of,
                        _phi_init, _positive, _sample, validate_run)
-from .write import _publish, _target, packing_fraction_of, write_frames, write_run
+from .output import Unwritable, check_target, claim_temporary, publish, remove
+from .write import packing_fraction_of, write_frames, write_run
 
 SIMULATOR = "hoomd-blue"
 # Diameters and boxes are single precision in a GSD file.
@@ -275,9 +273,9 @@ def import_gsd(gsd_path, out_path, *, rate, dt, sample, phi_init=None, simulator
     field and the value; nothing is written then."""
     gsd_path, out_path = os.fspath(gsd_path), os.fspath(out_path)
     try:
-        _target(out_path, overwrite)
+        check_target(out_path, overwrite, "run")
         _arguments(rate, dt, sample, phi_init, diameter_ratio, contact, dynamics, q)
-    except Invalid as e:
+    except (Invalid, Unwritable) as e:
         raise JamioError(out_path, f"import_gsd: {e}") from None
     traj = read_trajectory(gsd_path, float(diameter_ratio), pressure_key,
                            positions=pressure_key is None)
@@ -298,11 +296,9 @@ def import_gsd(gsd_path, out_path, *, rate, dt, sample, phi_init=None, simulator
     # diameters exact; jam writes into a directory of ours, published when it validates.
     box = (packing_fraction_of(traj.dim, traj.n, float(diameter_ratio), 1.0) / phi) ** (
         1.0 / traj.dim)
-    directory = os.path.dirname(os.path.abspath(out_path))
     try:
-        work = tempfile.mkdtemp(prefix=f".{os.path.basename(out_path)}.", suffix=".import",
-                                dir=directory)
-    except OSError as e:
+        work = claim_temporary(out_path, directory=True)
+    except (OSError, Unwritable) as e:
         raise JamioError(out_path, f"import_gsd: cannot be written ({cause(e)})") from e
     try:
         frames = os.path.join(work, "frames.h5")
@@ -313,16 +309,15 @@ def import_gsd(gsd_path, out_path, *, rate, dt, sample, phi_init=None, simulator
             validate_run(run)
         except JamioError as e:
             raise Invalid(f"the run jam import frames wrote is refused: {e.problem}") from e
-        _publish(run, out_path, overwrite)
-    except Invalid as e:
+        publish(run, out_path, overwrite)
+    except (Invalid, Unwritable) as e:
         raise JamioError(out_path, f"import_gsd: {e}") from None
     except JamioError as e:
         raise JamioError(out_path, f"import_gsd: {e.problem}") from e
     except OSError as e:
         raise JamioError(out_path, f"import_gsd: cannot be written ({cause(e)})") from e
     finally:
-        with contextlib.suppress(OSError):
-            shutil.rmtree(work)
+        remove(work)
     return validate_run(out_path)
 
 

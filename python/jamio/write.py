@@ -16,15 +16,14 @@ diameter_ratio 2.5 must be in [1, 2]`).
 
 from __future__ import annotations
 
-import contextlib
 import math
 import os
-import stat
 
 import h5py
 import numpy as np
 
 from .errors import JamioError, cause, shown
+from .output import Unwritable, check_target, claim_temporary, publish, remove
 from .open_run import (ATTRIBUTES, FORMAT, FORMAT_VERSION, FRAMES_UNITS, LIMITS,
                        OPTIONAL_ATTRIBUTES, PROTOCOL, SERIES_UNITS, UNITS, Invalid, OpenRun,
                        _array, _at_rate,
@@ -32,46 +31,6 @@ from .open_run import (ATTRIBUTES, FORMAT, FORMAT_VERSION, FRAMES_UNITS, LIMITS,
                        validate_run)
 
 # ---- writing ------------------------------------------------------------------------------------
-
-def _target(path, overwrite):
-    """Refuses a path that cannot take the file: a directory or special file (by its stat), an
-    existing file unless overwrite, a directory that does not exist."""
-    try:
-        mode = os.stat(path).st_mode
-    except FileNotFoundError:
-        parent = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(parent):
-            raise Invalid(f"directory {shown(parent)} does not exist") from None
-        if os.path.lexists(path) and not overwrite:  # a symbolic link to nothing
-            raise Invalid("exists (a symbolic link); not overwritten (overwrite=True replaces it)")
-        return
-    except OSError as e:
-        raise Invalid(f"cannot be written ({cause(e)})") from e
-    if stat.S_ISDIR(mode):
-        raise Invalid("is a directory; a run is written to a file")
-    if not stat.S_ISREG(mode):
-        raise Invalid("is not a regular file (a FIFO, device or socket); not written")
-    if not overwrite:
-        raise Invalid("exists; not overwritten (overwrite=True replaces it)")
-
-
-def _publish(partial, path, overwrite):
-    """Gives the finished `partial` the name `path`: without overwrite by a hard link, which
-    fails if path appeared meanwhile (then, where links are not supported, by a rename after a
-    last look)."""
-    if overwrite:
-        os.replace(partial, path)
-        return
-    try:
-        os.link(partial, path)
-    except FileExistsError:
-        raise Invalid("exists; not overwritten (overwrite=True replaces it)") from None
-    except OSError:
-        if os.path.lexists(path):
-            raise Invalid("exists; not overwritten (overwrite=True replaces it)") from None
-        os.rename(partial, path)
-        return
-    os.unlink(partial)
 
 
 def _attribute_value(v):
@@ -95,48 +54,24 @@ def _write_datasets(f, data, units):
         d.attrs["units"] = np.bytes_(units[name].encode("utf-8"))
 
 
-# The most temporary names tried beside one target (`<path>.<pid>.partial`, then with a
-# count): as many taken means something else is wrong.
-MOST_TEMPORARY_NAMES = 100
-
-
-def _claim_temporary(path):
-    """A new empty file beside `path`, created here and exclusively (O_EXCL: a name that exists,
-    a symbolic link included, is never opened): `<path>.<pid>.partial`, else with a count k
-    (`<path>.<pid>.<k>.partial`) when that name is taken, by a file an earlier process of the
-    same id left or by another thread's write. Returns its name: only that file is written,
-    and removed on an error."""
-    base = f"{path}.{os.getpid()}"
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
-    for k in range(MOST_TEMPORARY_NAMES):
-        partial = f"{base}.partial" if k == 0 else f"{base}.{k}.partial"
-        try:
-            os.close(os.open(partial, flags, 0o666))
-            return partial
-        except FileExistsError:
-            continue
-    raise Invalid(f"cannot be written: {MOST_TEMPORARY_NAMES} temporary names "
-                  f"{shown(base + '.*partial')} are taken")
-
-
 def _write_atomically(path, what, overwrite, write, check):
-    """Writes `path` through a temporary file of its own (_claim_temporary): write(h5py file),
+    """Writes `path` through a temporary file of its own (claim_temporary): write(h5py file),
     then check(partial) (a JamioError naming the partial file is a bug here, reported against
     path), then the rename; the temporary file is removed on any error."""
     path = os.fspath(path)
     try:
-        _target(path, overwrite)
-    except Invalid as e:
+        check_target(path, overwrite, "run")
+    except Unwritable as e:
         raise JamioError(path, f"{what}: {e}") from None
     partial = None
     try:
-        partial = _claim_temporary(path)
+        partial = claim_temporary(path)
         with h5py.File(partial, "w") as f:
             write(f)
         check(partial)
-        _publish(partial, path, overwrite)
+        publish(partial, path, overwrite)
         partial = None  # renamed: the name is no longer this call's to remove
-    except Invalid as e:
+    except (Invalid, Unwritable) as e:
         raise JamioError(path, f"{what}: {e}") from None
     except JamioError as e:
         raise JamioError(path, f"{what}: the written file was refused ({e.problem})") from e
@@ -144,8 +79,7 @@ def _write_atomically(path, what, overwrite, write, check):
         raise JamioError(path, f"{what}: cannot be written ({cause(e)})") from e
     finally:
         if partial is not None:  # nothing left behind, and nothing removed this call did not make
-            with contextlib.suppress(OSError):
-                os.unlink(partial)
+            remove(partial)
 
 
 def _root(what, dim, n, rate, phi_init, simulator, simulator_version, sample, diameter_ratio,

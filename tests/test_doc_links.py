@@ -3,16 +3,14 @@
 names a heading (`file.md#anchor`), at a heading of that file, with GitHub's anchors: lower
 case, punctuation other than '-' and '_' dropped, each space a '-', repeats numbered -1, -2.
 
-Usage (ctest runs it): check_links.py --source .
-Prints each broken link and a last line `N passed, M failed` (one per file); exit status 1 if
-any link is broken.
+Usage (ctest runs it): python3 -m pytest tests/test_doc_links.py --source .
+One case per file, its broken links in the failure.
 """
 
-import argparse
 import glob
 import os
+import pathlib
 import re
-import sys
 
 LINK = re.compile(r"(?<!\!)\[[^\]]*\]\(([^)\s]+)\)")
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
@@ -68,23 +66,23 @@ def broken(path, source):
     return out
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--source", default=".", help="the source tree")
-    source = os.path.abspath(parser.parse_args().source)
+def documents(source):
+    """The markdown files whose links are checked."""
     files = [os.path.join(source, name) for name in ("README.md", "ARCHITECTURE.md",
                                                      "CHANGELOG.md")]
     files += sorted(glob.glob(os.path.join(source, "docs", "*.md")))
     files += [os.path.join(source, "reference", "schema.md")]
-    failed = 0
-    for path in files:
-        problems = broken(path, source)
-        for p in problems:
-            print(f"FAILED  {p}")
-        failed += bool(problems)
-    print(f"{len(files) - failed} passed, {failed} failed")
-    return 1 if failed else 0
+    return files
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+def pytest_generate_tests(metafunc):
+    # The cases are the files of --source, known only once the command line is read.
+    if "document" in metafunc.fixturenames:
+        source = str(pathlib.Path(metafunc.config.getoption("--source")).resolve())
+        files = documents(source)
+        metafunc.parametrize("document", files, ids=[os.path.relpath(f, source) for f in files])
+
+
+def test_every_relative_link_reaches_its_target(document, source):
+    problems = broken(document, str(source))
+    assert not problems, "\n".join(problems)
