@@ -10,7 +10,7 @@
 
 #include "campaign/added_samples.hpp"
 #include "campaign/toml_file.hpp"
-#include "sim/io/chain_start.hpp"
+#include "sim/io/fnv1a.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/io/run_file.hpp"
 #include "sim/version.hpp"
@@ -19,6 +19,13 @@ namespace jam {
 namespace fs = std::filesystem;
 
 namespace {
+
+/// The key the manifest records of a run's fingerprint (FNV-1a 64, hex).
+std::string fingerprint_key(const std::string& fingerprint) {
+  Fnv1a h;
+  h.add(fingerprint);
+  return h.hex();
+}
 
 /// The file's text, "" when there is none.
 std::string text_of(const fs::path& path) {
@@ -44,7 +51,7 @@ void write_manifest(const Campaign& c, const std::vector<PlannedRun>& plan) {
                       {"phi_init", run.phi_init},
                       {"log10_rate", run.log10_rate},
                       {"sample", run.sample},
-                      {"fingerprint_key", chain_start_key(fingerprint(run.config))}};
+                      {"fingerprint_key", fingerprint_key(fingerprint(run.config))}};
     // A record's cost and version; what an older record lacks (cpu_seconds before they were
     // measured) is left out rather than written as 0.
     if (const std::optional<RunRecord> r = read_run_record(run)) {
@@ -108,7 +115,7 @@ std::optional<RunStatus> manifest_run_status(const std::string& directory, const
         file,
         [&] {
           const std::optional<std::string> stored = stored_fingerprint(file);
-          if (!stored || chain_start_key(*stored) != run.fingerprint_key) throw NeedsPlan{};
+          if (!stored || fingerprint_key(*stored) != run.fingerprint_key) throw NeedsPlan{};
           return std::string();
         },
         detail);

@@ -23,7 +23,7 @@ struct ManifestRun {
   std::int64_t n = 0;
   double phi_init = 0, log10_rate = 0;
   std::int64_t sample = 0;
-  std::string fingerprint_key;  // chain_start_key(fingerprint(config))
+  std::string fingerprint_key;  // FNV-1a 64 (hex) of fingerprint(config)
 };
 
 /// Rewrites <output>/manifest.toml from the plan and the run files and records.
