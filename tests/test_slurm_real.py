@@ -42,14 +42,14 @@ def cluster():
 class Chain:
     """One submit.sh chain in a directory of its own, on a copy of the CI campaign."""
 
-    def __init__(self, cluster, jam, source, root, name, *options, samples=None):
+    def __init__(self, cluster, jam, source, root, name, *options, keys=None):
         self.cluster = cluster
         self.dir = root / name
         self.dir.mkdir()
         text = (source / "reference" / "campaigns" / "ci.toml").read_text()
         text = re.sub(r"(?m)^output = .*$", 'output = "runs/ci"', text)
-        if samples:
-            text = re.sub(r"(?m)^samples = .*$", f"samples = {samples}", text)
+        for key, value in (keys or {}).items():  # the CI campaign's keys replaced
+            text = re.sub(rf"(?m)^{key} = .*$", f"{key} = {value}", text)
         (self.dir / "ci.toml").write_text(text)
         self.campaign = self.dir / "runs" / "ci"
         self.jam = jam
@@ -97,9 +97,13 @@ def chains(cluster, jam, source, tmp_path_factory):
     root = tmp_path_factory.mktemp("chains")
     # With --time=1 the header's warning (300 s before the limit) would come at once: 30 s
     # before it, so a round computes for 30 to 60 s (the controller looks every 30 s) before
-    # jam checkpoints and stops. Eight samples: about a minute of runs on one core.
+    # jam checkpoints and stops. Work that outlasts a round on any machine, in runs short enough
+    # that every round finishes some: 48 runs of N 512 and 1024 at 1e-4 and 10^-4.5, about
+    # 2.6 CPU-seconds each (2026-11-29, 123 CPU-seconds in all; the CI campaign's 8 samples
+    # took 8, finished inside the first round on a quiet machine and never met the limit).
     limited = Chain(cluster, jam, source, root, "time-limit", "array", "ci.toml", "--array=0",
-                    "--cpus-per-task=1", "--time=1", "--signal=B:TERM@30", samples=8)
+                    "--cpus-per-task=1", "--time=1", "--signal=B:TERM@30",
+                    keys={"sizes": "[512, 1024]", "log10_rates": "[-4.0, -4.5]", "samples": 6})
     array = Chain(cluster, jam, source, root, "array", "array", "ci.toml", "--array=0-1",
                   "--cpus-per-task=1")
     mpi = Chain(cluster, jam, source, root, "mpi", "mpi", "ci.toml")
@@ -150,7 +154,7 @@ def test_task_stopped_by_its_time_limit_is_resubmitted(cluster, chains):
     chain.wait(240, until=lambda: "round 1:" in chain.log())
     before = done_runs(chain.campaign)
     assert before, "round 0 finished no run before its time limit"
-    print(f"time-limit chain: {chain.wait(360):.0f} s, {len(before)} runs done in round 0")
+    print(f"time-limit chain: {chain.wait(720):.0f} s, {len(before)} runs done in round 0")
     chain.assert_complete()
     logs = chain.job_logs()
     assert "share 1 of 1 interrupted (checkpoints written)" in logs, logs
