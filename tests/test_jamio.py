@@ -374,8 +374,10 @@ def case_stats(data, source):
         s = jamio.load_stats(path)
         compare(stats_flat(s), path)
     s = jamio.load_stats(os.path.join(data, "campaign"))  # a directory: its stats.h5
-    if s.attrs["campaign"] != "jamio" or not s.ensembles or s.fit is None or s.fit_z is None:
-        raise AssertionError(f"campaign stats: {s.attrs}, {list(s.ensembles)}")
+    # Its 2 rates give no scaling fit, and `jam stats` writes none (the stored results above
+    # carry fits).
+    if s.attrs["campaign"] != "jamio" or not s.ensembles or s.fit is not None:
+        raise AssertionError(f"campaign stats: {s.attrs}, {list(s.ensembles)}, fit {s.fit}")
 
 
 def expected_checks(path):

@@ -167,7 +167,7 @@ class Report(unittest.TestCase):
                     "relative_errors.png", "jamming_points.png", "jamming_width.png",
                     "lammps.png"}
         with h5py.File(os.path.join(self.work, "runs", "ci", "stats.h5"), "r") as f:
-            if np.isfinite(f["fit/scan/phi_j"][:]).any():
+            if "fit/scan/phi_j" in f and np.isfinite(f["fit/scan/phi_j"][:]).any():
                 expected.add("fit_scan.png")
             if "fit/representative" in f:
                 expected.add("collapse.png")
@@ -384,6 +384,19 @@ class NoFitWithoutAResult(unittest.TestCase):
                      for r in log10_rates]
         return data.Campaign("d", "small", 2, {"paper": {}}, ensembles, fit, [], {}, {}, "",
                              [])
+
+    def test_two_rates_and_no_fit_in_stats_h5_say_why(self):
+        # `jam stats` attempts no fit with fewer than 3 rates and writes none: the sentence is
+        # the design's, not "--no-fit".
+        _, figures, h = self.modules()
+        c = self.campaign([-2.5, -3.0], ["-"])
+        c.fit = None
+        with tempfile.TemporaryDirectory() as out:
+            self.assertIsNone(figures.scan_figure(c, out))
+            self.assertIsNone(figures.collapse_figure(c, out))
+        self.assertTrue(h.no_fit_sentence(c).startswith(
+            "No scaling fit: fewer than 3 rates (the fitted ensembles have 2: 1e-2.5, 1e-3)"),
+            h.no_fit_sentence(c))
 
     def test_no_figure_and_one_sentence_with_two_rates(self):
         _, figures, h = self.modules()
