@@ -235,12 +235,10 @@ Verdict jamming_verdict(const Pair& p, Levels levels, const CheckOptions& o) {
   const std::string spreads = fmt::format(
       "spread of phi_Ji (standard deviation): DIR {:.3g} over {} runs, REF {:.3g} over {} runs",
       s_dir, n_dir, s_ref, n_ref);
-  const std::string too_few = too_few_samples(n_dir, n_ref, " with a jamming point");
-  if (!too_few.empty()) {
-    const auto values = j.values;
-    j = inconclusive("compare_jamming", j.case_name, fmt::format("{} ({})", too_few, spreads));
-    j.values = values;
-    return j;
+  if (const auto few = too_few_samples(n_dir, n_ref, " with a jamming point"); !few.empty()) {
+    Verdict x = inconclusive("compare_jamming", j.case_name, fmt::format("{} ({})", few, spreads));
+    x.values = j.values;
+    return x;
   }
   try {
     const MeanDifference m =
