@@ -9,7 +9,7 @@
 //     start relaxed otherwise, as a CG-minimised one): the failure says it lies only just after
 //     the start and points at the start protocol; a difference everywhere says nothing of it;
 //   - one run a side: "needs at least 2 samples per set (DIR has 1)", for the pressure and the
-//     jamming points;
+//     jamming points; two runs are judged;
 //   - too few runs to decide: the samples that would decide it, split per side.
 #include <fmt/format.h>
 
@@ -224,6 +224,13 @@ BOOST_AUTO_TEST_CASE(one_sample_a_side_names_the_count) {
   BOOST_TEST(
       has(jamming[0].reason, "needs at least 2 samples per set (DIR has 1 with a jamming point)"),
       jamming[0].reason);
+  // Two runs are enough to be judged.
+  Design two;
+  two.samples = 2;
+  for (const auto& v : pooled(compare(campaign(root, "two", two, 13), ref), "compare")) {
+    BOOST_TEST(!has(v.reason, "needs at least 2 samples"), v.reason);
+    BOOST_TEST(v.values.at("samples_a") == 2.0);
+  }
   // Both sides alone: both named.
   for (const auto& v : pooled(compare(single, campaign(root, "one-ref", one, 10)), "compare"))
     BOOST_TEST(v.reason == "needs at least 2 samples per set (DIR has 1, REF has 1)", v.reason);
