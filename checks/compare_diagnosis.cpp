@@ -9,6 +9,7 @@
 
 #include "campaign/campaign_dir.hpp"
 #include "campaign/external_campaign.hpp"
+#include "checks/compare_coverage.hpp"
 
 namespace jam::checks {
 namespace {
@@ -79,7 +80,9 @@ void say_if_only_at_start(Verdict& v, const PoolRange& asked, double past_start,
                           const RangeData& data, Levels levels, double margin, int permutations) {
   if (v.status != "fail" || !v.values.count("range_min") || !v.values.count("range_max")) return;
   const double lo = v.values.at("range_min"), hi = v.values.at("range_max");
-  if (!(lo < past_start && past_start < hi)) return;
+  // The start inside the range judged, and most of that range past it: a sliver judged again
+  // says nothing of where the difference lies.
+  if (!(lo < past_start && hi - past_start >= kNarrowShare * (hi - lo))) return;
   PoolRange past = asked;
   past.min = std::max(asked.min, past_start);
   past.whole = false;
@@ -88,7 +91,9 @@ void say_if_only_at_start(Verdict& v, const PoolRange& asked, double past_start,
   base.curves.clear();
   const std::vector<Verdict> again =
       judge_by_region(base, data, past, {}, {}, levels, margin, permutations, 3, RelativeTo::b);
-  if (again.empty() || again.front().status == "fail") return;
+  // Judged again, and not failing: a range with nothing to judge (no values) is no evidence.
+  if (again.empty() || again.front().status == "fail" || !again.front().values.count("difference"))
+    return;
   const Verdict& after = again.front();
   const std::string variable = asked.variable;
   v.values["start_only"] = 1.0;

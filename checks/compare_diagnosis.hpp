@@ -47,10 +47,11 @@ void name_model_difference(std::vector<Verdict>& out, const std::optional<SideMo
 constexpr double kStartSection = 0.01;
 
 /// A failing pressure verdict v over `asked` whose judged range reaches below `past_start` (in
-/// the range's variable: kStartSection past the compression's start) and beyond it: judged
-/// again over `asked` from `past_start` (with `data`, the same grids). When that does not fail,
-/// v's reason says first that it fails only just after the start and points at the start
-/// protocol; values start_only = 1 and past_start = past_start. Otherwise v is unchanged.
+/// the range's variable: kStartSection past the compression's start) and lies mostly
+/// (kNarrowShare, compare_coverage.hpp) beyond it: judged again over `asked` from `past_start`
+/// (with `data`, the same grids). When that is judged and does not fail, v's reason says first
+/// that it fails only just after the start and points at the start protocol; values
+/// start_only = 1 and past_start = past_start. Otherwise v is unchanged.
 void say_if_only_at_start(Verdict& v, const PoolRange& asked, double past_start,
                           const RangeData& data, Levels levels, double margin, int permutations);
 

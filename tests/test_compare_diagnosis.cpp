@@ -10,6 +10,7 @@
 //     the start and points at the start protocol; a difference everywhere says nothing of it;
 //   - one run a side: "needs at least 2 samples per set (DIR has 1)", for the pressure and the
 //     jamming points; two runs are judged;
+//   - no claim about the start where nothing past it could be judged, or only a sliver;
 //   - too few runs to decide: the samples that would decide it, split per side.
 #include <fmt/format.h>
 
@@ -259,4 +260,29 @@ BOOST_AUTO_TEST_CASE(an_undecided_comparison_names_the_cheapest_split_per_side) 
   }
   BOOST_TEST(undecided >= 1);
   fs::remove_all(root);
+}
+
+// Judged again on nothing (no data past the start), or with the start only a sliver short of
+// the range's end: no claim about the start.
+BOOST_AUTO_TEST_CASE(no_start_claim_without_a_judgement_past_it) {
+  Verdict v;
+  v.check = "compare";
+  v.status = "fail";
+  v.reason = "the effect surely exceeds the margin";
+  v.values = {{"range_min", 0.80}, {"range_max", 0.86}};
+  PoolRange asked;
+  asked.min = 0.80;
+  asked.max = 0.86;
+  const RangeData nothing = [](const PoolRange&, Verdict&) { return Aligned{}; };
+  Verdict judged = v;
+  say_if_only_at_start(judged, asked, 0.81, nothing, {}, 0.05, 100);
+  BOOST_TEST(judged.reason == v.reason);
+  BOOST_TEST(judged.values.count("start_only") == 0u);
+  // The range past the start less than half the range judged: not judged again at all.
+  const RangeData never = [](const PoolRange&, Verdict&) -> Aligned {
+    throw std::logic_error("judged again");
+  };
+  Verdict sliver = v;
+  BOOST_CHECK_NO_THROW(say_if_only_at_start(sliver, asked, 0.835, never, {}, 0.05, 100));
+  BOOST_TEST(sliver.reason == v.reason);
 }
