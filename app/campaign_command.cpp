@@ -151,6 +151,9 @@ void add_campaign_command(CLI::App& app, CampaignArgs& a) {
                    "first K samples, same seeds), judge them, and plan from their scatter")
       ->check(CLI::Range(2, 1000))
       ->excludes("--scatter-from");
+  plan->add_flag("--probe", a.probe,
+                 "Price the sizes no finished run has measured by probing this machine (3 "
+                 "repeats, their spread printed), not from reference/throughput.toml");
 }
 
 namespace {
@@ -280,7 +283,7 @@ int run_campaign_command(const CLI::App& app, const CampaignArgs& a, const Ranks
     no_model = e.what();
   }
   Throughput speed;
-  print_campaign_plan(c, &speed);
+  print_campaign_plan(c, &speed, a.probe);
   print_phi_init_findings(c);
   if (!c.chain_starts_from.empty())
     fmt::print(

@@ -18,6 +18,7 @@ struct CampaignArgs {
   UntilDecidedOptions until;              // --budget, --alpha
   std::vector<std::string> scatter_from;  // plan --scatter-from DIR...
   int pilot = 0;                          // plan --pilot K
+  bool probe = false;                     // plan --probe
   std::vector<std::string> import_files;  // import DIR FILE...
   ImportOptions import_options;
   ConvergenceChoice converge;  // converge FILE: what is redone

@@ -436,11 +436,14 @@ void print_measured_against_plan(const std::vector<PlannedRun>& plan, const Thro
       finished, measured / 3600.0, planned / 3600.0, measured / planned, rates);
 }
 
-int print_campaign_plan(const Campaign& c, Throughput* measured_speed) {
+int print_campaign_plan(const Campaign& c, Throughput* measured_speed, bool probe) {
   const std::vector<PlannedRun> plan = plan_runs(c);
   double total = 0.0, seconds = 0.0;
   std::map<std::int64_t, double> by_size;
-  const Throughput speed = measure_throughput(c.run, c.sizes);
+  // Stored measurements (or the probe, asked or for want of them), then the campaign's own
+  // finished runs where it has them: the same plan every time for the same runs.
+  const Throughput base = plan_throughput(c.run, c.sizes, probe);
+  const Throughput speed = with_finished_runs(base, plan);
   for (const auto& run : plan) {
     total += run.estimated_particle_steps;
     by_size[run.n] += run.estimated_particle_steps;
@@ -454,12 +457,13 @@ int print_campaign_plan(const Campaign& c, Throughput* measured_speed) {
   fmt::print("  particle-steps (force evaluations x particles, relaxation included): {:.3g}\n",
              total);
   for (const auto& [n, steps] : by_size) {
-    fmt::print("    N = {:>7}: {:.3g} ({:.1f}%), probe {:.3g} particle-steps/s per core\n", n,
-               steps, 100.0 * steps / total, speed.at(n));
+    fmt::print("    N = {:>7}: {:.3g} ({:.1f}%), probe {:.3g} particle-steps/s per core ({})\n", n,
+               steps, 100.0 * steps / total, speed.at(n), speed.source.at(n));
   }
   fmt::print(
-      "  measured throughput of this build ({}D, overdamped Euler near jamming at each N); one "
-      "force evaluation of the integrator costs {:.2g} of its steps\n",
+      "  price: the probe's throughput ({}D, overdamped Euler near jamming at each N), from the "
+      "campaign's finished runs, else stored measurements, else this machine's probe (`--probe`); "
+      "one force evaluation of the integrator costs {:.2g} of its steps\n",
       c.run.dim, speed.evaluation_cost);
   fmt::print("  estimated cost: {:.3g} core-hours; {} on {} cores of this machine\n",
              seconds / 3600.0, duration_text(seconds / cores), cores);
@@ -476,7 +480,8 @@ int print_campaign_plan(const Campaign& c, Throughput* measured_speed) {
         "with every rate compressed from phi_init\n",
         100.0 * (1.0 - seconds / unchained_seconds), seconds / 3600.0, unchained_seconds / 3600.0);
   }
-  print_measured_against_plan(plan, speed);
+  // The plan's error: the runs against the price they were not measured by.
+  print_measured_against_plan(plan, base);
   return 0;
 }
 

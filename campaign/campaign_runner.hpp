@@ -33,8 +33,10 @@ int campaign_status_code(const std::map<RunStatus, std::size_t>& totals);
 /// any working directory), as a table or as JSON; returns campaign_status_code.
 int print_campaign_status(const std::string& directory, bool json = false);
 
-/// Prints the cost of a campaign before it runs, from the measured throughput of this build
-/// at each of its sizes (returned in `measured_speed`).
-int print_campaign_plan(const Campaign& campaign, Throughput* measured_speed = nullptr);
+/// Prints the cost of a campaign, priced at each of its sizes from its finished runs, else
+/// the stored measurements, else (or when `probe`) this machine's probe with its spread
+/// (throughput.hpp; the price used is returned in `measured_speed`).
+int print_campaign_plan(const Campaign& campaign, Throughput* measured_speed = nullptr,
+                        bool probe = false);
 
 }  // namespace jam

@@ -1,10 +1,20 @@
 #pragma once
-// Measured throughput of this build, for cost estimates: what one force evaluation costs at
-// each of a campaign's sizes, on this machine, on the clock the runs record.
+// The planner's price: what one force evaluation costs at each of a campaign's sizes, on the
+// clock the runs record. Where it comes from, in this order (each size its own):
+//   1. the campaign's own finished runs of that size: the particle-steps and CPU seconds their
+//      records hold (campaign_dir.hpp), which is what the rest will cost on this machine;
+//   2. the stored measurements of the probe, reference/throughput.toml (by dimension and N);
+//   3. the probe itself, on this machine now, repeated, its spread said (`jam campaign plan
+//      --probe`, or a dimension the file lacks).
+// A plan is then the same number every time it is made of the same campaign and runs: a probe
+// per plan on a busy machine moved one design's cost by 45%.
 #include <cstdint>
 #include <map>
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "campaign/run_plan.hpp"
 #include "sim/run/sim_config.hpp"
 
 namespace jam {
@@ -23,10 +33,11 @@ inline constexpr double kChebyshevEvaluationCost = 1.3;
 /// 0.3 s of measurement. Sizes above 65536 are probed at 65536 (the caches are long exceeded).
 double measure_throughput(int dim, std::int64_t n = 4096);
 
-/// A campaign's throughput: the probe at each of its sizes and the cost of its integrator's
-/// force evaluation in probe steps.
+/// A campaign's throughput: the probe's at each of its sizes (or what stands for it) and the
+/// cost of its integrator's force evaluation in probe steps.
 struct Throughput {
-  std::map<std::int64_t, double> per_size;  // particle-steps per core-second, by N
+  std::map<std::int64_t, double> per_size;     // particle-steps per core-second, by N
+  std::map<std::int64_t, std::string> source;  // by N: where per_size comes from, in words
   double evaluation_cost = 1.0;
 
   /// Core-seconds of `particle_steps` at N = n (a size not probed: the nearest probed one).
@@ -35,7 +46,32 @@ struct Throughput {
   double at(std::int64_t n) const;
 };
 
-/// Probes every size of `sizes` for a campaign whose runs take `run`'s integrator.
+/// Probes every size of `sizes` once for a campaign whose runs take `run`'s integrator.
 Throughput measure_throughput(const SimConfig& run, const std::vector<std::int64_t>& sizes);
+
+/// The probe at N = n repeated: its least, median and largest value.
+struct ProbeSpread {
+  double min = 0, median = 0, max = 0;
+  int repeats = 0;
+};
+ProbeSpread probe_spread(int dim, std::int64_t n, int repeats);
+
+/// Where the stored measurements are: reference/throughput.toml (install_paths.hpp).
+std::string stored_throughput_file();
+
+/// The stored probe of dimension `dim` at N = n from `file` (linear in log N between its
+/// sizes, the nearest beyond them); nullopt when the file is absent or has no table for `dim`.
+/// A file that is there but does not read is an error naming it and the key.
+std::optional<double> stored_throughput(const std::string& file, int dim, std::int64_t n);
+
+/// The plan's price at each size of `sizes`: the stored measurements, or the probe (3 repeats,
+/// the median; its spread in the source words) when `probe` or when `file` has none for the
+/// dimension.
+Throughput plan_throughput(const SimConfig& run, const std::vector<std::int64_t>& sizes, bool probe,
+                           const std::string& file = stored_throughput_file());
+
+/// `base` with each size that finished runs of `plan` measured (records with CPU seconds and
+/// particle-steps) priced from them instead.
+Throughput with_finished_runs(const Throughput& base, const std::vector<PlannedRun>& plan);
 
 }  // namespace jam

@@ -21,7 +21,8 @@
 //  compare_fit, compare_fit_phi_j: the per-(N, phi_init) fits of stats.h5 fit/families, beta
 //    and y relative to REF's and phi_J as a packing difference, judged with Student's t as
 //    fit_parameters judges them (checks/parameter_difference.hpp).
-//  DIR and REF that are one campaign are refused (checks/same_campaign.hpp).
+//  DIR and REF that are one campaign are refused (checks/same_campaign.hpp). Why they differ,
+//  where it can tell (the models, the start, too few samples): checks/compare_diagnosis.hpp.
 #include "checks/compare_check.hpp"
 
 #include <fmt/format.h>
@@ -34,6 +35,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/compare_coverage.hpp"
+#include "checks/compare_diagnosis.hpp"
 #include "checks/margin.hpp"
 #include "checks/parameter_difference.hpp"
 #include "checks/pooled_verdict.hpp"
@@ -138,13 +140,15 @@ std::vector<Verdict> pressure_verdicts(const Pair& p, bool at_z, Levels levels,
       region_ranges(names, jamming, at_z, d.tables, r.tables, from, range.pointwise_from);
   // Each range matches the grids within itself: another code's coarser grid is interpolated
   // onto REF's only where the two share too few values there.
+  auto match = [&](const PoolRange& x_range) {
+    return at_z ? match_grids(d.tables.z_grid, d.tables.pressure_at_z, r.tables.z_grid,
+                              r.tables.pressure_at_z, x_range.min, x_range.max)
+                : match_grids(d.tables.phi_grid, d.tables.pressure_at_phi, r.tables.phi_grid,
+                              r.tables.pressure_at_phi, x_range.min, x_range.max);
+  };
   std::map<std::string, std::string> words;  // by region
   const RangeData data = [&](const PoolRange& x_range, Verdict& x) {
-    const GridMatch m =
-        at_z ? match_grids(d.tables.z_grid, d.tables.pressure_at_z, r.tables.z_grid,
-                           r.tables.pressure_at_z, x_range.min, x_range.max)
-             : match_grids(d.tables.phi_grid, d.tables.pressure_at_phi, r.tables.phi_grid,
-                           r.tables.pressure_at_phi, x_range.min, x_range.max);
+    const GridMatch m = match(x_range);
     x.values["interpolated"] = m.interpolated ? 1.0 : 0.0;
     x.values["shared_points"] = static_cast<double>(m.shared);
     x.values["step_dir"] = m.step_dir;
@@ -157,6 +161,19 @@ std::vector<Verdict> pressure_verdicts(const Pair& p, bool at_z, Levels levels,
     if (m.aligned.a.size() < 2 || m.aligned.b.size() < 2) return Aligned{};
     return m.aligned;
   };
+  // The same grids again, for a verdict judged a second time past the start.
+  const RangeData rejudge = [&](const PoolRange& x_range, Verdict&) {
+    const GridMatch m = match(x_range);
+    return m.aligned.a.size() < 2 || m.aligned.b.size() < 2 ? Aligned{} : m.aligned;
+  };
+  const double past_start =
+      at_z ? z_span(d.tables, r.tables, -HUGE_VAL, from_phi + kStartSection).second
+           : from_phi + kStartSection;
+  const auto rows = [at_z](const EnsembleTables& e) {
+    return (at_z ? e.pressure_at_z : e.pressure_at_phi).size();
+  };
+  const std::size_t n_dir = rows(d.tables), n_ref = rows(r.tables);
+  const std::string too_few = too_few_samples(n_dir, n_ref);
   v.statistic_name = "|weighted mean (p_DIR - p_REF) / p_REF|";
   std::vector<Verdict> out = judge_by_region(v, data, range, names, regions, levels,
                                              o.margin("compare"), o.permutations, 3, RelativeTo::b);
@@ -171,6 +188,17 @@ std::vector<Verdict> pressure_verdicts(const Pair& p, bool at_z, Levels levels,
     if (std::isfinite(asked_min)) x.values["asked_min"] = asked_min;
     if (std::isfinite(asked_max)) x.values["asked_max"] = asked_max;
     never_pass_narrow(x, asked_min, asked_max);
+    if (!too_few.empty()) {
+      // One run a side has no scatter to judge by: said with the counts, not as missing points.
+      x.status = "inconclusive";
+      x.reason = too_few + (left_out.empty() ? "" : "; " + left_out);
+      x.samples_needed = NAN;
+      x.values["samples_a"] = static_cast<double>(n_dir);
+      x.values["samples_b"] = static_cast<double>(n_ref);
+    } else {
+      say_if_only_at_start(x, asked, past_start, rejudge, levels, o.margin("compare"),
+                           o.permutations);
+    }
   }
   return out;
 }
@@ -207,6 +235,11 @@ Verdict jamming_verdict(const Pair& p, Levels levels, const CheckOptions& o) {
   const std::string spreads = fmt::format(
       "spread of phi_Ji (standard deviation): DIR {:.3g} over {} runs, REF {:.3g} over {} runs",
       s_dir, n_dir, s_ref, n_ref);
+  if (const auto few = too_few_samples(n_dir, n_ref, " with a jamming point"); !few.empty()) {
+    Verdict x = inconclusive("compare_jamming", j.case_name, fmt::format("{} ({})", few, spreads));
+    x.values = j.values;
+    return x;
+  }
   try {
     const MeanDifference m =
         compare_means(p.dir->jamming_points, p.ref->jamming_points, levels, o.permutations, 4);
@@ -459,6 +492,7 @@ std::vector<Verdict> compare_check(const StatsData& dir, const StatsData& ref,
   }
   pool_window_scatter(out, series, o.for_estimate(levels), o.margin("compare"));
   compare_fits(dir, ref, o, out);
+  name_model_difference(out, campaign_model(dir.directory), campaign_model(ref.directory));
   return out;
 }
 

@@ -20,6 +20,7 @@
 #include "checks/checks.hpp"
 #include "checks/margin.hpp"
 #include "checks/parameter_difference.hpp"
+#include "stats/campaign_stats.hpp"
 
 namespace jam::checks {
 namespace {
@@ -31,6 +32,21 @@ double relative_sigma(double a, double ea, double b, double eb) {
   return 4 / ((a + b) * (a + b)) * std::sqrt(b * b * ea * ea + a * a * eb * eb);
 }
 
+/// "no scaling fit: fewer than 3 rates (...)" when the campaign's design cannot fit (`jam
+/// stats` then attempts none, stats/campaign_stats.hpp); "" otherwise.
+std::string fewer_rates(const StatsData& d) {
+  std::set<double> rates;
+  for (const auto& e : d.ensembles) rates.insert(e.log10_rate);
+  if (d.ensembles.empty() || rates.size() >= stats::kFitRatesMin) return "";
+  std::string listed;
+  for (auto it = rates.rbegin(); it != rates.rend(); ++it)
+    listed += fmt::format("{}1e{:g}", listed.empty() ? "" : ", ", *it);
+  return fmt::format(
+      "no scaling fit: fewer than {} rates (the campaign has {}: {}), so no per-size fits to "
+      "compare; a scaling fit needs at least {} (with 2, phi_J and q trade off)",
+      stats::kFitRatesMin, rates.size(), listed, stats::kFitRatesMin);
+}
+
 }  // namespace
 
 std::vector<Verdict> fit_parameters_check(const StatsData& d, const CheckOptions& o) {
@@ -39,6 +55,7 @@ std::vector<Verdict> fit_parameters_check(const StatsData& d, const CheckOptions
     return std::vector<Verdict>{inconclusive("fit_parameters", "all", why),
                                 inconclusive("fit_phi_j", "all", why)};
   };
+  if (const std::string few = fewer_rates(d); !few.empty()) return neither(few);
   if (d.families.empty()) {
     return neither(
         "stats.h5 has no per-size fits (fit/families): no representative scaling fit, or "

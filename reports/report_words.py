@@ -288,13 +288,14 @@ def no_fit_sentence(c):
     scan's distinct failure reasons when none of its fits could be made, else why no fit was
     taken as the representative."""
     fit = c.fit or {}
-    if not fit:
-        return "No scaling fit: stats.h5 has none (jam stats --no-fit, or no ensemble to fit)."
+    # First the design: with fewer than 3 rates `jam stats` attempts no fit and writes none.
     rates = _fitted_rates(c)
     if len(rates) < 3:
         listed = ", ".join(f"1e{r:g}" for r in rates) or "none"
         return (f"No scaling fit: fewer than 3 rates (the fitted ensembles have {len(rates)}: "
                 f"{listed}); a scaling fit needs at least 3, with 2 phi_J and q trade off.")
+    if not fit:
+        return "No scaling fit: stats.h5 has none (jam stats --no-fit, or no ensemble to fit)."
     scan = fit.get("scan") or {}
     phi_j = scan.get("phi_j", [])
     if len(phi_j) and not any(math.isfinite(x) for x in phi_j):

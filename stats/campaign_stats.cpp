@@ -28,6 +28,18 @@ std::vector<double> means_of(const GridAverage& a, const std::string& name) {
   return out;
 }
 
+/// Why the design has no scaling fit: its rates, named.
+std::string fewer_rates_words(const std::set<double>& rates, double phi_init, std::int64_t n) {
+  std::string listed;
+  for (auto it = rates.rbegin(); it != rates.rend(); ++it)
+    listed += fmt::format("{}1e{:g}", listed.empty() ? "" : ", ", std::log10(*it));
+  return fmt::format(
+      "none attempted: fewer than {} rates (the fitted ensembles, phi_init {:g} and N "
+      "{}, have {}{}); a scaling fit needs at least {} (with 2, phi_J and q trade off)",
+      kFitRatesMin, phi_init, n ? std::to_string(n) : "pooled", rates.size(),
+      listed.empty() ? "" : ": " + listed, kFitRatesMin);
+}
+
 }  // namespace
 
 CampaignStats compute_campaign_stats(const std::string& directory, const StatsOptions& o) {
@@ -96,6 +108,16 @@ void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOpt
     if (e.constant_z) {
       at_z.push_back(fit_ensemble(e, *e.constant_z, means_of(*e.constant_z, "packing_fraction")));
     }
+  }
+  // The design decides before any fit: with fewer than 3 rates phi_J and q trade off, and the
+  // fitter refuses every row (stats/scaling_fit.cpp), so none is attempted, none is written to
+  // stats.h5, and nothing downstream (families, the paper's protocol, the report's figures)
+  // sees a fit.
+  std::set<double> rates;
+  for (const auto& f : at_phi) rates.insert(f.rate);
+  if (rates.size() < kFitRatesMin) {
+    s.fit.failure = s.fit_z.failure = fewer_rates_words(rates, s.fit_phi_init, s.fit_size);
+    return;
   }
   s.clearance = read_clearance(directory, s.fit_size, s.fit_phi_init, *phi_inits.begin());
   s.fit = scan_fits(at_phi, o, s.clearance, "phi");

@@ -1,6 +1,7 @@
 #pragma once
 // `jam stats DIR`: everything the statistics stage computes from a campaign directory, and
 // the options that steer it. Reads run files only; writes DIR/stats.h5 (reference/schema.md).
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -92,6 +93,11 @@ struct FitScan {
   // 10^-6.5, labelled, never chosen for it; absent when the campaign has no such rate_max.
   std::optional<std::size_t> papers_protocol;
 };
+
+/// The fewest rates a scaling fit can use (stats/scaling_fit.cpp: with 2, phi_J and q trade
+/// off). A design with fewer among its fitted ensembles gets no fit attempted at all:
+/// fit_campaign says so in FitScan::failure and leaves the scan empty.
+constexpr std::size_t kFitRatesMin = 3;
 
 /// The paper's representative rate_max (its Figs. 3-4: "rate_max = 10^-6.5").
 constexpr double kPapersLog10RateMax = -6.5;

@@ -368,6 +368,9 @@ std::string format_stats_summary(const CampaignStats& s) {
                          e.jamming->samples.size());
     }
   }
+  // No fit attempted (fewer than 3 rates, campaign_stats.hpp): one line, once.
+  if (s.fit.rows.empty() && !s.fit.failure.empty())
+    out << fmt::format("\nscaling fit: {}\n", s.fit.failure);
   for (const auto& [title, scan] :
        {std::pair{"constant phi", &s.fit}, std::pair{"constant Z", &s.fit_z}}) {
     if (scan->rows.empty()) continue;

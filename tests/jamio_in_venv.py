@@ -247,8 +247,10 @@ def test_stats(data, source):
         s = jamio.load_stats(path)
         compare(stats_flat(s), path)
     s = jamio.load_stats(os.path.join(data, "campaign"))  # a directory: its stats.h5
-    assert (s.attrs["campaign"] == "jamio" and s.ensembles and s.fit is not None
-            and s.fit_z is not None), f"campaign stats: {s.attrs}, {list(s.ensembles)}"
+    # Its 2 rates give no scaling fit, and `jam stats` writes none (the stored results above
+    # carry fits).
+    assert (s.attrs["campaign"] == "jamio" and s.ensembles and s.fit is None), \
+        f"campaign stats: {s.attrs}, {list(s.ensembles)}, fit {s.fit}"
 
 
 def expected_checks(path):

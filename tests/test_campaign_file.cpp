@@ -1,6 +1,7 @@
 // Campaign files: every kind of bad input is rejected with the file, line and key; seeds
 // derive from (base seed, size, phi_init, sample) only; the plan is complete and ordered.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
 #include <cmath>
@@ -268,6 +269,40 @@ BOOST_AUTO_TEST_CASE(throughput_is_probed_per_size_and_priced_per_integrator) {
   BOOST_TEST(fixed.at(100) == 1.0);
   BOOST_TEST(fixed.at(1 << 20) == 2.0);
   BOOST_CHECK_THROW(jam::Throughput{}.at(64), std::logic_error);
+}
+
+// The stored measurements (reference/throughput.toml): linear in log N between their sizes,
+// the nearest beyond them; a dimension they lack is none (then the probe), a table that does
+// not add up is an error naming the file and the key.
+BOOST_AUTO_TEST_CASE(stored_throughput_is_read_and_interpolated_in_log_n) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("jam-throughput-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path file = dir / "throughput.toml";
+  std::ofstream(file) << "[2d]\nn = [256, 4096]\nparticle_steps_per_second = [1e8, 2e8]\n";
+  using jam::stored_throughput;
+  BOOST_TEST(*stored_throughput(file.string(), 2, 1024) == 1.5e8,
+             boost::test_tools::tolerance(1e-12));  // half way in log N
+  BOOST_TEST(*stored_throughput(file.string(), 2, 64) == 1e8);
+  BOOST_TEST(*stored_throughput(file.string(), 2, 1 << 20) == 2e8);
+  BOOST_TEST(!stored_throughput(file.string(), 3, 1024).has_value());
+  BOOST_TEST(!stored_throughput((dir / "none.toml").string(), 2, 1024).has_value());
+  // The shipped file has both dimensions; a plan priced from it says so.
+  for (int dim : {2, 3})
+    BOOST_TEST(stored_throughput(jam::stored_throughput_file(), dim, 1000).value_or(0) > 0);
+  jam::SimConfig run;
+  const jam::Throughput t = jam::plan_throughput(run, {64}, false);
+  BOOST_TEST(t.source.at(64) == "stored, reference/throughput.toml");
+  std::ofstream(file) << "[2d]\nn = [256, 4096]\nparticle_steps_per_second = [1e8]\n";
+  try {
+    stored_throughput(file.string(), 2, 1024);
+    BOOST_TEST(false, "a table of 2 sizes and 1 speed was read");
+  } catch (const std::runtime_error& e) {
+    BOOST_TEST(std::string(e.what()).find("[2d] n and particle_steps_per_second: 2 and 1") !=
+                   std::string::npos,
+               e.what());
+  }
+  std::filesystem::remove_all(dir);
 }
 
 // Values that used to become failed runs, or to pass through silently, are refused up front

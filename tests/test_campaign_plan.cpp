@@ -239,3 +239,44 @@ BOOST_AUTO_TEST_CASE(a_two_point_pilot_is_fitted_exactly_and_a_missing_kind_is_s
                  std::string::npos,
              r.output);
 }
+
+// The price comes from stored measurements (reference/throughput.toml), then from the
+// campaign's own finished runs: the same plan, word for word, on every invocation for the same
+// runs, however busy the machine (a probe per plan moved one design's cost by 45%). The probe
+// only when asked, with its spread.
+BOOST_AUTO_TEST_CASE(the_plan_is_the_same_on_every_invocation) {
+  const fs::path file = write_campaign(
+      "same",
+      "dim = 2\nsizes = [64, 128]\nphi_init = [0.70]\nlog10_rates = [-2.5]\nsamples = 2\n"
+      "phi_stop = 0.80\nphi_step = 0.002\nseed = 7\n");
+  auto plan = [&](const std::string& more = "") {
+    const auto o = run_jam("campaign plan " + file.string() + more);
+    BOOST_TEST(o.status == 0, o.output);
+    return o.output;
+  };
+  const std::string first = plan();
+  BOOST_TEST(plan() == first);
+  for (const char* n : {"N =      64:", "N =     128:"}) {
+    const auto at = first.find(n);
+    BOOST_TEST_REQUIRE(at != std::string::npos, first);
+    BOOST_TEST(
+        first.substr(at, first.find('\n', at) - at).find("(stored, reference/throughput.toml)") !=
+            std::string::npos,
+        first);
+  }
+  // Once runs have finished, their recorded CPU seconds price their sizes.
+  BOOST_TEST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  const std::string measured = plan();
+  BOOST_TEST(plan() == measured);
+  BOOST_TEST(measured.find("(this campaign's 2 finished runs, their recorded CPU seconds)") !=
+                 std::string::npos,
+             measured);
+  BOOST_TEST(measured.find("stored, reference") == std::string::npos, measured);
+  // The probe, asked for, says its spread; the sizes finished runs measured keep their price.
+  fs::remove_all(kDir / "same");
+  const std::string probed = plan(" --probe");
+  BOOST_TEST(std::regex_search(probed, std::regex("N =      64: .*\\(probe of this machine, 3 "
+                                                  "repeats: min [0-9.e+]+, median [0-9.e+]+, "
+                                                  "max [0-9.e+]+\\)")),
+             probed);
+}

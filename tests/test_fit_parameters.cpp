@@ -1,7 +1,8 @@
 // The fit_parameters check (checks/fit_parameters_check.cpp) on planted fitted parameters:
 // equal parameters with small errors pass, beta 30% apart fails and is named, a phi_J shift of
 // 0.01 fails its own verdict, large errors and fits of quality poor are inconclusive, and
-// without per-size fits it says so. The t quantiles are checked against tabulated values.
+// without per-size fits it says so (a design of fewer than 3 rates as such). The t quantiles are
+// checked against tabulated values.
 #include <gsl/gsl_cdf.h>
 
 #include <boost/test/unit_test.hpp>
@@ -76,9 +77,9 @@ BOOST_AUTO_TEST_CASE(a_poor_fit_is_not_compared) {
   BOOST_TEST_REQUIRE(v.size() == 2u);
   for (const auto& x : v) {
     BOOST_TEST(x.status == "inconclusive", x.reason);
-    BOOST_TEST(x.reason.find("n256 phi_init 0.4 is of quality poor (chi^2/dof 7.48") !=
-                   std::string::npos,
-               x.reason);
+    BOOST_TEST(
+        x.reason.find("n256 phi_init 0.4 is of quality poor (chi^2/dof 7.48") != std::string::npos,
+        x.reason);
   }
 }
 
@@ -93,4 +94,30 @@ BOOST_AUTO_TEST_CASE(without_family_fits_it_says_so) {
   const auto w = judged(broken, family(1024, 2.8, 1.05, 0.8415, 0.01));
   BOOST_TEST(w[0].status == "inconclusive");
   BOOST_TEST(w[0].reason.find("0 points in the window") != std::string::npos, w[0].reason);
+}
+
+// A design of fewer than 3 rates has no scaling fit (`jam stats` attempts none): said as
+// such, naming the rates, not as fits missing from stats.h5.
+BOOST_AUTO_TEST_CASE(a_design_of_fewer_than_three_rates_says_so) {
+  StatsData d;
+  for (double rate : {-2.5, -3.0}) {
+    EnsembleTables e;
+    e.n = 256;
+    e.log10_rate = rate;
+    d.ensembles.push_back(e);
+  }
+  const auto two = fit_parameters_check(d, CheckOptions{});
+  BOOST_TEST_REQUIRE(two.size() == 2u);
+  for (const auto& v : two) {
+    BOOST_TEST(v.status == "inconclusive");
+    BOOST_TEST(v.reason.find("no scaling fit: fewer than 3 rates (the campaign has 2: 1e-2.5, "
+                             "1e-3)") == 0u,
+               v.reason);
+    BOOST_TEST(short_reason(v) == "no scaling fit", v.reason);
+  }
+  // Three rates and still no per-size fits: the file is what is missing.
+  d.ensembles.push_back(d.ensembles.back());
+  d.ensembles.back().log10_rate = -3.5;
+  const auto three = fit_parameters_check(d, CheckOptions{});
+  BOOST_TEST(three[0].reason.find("fit/families") != std::string::npos, three[0].reason);
 }

@@ -95,6 +95,19 @@ def test_no_fit_no_figure_and_one_sentence_with_two_rates(tmp_path):
     assert summary.count("No scaling fit") == 1, summary
 
 
+def test_two_rates_and_no_fit_in_stats_h5_say_why(tmp_path):
+    # `jam stats` attempts no fit with fewer than 3 rates and writes none: the sentence is the
+    # design's, not "--no-fit".
+    figures, words = report_module("report_figures_fit"), report_module("report_words")
+    c = campaign([-2.5, -3.0], ["-"])
+    c.fit = None
+    assert figures.scan_figure(c, str(tmp_path)) is None
+    assert figures.collapse_figure(c, str(tmp_path)) is None
+    assert words.no_fit_sentence(c).startswith(
+        "No scaling fit: fewer than 3 rates (the fitted ensembles have 2: 1e-2.5, 1e-3)"), \
+        words.no_fit_sentence(c)
+
+
 def test_no_fit_the_scans_distinct_reasons_when_it_has_rates_enough(tmp_path):
     figures, words = report_module("report_figures_fit"), report_module("report_words")
     c = campaign([-4.0, -4.5, -5.0, -5.5],
