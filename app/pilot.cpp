@@ -10,6 +10,7 @@
 #include "app/stats_command.hpp"
 #include "campaign/toml_file.hpp"
 #include "checks/checks.hpp"
+#include "checks/verdict_file.hpp"
 
 namespace jam {
 
@@ -43,7 +44,7 @@ std::string run_pilot(const Campaign& pilot, const CampaignRunOptions& run, cons
   checks::CheckOptions options;
   options.margins = pilot.margins;
   const auto verdicts = checks::run_check("all", checks::read_stats(pilot.output), options);
-  write_verdict_files(pilot.output, "all", verdicts, pilot.name, 0.0);
+  checks::write_verdict_files(pilot.output, "all", verdicts, pilot.name, 0.0);
   return pilot.output;
 }
 

@@ -7,16 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <tuple>
 
 #include "campaign/added_samples.hpp"
 #include "campaign/run_plan.hpp"
 #include "checks/checks.hpp"
-#include "checks/verdict.hpp"
+#include "checks/verdict_file.hpp"
 #include "checks/window_scatter.hpp"
 #include "sim/io/install_paths.hpp"
 #include "sim/io/output_path.hpp"
@@ -73,8 +71,10 @@ ScatterFit fit(const std::vector<ScatterPoint>& p) {
   return f;
 }
 
-double number(const nlohmann::json& values, const char* key) {
-  return values.contains(key) && values[key].is_number() ? values[key].get<double>() : NAN;
+/// values[key], NaN where the verdict has none.
+double number(const std::map<std::string, double>& values, const char* key) {
+  const auto it = values.find(key);
+  return it == values.end() ? NAN : it->second;
 }
 
 }  // namespace
@@ -94,24 +94,16 @@ ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files,
   for (const auto& path : checks_files) {
     if (!std::filesystem::exists(path))
       throw std::runtime_error(path + ": not found (judge the campaign first: jam check all DIR)");
-    check_input_file("--scatter-from", path);
-    std::ifstream in(path);
-    nlohmann::json verdicts;
-    try {
-      verdicts = checks::verdict_array(nlohmann::json::parse(in));
-    } catch (const std::exception& e) {
-      throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
-    }
+    const std::vector<checks::Verdict> verdicts = checks::read_verdict_file(path).verdicts;
     const std::size_t before = at_phi.size() + at_z.size();
     // The range asked, where the file judged it: its scatter, not that of a wider window.
-    const bool of_region =
-        !region.empty() && std::any_of(verdicts.begin(), verdicts.end(), [&](const auto& v) {
-          return v.is_object() && v.value("region", "") == region;
-        });
-    for (const auto& v : verdicts) {
-      if (!v.is_object() || !v.contains("values") || !v["values"].is_object()) continue;
-      if (of_region && v.value("region", "") != region) continue;
-      const auto& x = v["values"];
+    const bool of_region = !region.empty() && std::any_of(verdicts.begin(), verdicts.end(),
+                                                          [&](const checks::Verdict& v) {
+                                                            return v.region == region;
+                                                          });
+    for (const checks::Verdict& v : verdicts) {
+      if (of_region && v.region != region) continue;
+      const auto& x = v.values;
       const double rate = number(x, "log10_rate");
       const double na = std::isfinite(number(x, "n_a")) ? number(x, "n_a") : number(x, "n");
       const double nb = std::isfinite(number(x, "n_b")) ? number(x, "n_b") : number(x, "n");
@@ -287,25 +279,21 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
 }
 
 void print_phi_init_findings(const Campaign& c) {
-  const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
-  if (std::filesystem::exists(checks)) {
-    try {
-      check_input_file("checks", checks.string());
-      std::ifstream in(checks);
-      const auto verdicts = checks::verdict_array(nlohmann::json::parse(in));
-      for (const auto& v : verdicts) {
-        if (!v.contains("values") || !v["values"].contains("largest_consistent_phi_init")) continue;
-        const auto& x = v["values"];
-        fmt::print(
-            "  phi_init check (N {}, rate 1e{:g}): starting at phi_init {:g} instead of {:g} "
-            "gives the same pressures and saves {:.0f}% of the compression time\n",
-            x["n"].get<double>(), x["log10_rate"].get<double>(),
-            x["largest_consistent_phi_init"].get<double>(), x["lowest_phi_init"].get<double>(),
-            100 * x["compression_time_saved"].get<double>());
-      }
-    } catch (const std::exception& e) {
-      fmt::print("  ({}: {})\n", checks.string(), e.what());
+  const std::filesystem::path file = std::filesystem::path(c.output) / "checks.json";
+  if (!std::filesystem::exists(file)) return;
+  try {
+    for (const checks::Verdict& v : checks::read_verdict_file(file.string()).verdicts) {
+      const auto& x = v.values;
+      if (!x.contains("largest_consistent_phi_init")) continue;
+      fmt::print(
+          "  phi_init check (N {}, rate 1e{:g}): starting at phi_init {:g} instead of {:g} "
+          "gives the same pressures and saves {:.0f}% of the compression time\n",
+          number(x, "n"), number(x, "log10_rate"), number(x, "largest_consistent_phi_init"),
+          number(x, "lowest_phi_init"), 100 * number(x, "compression_time_saved"));
     }
+  } catch (const std::exception& e) {
+    // read_verdict_file's reasons start with the file's name.
+    fmt::print("  ({})\n", e.what());
   }
 }
 

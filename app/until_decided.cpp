@@ -21,6 +21,7 @@
 #include "checks/check_registry.hpp"
 #include "checks/checks.hpp"
 #include "checks/sequential.hpp"
+#include "checks/verdict_file.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/stop_signal.hpp"
@@ -171,16 +172,8 @@ double batch_seconds(const Campaign& c, const SampleCounts& counts, const Cost& 
 
 /// The exit status of the stored checks.json (a sequence finished by an earlier invocation).
 int stored_exit_status(const Campaign& c) {
-  const std::string path = (fs::path(c.output) / "checks.json").string();
-  check_input_file("checks.json", path);
-  std::ifstream in(path);
-  bool fail = false, open = false;
-  for (const auto& v : checks::verdict_array(json::parse(in))) {
-    const std::string status = v.value("status", "");
-    fail = fail || (status == "fail" && !v.value("expected_failure", false));
-    open = open || status == "inconclusive";
-  }
-  return fail ? 1 : open ? 3 : 0;
+  return checks::exit_status(
+      checks::read_verdict_file((fs::path(c.output) / "checks.json").string()).verdicts);
 }
 
 // ---- one look ------------------------------------------------------------------------------
@@ -532,7 +525,8 @@ int run_looks(const Campaign& c, const CampaignRunOptions& run, const UntilDecid
       more = judge_look(c, o, s, &verdicts) ? 1 : 0;
       // The verdicts before the state that says they are final: a stop or a kill between the
       // two leaves the look to be judged again, never a finished state without checks.json.
-      if (!more) write_verdict_files(c.output, "all", verdicts, c.name, 0.0, question_of(c, o));
+      if (!more)
+        checks::write_verdict_files(c.output, "all", verdicts, c.name, 0.0, question_of(c, o));
       throw_if_stop_requested("until-decided.json");
       write_state(c, s);
       if (!more) fmt::print("until-decided: {}\n", s.outcome);
