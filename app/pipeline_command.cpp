@@ -13,6 +13,7 @@
 #include "campaign/campaign_runner.hpp"
 #include "checks/verdict_file.hpp"
 #include "sim/run/stop_signal.hpp"
+#include "stats/fit_verdicts.hpp"
 #include "stats/stats_inputs.hpp"
 
 namespace jam {
@@ -100,7 +101,9 @@ void average_unless_current(const std::vector<fs::path>& averaged) {
     stage_boundary("stats.h5");
     const fs::path stats_file = d / "stats.h5";
     const bool present = fs::exists(fs::symlink_status(stats_file));
-    const std::string why = present ? stats::stale_stats_reason(d.string()) : std::string();
+    std::string why = present ? stats::stale_stats_reason(d.string()) : std::string();
+    if (present && why.empty())
+      why = stats::fit_verdicts_change(d.string(), declared_fit_verdicts(d.string()));
     if (present && why.empty()) {
       fmt::print("stats: {} is up to date\n", stats_file.string());
       continue;

@@ -6,11 +6,22 @@
 #include <cmath>
 #include <filesystem>
 
+#include "checks/fit_inputs.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/model/paper_values.hpp"
 #include "stats/stats_inputs.hpp"
 
 namespace jam {
+
+stats::FitVerdicts declared_fit_verdicts(const std::string& directory) {
+  try {
+    return checks::fit_verdicts(directory);
+  } catch (const std::runtime_error& e) {
+    // A damaged verdict file must not block the averages `jam check` needs to judge again.
+    fmt::print(stderr, "jam stats: {}: the fit uses no verdicts\n", e.what());
+    return {};
+  }
+}
 
 void add_stats_command(CLI::App& app, StatsArgs& a) {
   CLI::App* s = app.add_subcommand(
@@ -36,6 +47,12 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
               "Hold q at the paper's value for the dimension (phi_J and 1/(z nu) fitted)");
   s->add_flag(
       "--no-fit", [&a](std::int64_t) { a.options.fit = false; }, "Averages only");
+  s->add_option("--fit-verdicts", a.fit_verdicts,
+                "The verdicts the fit uses, a declared input recorded in stats.h5: auto (DIR's "
+                "checks.json: phi_init verdicts clear the rates of a fitted phi_init above the "
+                "lowest, finite_size verdicts allow the paper's protocol to pool sizes; "
+                "checks-phi_init.json) or none")
+      ->check(CLI::IsMember({"auto", "none"}));
   s->add_flag("--refit", a.refit,
               "Refit the averages already in DIR/stats.h5 instead of reading the runs (for "
               "stored results whose runs are not kept); jamming points carry over");
@@ -75,6 +92,9 @@ int run_stats_command(const StatsArgs& a) {
     o.fixed_q = paper_values(dim).q();
     if (a.fix_paper_exponents) o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
+  // The verdicts the fit may use, declared here (read through checks/verdict_file.hpp), never
+  // found by stats/ itself.
+  if (a.fit_verdicts == "auto") o.verdicts = declared_fit_verdicts(a.directory);
   // The output, checked before the work (output_path.hpp).
   const std::string out =
       output_file_target((std::filesystem::path(a.directory) / "stats.h5").string());

@@ -13,11 +13,18 @@ struct StatsArgs {
   bool fix_paper_exponents = false;
   bool fix_paper_q = false;
   bool refit = false;
+  // The verdicts the fit uses (stats/fit_verdicts.hpp): "auto" DIR's verdict files where
+  // present, "none" none.
+  std::string fit_verdicts = "auto";
 };
 
 /// Registers `jam stats DIR`.
 void add_stats_command(CLI::App& app, StatsArgs& args);
 
 int run_stats_command(const StatsArgs& args);
+
+/// The verdicts `jam stats DIR` declares to its fit by default (checks::fit_verdicts); none,
+/// said on standard error, when a verdict file there cannot be read.
+stats::FitVerdicts declared_fit_verdicts(const std::string& directory);
 
 }  // namespace jam
