@@ -13,7 +13,9 @@
 
 #include "campaign/added_samples.hpp"
 #include "campaign/run_plan.hpp"
+#include "checks/check_registry.hpp"
 #include "checks/checks.hpp"
+#include "checks/verdict_ensembles.hpp"
 #include "checks/verdict_file.hpp"
 #include "checks/window_scatter.hpp"
 #include "sim/io/install_paths.hpp"
@@ -134,39 +136,38 @@ namespace {
 
 /// One comparison a check of the campaign will make.
 struct Planned {
-  std::string check;  // "finite_size" or "phi_init"
+  std::string check;
+  std::string kind;  // the check, with ", constant Z" or ", constant phi" where it says which
   bool at_z = false;
-  std::int64_t n_a = 0, n_b = 0;
-  double phi_a = 0, phi_b = 0, log10_rate = 0;
+  EnsembleId a, b;
 };
 
+/// The comparisons every check the campaign asks for will make, as each declares them in its
+/// registry line (verdict_ensembles.hpp): no check is named here.
 std::vector<Planned> planned_comparisons(const Campaign& c) {
   std::vector<Planned> out;
   const auto& wanted = c.question.checks;  // empty: every check
-  auto asks = [&wanted](const char* check) {
-    return wanted.empty() || std::find(wanted.begin(), wanted.end(), check) != wanted.end();
-  };
-  if (c.sizes.size() >= 2 && asks("finite_size")) {
-    const auto [lo, hi] = std::minmax_element(c.sizes.begin(), c.sizes.end());
-    for (double phi : c.phi_init)
-      for (double r : c.log10_rates)
-        for (bool z : {false, true}) out.push_back({"finite_size", z, *lo, *hi, phi, phi, r});
-  }
-  if (c.phi_init.size() >= 2 && asks("phi_init")) {
-    const double low = *std::min_element(c.phi_init.begin(), c.phi_init.end());
-    for (auto n : c.sizes)
-      for (double r : c.log10_rates)
-        for (double phi : c.phi_init)
-          if (phi != low) out.push_back({"phi_init", false, n, n, phi, low, r});
+  for (const checks::CheckEntry& e : checks::check_registry()) {
+    const std::string name(e.name);
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), name) == wanted.end()) continue;
+    for (const checks::Values& values : e.samples->planned(c)) {
+      const std::vector<EnsembleId> ens = e.samples->ensembles(values);
+      if (ens.size() != 2) continue;
+      const auto z = values.find("constant_z");
+      const bool at_z = z != values.end() && z->second == 1.0;
+      const std::string kind = z == values.end() ? name
+                               : at_z            ? name + ", constant Z"
+                                                 : name + ", constant phi";
+      out.push_back({name, kind, at_z, ens[0], ens[1]});
+    }
   }
   return out;
 }
 
 using EnsembleKey = std::tuple<std::int64_t, double, double>;  // n, phi_init, log10 rate
 
-std::string kind_of(const Planned& p) {
-  if (p.check != "finite_size") return p.check;
-  return p.check + (p.at_z ? ", constant Z" : ", constant phi");
+EnsembleKey key(const EnsembleId& e) {
+  return {e.n, e.phi_init, e.log10_rate};
 }
 
 }  // namespace
@@ -214,18 +215,18 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
   std::map<std::string, SampleCounts> want;  // samples per ensemble, per check
   std::map<std::string, double> most;
   const auto samples = static_cast<double>(c.samples);
-  for (const auto& p : planned) ++count[kind_of(p)];
+  for (const auto& p : planned) ++count[p.kind];
   int warnings = 0;
   for (const auto& p : planned) {
-    const std::string kind = kind_of(p);
+    const std::string& kind = p.kind;
     const ScatterFit& f = p.at_z ? model.at_z : model.at_phi;
     const double margin =
         c.margins.contains(p.check) ? c.margins.at(p.check) : checks::default_margin(p.check);
     // Only the pass level matters here (a TOST at the check's alpha).
     const double z_pass =
         gsl_cdf_ugaussian_Qinv(c.question.alpha.value_or(checks::CheckOptions{}.alpha));
-    const double sa = f.scatter(static_cast<double>(p.n_a), p.log10_rate),
-                 sb = f.scatter(static_cast<double>(p.n_b), p.log10_rate);
+    const double sa = f.scatter(static_cast<double>(p.a.n), p.a.log10_rate),
+                 sb = f.scatter(static_cast<double>(p.b.n), p.b.log10_rate);
     // With no effect, D ~ N(0, sigma) passes when |D| <= M - z_pass sigma: with probability
     // kPlanPower when sigma <= M / (z_pass + z), z the two-sided quantile of that power.
     const double target =
@@ -235,11 +236,9 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
       continue;
     }
     const checks::SamplesNeeded n =
-        checks::samples_for_sigma(target, sa, sb, cost[{p.n_a, p.phi_a, p.log10_rate}],
-                                  cost[{p.n_b, p.phi_b, p.log10_rate}], samples, samples);
+        checks::samples_for_sigma(target, sa, sb, cost[key(p.a)], cost[key(p.b)], samples, samples);
     most[kind] = std::max(most[kind], n.equal);
-    for (const auto& [id, needed] : {std::pair{EnsembleId{p.n_a, p.phi_a, p.log10_rate}, n.a},
-                                     std::pair{EnsembleId{p.n_b, p.phi_b, p.log10_rate}, n.b}}) {
+    for (const auto& [id, needed] : {std::pair{p.a, n.a}, std::pair{p.b, n.b}}) {
       auto& x = want[kind][id];
       x = std::max(x, static_cast<std::int64_t>(needed));
     }
