@@ -12,6 +12,7 @@
 #include "campaign/campaign_file.hpp"
 #include "campaign/campaign_runner.hpp"
 #include "checks/verdict_file.hpp"
+#include "design/stats_stage.hpp"
 #include "sim/run/stop_signal.hpp"
 #include "stats/fit_verdicts.hpp"
 #include "stats/stats_inputs.hpp"
@@ -103,7 +104,7 @@ void average_unless_current(const std::vector<fs::path>& averaged) {
     const bool present = fs::exists(fs::symlink_status(stats_file));
     std::string why = present ? stats::stale_stats_reason(d.string()) : std::string();
     if (present && why.empty())
-      why = stats::fit_verdicts_change(d.string(), declared_fit_verdicts(d.string()));
+      why = stats::fit_verdicts_change(d.string(), design::declared_fit_verdicts(d.string()));
     if (present && why.empty()) {
       fmt::print("stats: {} is up to date\n", stats_file.string());
       continue;

@@ -2,26 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
-#include <filesystem>
 
-#include "checks/fit_inputs.hpp"
-#include "sim/io/output_path.hpp"
+#include "design/stats_stage.hpp"
 #include "sim/model/paper_values.hpp"
-#include "stats/stats_inputs.hpp"
 
 namespace jam {
-
-stats::FitVerdicts declared_fit_verdicts(const std::string& directory) {
-  try {
-    return checks::fit_verdicts(directory);
-  } catch (const std::runtime_error& e) {
-    // A damaged verdict file must not block the averages `jam check` needs to judge again.
-    fmt::print(stderr, "jam stats: {}: the fit uses no verdicts\n", e.what());
-    return {};
-  }
-}
 
 void add_stats_command(CLI::App& app, StatsArgs& a) {
   CLI::App* s = app.add_subcommand(
@@ -94,21 +80,8 @@ int run_stats_command(const StatsArgs& a) {
   }
   // The verdicts the fit may use, declared here (read through checks/verdict_file.hpp), never
   // found by stats/ itself.
-  if (a.fit_verdicts == "auto") o.verdicts = declared_fit_verdicts(a.directory);
-  // The output, checked before the work (output_path.hpp).
-  const std::string out =
-      output_file_target((std::filesystem::path(a.directory) / "stats.h5").string());
-  const auto started = std::chrono::steady_clock::now();
-  // What the runs are, taken before they are read: a run finished meanwhile leaves the file
-  // out of date, never taken for averaged (stats_inputs.hpp). A refit keeps the earlier file's.
-  const std::string inputs = a.refit ? std::string() : stats::inputs_checksum(a.directory);
-  stats::CampaignStats s = a.refit ? stats::refit_campaign_stats(a.directory, o)
-                                   : stats::compute_campaign_stats(a.directory, o);
-  if (!a.refit) s.inputs_checksum = inputs;
-  s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  stats::write_stats_file(out, s, o);
-  fmt::print("{}", stats::format_stats_summary(s));
-  fmt::print("wrote {}\n", out);
+  if (a.fit_verdicts == "auto") o.verdicts = design::declared_fit_verdicts(a.directory);
+  design::write_campaign_stats(a.directory, o, a.refit);
   return 0;
 }
 

@@ -23,8 +23,4 @@ void add_stats_command(CLI::App& app, StatsArgs& args);
 
 int run_stats_command(const StatsArgs& args);
 
-/// The verdicts `jam stats DIR` declares to its fit by default (checks::fit_verdicts); none,
-/// said on standard error, when a verdict file there cannot be read.
-stats::FitVerdicts declared_fit_verdicts(const std::string& directory);
-
 }  // namespace jam

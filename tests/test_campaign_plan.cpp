@@ -1,4 +1,4 @@
-// `jam campaign plan` on what a design can decide (app/plan_decidability.hpp), through the
+// `jam campaign plan` on what a design can decide (design/plan_decidability.hpp), through the
 // executable: the stored 2D variance model says that two samples of N = 256 against N = 1024
 // cannot decide the pressure at constant phi, and warns with the samples needed; with 400
 // samples every comparison decides; a --scatter-from that is missing is one line and no plan;

@@ -1,4 +1,4 @@
-#include "app/plan_decidability.hpp"
+#include "design/plan_decidability.hpp"
 
 #include <fmt/format.h>
 #include <gsl/gsl_cdf.h>
