@@ -9,9 +9,9 @@
 #include <tuple>
 #include <utility>
 
-#include "app/pilot.hpp"
-#include "app/plan_decidability.hpp"
 #include "app/until_decided.hpp"
+#include "design/pilot.hpp"
+#include "design/plan_decidability.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/terminal_text.hpp"
 

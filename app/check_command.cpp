@@ -13,7 +13,7 @@
 #include "checks/check_registry.hpp"
 #include "checks/run_checks.hpp"
 #include "checks/stats_data.hpp"
-#include "sim/io/atomic_file.hpp"
+#include "checks/verdict_file.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/stop_signal.hpp"
 #include "stats/stats_inputs.hpp"
@@ -154,26 +154,6 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
               "lammps: run lmp and rewrite the stored LAMMPS result in --reference-dir");
 }
 
-void write_verdict_files(const std::string& directory, const std::string& name,
-                         const std::vector<checks::Verdict>& verdicts,
-                         const std::string& campaign_name, double seconds,
-                         const nlohmann::json& options) {
-  // A stop asked for while judging (`jam pipeline`, `--until-decided`): nothing is written.
-  throw_if_stop_requested("checks.json");
-  const std::filesystem::path dir(directory);
-  const std::string stem = name == "all" ? "checks" : "checks-" + name;
-  for (const auto& [file, text] :
-       {std::pair{dir / (stem + ".json"), checks::to_json(verdicts, campaign_name, options)},
-        std::pair{dir / (stem + ".xml"), checks::to_junit_xml(verdicts, "jam.check." + name)}}) {
-    AtomicFile out(file.string());
-    std::fputs(text.c_str(), out.stream());
-    out.commit();
-  }
-  checks::write_curves((dir / (stem + ".h5")).string(), verdicts, seconds);
-  fmt::print("wrote {}.json, {}.xml and {}.h5\n", (dir / stem).string(), (dir / stem).string(),
-             (dir / stem).string());
-}
-
 namespace {
 
 /// The verdicts of one campaign of compare_with: verdicts[begin, end).
@@ -291,10 +271,9 @@ int run_check_command(const CheckArgs& a) {
   // The three outputs, checked before any check runs (output_path.hpp): a FIFO or directory
   // there is refused now, not after the work.
   {
-    const std::filesystem::path dir(a.directory);
-    const std::string stem = a.name == "all" ? "checks" : "checks-" + a.name;
-    for (const char* ext : {".json", ".xml", ".h5"})
-      output_file_target((dir / (stem + ext)).string());
+    const std::filesystem::path stem =
+        std::filesystem::path(a.directory) / checks::verdict_file_stem(a.name);
+    for (const char* ext : {".json", ".xml", ".h5"}) output_file_target(stem.string() + ext);
   }
   // Margins and expected failures: the campaign file's, then --margin.
   const CampaignPart campaign = campaign_part(a.directory);
@@ -349,7 +328,7 @@ int run_check_command(const CheckArgs& a) {
   if (!lammps_judged && !in.runs_of_another_simulator) print_lammps_left_out();
   // `all` writes checks.*, the files reports read; a single check writes checks-NAME.*, so
   // that it never replaces the full set.
-  write_verdict_files(
+  checks::write_verdict_files(
       a.directory, a.name, verdicts, campaign.name,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
       judging_record(a.judging, o, a.name == "all" ? campaign.question : CampaignQuestion{}));

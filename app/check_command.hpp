@@ -39,11 +39,4 @@ bool question_wants(const std::vector<std::string>& wanted, const std::string& c
 /// the options given; the record checks.json keeps of them. Throws naming a bad option.
 nlohmann::json check_record(const CheckArgs& args);
 
-/// Writes DIR/checks.{json,xml,h5} (name "all") or DIR/checks-NAME.*, each atomically;
-/// checks.json records `options` (what the verdicts were judged with) unless it is null.
-void write_verdict_files(const std::string& directory, const std::string& name,
-                         const std::vector<checks::Verdict>& verdicts,
-                         const std::string& campaign_name, double seconds,
-                         const nlohmann::json& options = nullptr);
-
 }  // namespace jam

@@ -4,7 +4,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "app/check_command.hpp"
@@ -12,7 +11,10 @@
 #include "app/stats_command.hpp"
 #include "campaign/campaign_file.hpp"
 #include "campaign/campaign_runner.hpp"
+#include "checks/verdict_file.hpp"
+#include "design/stats_stage.hpp"
 #include "sim/run/stop_signal.hpp"
+#include "stats/fit_verdicts.hpp"
 #include "stats/stats_inputs.hpp"
 
 namespace jam {
@@ -37,10 +39,11 @@ bool stale(const fs::path& output, Time input) {
 /// check, never waited on here).
 nlohmann::json recorded_options(const fs::path& checks_json) {
   if (!fs::is_regular_file(checks_json)) return nullptr;
-  std::ifstream in(checks_json);
-  const nlohmann::json file = nlohmann::json::parse(in, nullptr, false);
-  if (file.is_discarded() || !file.is_object() || !file.contains("options")) return nullptr;
-  return file["options"];
+  try {
+    return checks::read_verdict_file(checks_json.string()).options;
+  } catch (const std::runtime_error&) {
+    return nullptr;
+  }
 }
 
 /// `check all`, when stats.h5 or the campaign file is newer than checks.json or the options
@@ -92,13 +95,16 @@ void stage_boundary(const char* next) {
 }
 
 /// stats.h5 of each averaged campaign, unless it still describes that campaign's runs
-/// (stats_inputs.hpp: the same definition `jam check` refuses by).
+/// (stats_inputs.hpp: the same definition `jam check` refuses by) and its fit the verdicts
+/// declared to it.
 void average_unless_current(const std::vector<fs::path>& averaged) {
   for (const fs::path& d : averaged) {
     stage_boundary("stats.h5");
     const fs::path stats_file = d / "stats.h5";
     const bool present = fs::exists(fs::symlink_status(stats_file));
-    const std::string why = present ? stats::stale_stats_reason(d.string()) : std::string();
+    std::string why = present ? stats::stale_stats_reason(d.string()) : std::string();
+    if (present && why.empty())
+      why = stats::fit_verdicts_change(d.string(), design::declared_fit_verdicts(d.string()));
     if (present && why.empty()) {
       fmt::print("stats: {} is up to date\n", stats_file.string());
       continue;

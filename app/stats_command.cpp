@@ -2,13 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
-#include <filesystem>
 
-#include "sim/io/output_path.hpp"
+#include "design/stats_stage.hpp"
 #include "sim/model/paper_values.hpp"
-#include "stats/stats_inputs.hpp"
 
 namespace jam {
 
@@ -36,6 +33,12 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
               "Hold q at the paper's value for the dimension (phi_J and 1/(z nu) fitted)");
   s->add_flag(
       "--no-fit", [&a](std::int64_t) { a.options.fit = false; }, "Averages only");
+  s->add_option("--fit-verdicts", a.fit_verdicts,
+                "The verdicts the fit uses, a declared input recorded in stats.h5: auto (DIR's "
+                "checks.json: phi_init verdicts clear the rates of a fitted phi_init above the "
+                "lowest, finite_size verdicts allow the paper's protocol to pool sizes; "
+                "checks-phi_init.json) or none")
+      ->check(CLI::IsMember({"auto", "none"}));
   s->add_flag("--refit", a.refit,
               "Refit the averages already in DIR/stats.h5 instead of reading the runs (for "
               "stored results whose runs are not kept); jamming points carry over");
@@ -75,20 +78,10 @@ int run_stats_command(const StatsArgs& a) {
     o.fixed_q = paper_values(dim).q();
     if (a.fix_paper_exponents) o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
-  // The output, checked before the work (output_path.hpp).
-  const std::string out =
-      output_file_target((std::filesystem::path(a.directory) / "stats.h5").string());
-  const auto started = std::chrono::steady_clock::now();
-  // What the runs are, taken before they are read: a run finished meanwhile leaves the file
-  // out of date, never taken for averaged (stats_inputs.hpp). A refit keeps the earlier file's.
-  const std::string inputs = a.refit ? std::string() : stats::inputs_checksum(a.directory);
-  stats::CampaignStats s = a.refit ? stats::refit_campaign_stats(a.directory, o)
-                                   : stats::compute_campaign_stats(a.directory, o);
-  if (!a.refit) s.inputs_checksum = inputs;
-  s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  stats::write_stats_file(out, s, o);
-  fmt::print("{}", stats::format_stats_summary(s));
-  fmt::print("wrote {}\n", out);
+  // The verdicts the fit may use, declared here (read through checks/verdict_file.hpp), never
+  // found by stats/ itself.
+  if (a.fit_verdicts == "auto") o.verdicts = design::declared_fit_verdicts(a.directory);
+  design::write_campaign_stats(a.directory, o, a.refit);
   return 0;
 }
 

@@ -13,6 +13,9 @@ struct StatsArgs {
   bool fix_paper_exponents = false;
   bool fix_paper_q = false;
   bool refit = false;
+  // The verdicts the fit uses (stats/fit_verdicts.hpp): "auto" DIR's verdict files where
+  // present, "none" none.
+  std::string fit_verdicts = "auto";
 };
 
 /// Registers `jam stats DIR`.

@@ -21,6 +21,8 @@
 #include "checks/check_registry.hpp"
 #include "checks/checks.hpp"
 #include "checks/sequential.hpp"
+#include "checks/verdict_ensembles.hpp"
+#include "checks/verdict_file.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/stop_signal.hpp"
@@ -33,51 +35,31 @@ namespace {
 
 // ---- what a verdict compares -------------------------------------------------------------
 
-/// The values that name what a verdict compares (checks' `values`), in a fixed order.
-constexpr const char* kIdentifying[] = {"n",
-                                        "n_a",
-                                        "n_b",
-                                        "phi_init",
-                                        "lowest_phi_init",
-                                        "log10_rate",
-                                        "log10_rate_slow",
-                                        "log10_rate_faster",
-                                        "constant_z"};
+/// What the verdict's check declares of its verdicts (check_registry.hpp, verdict_ensembles.hpp).
+const checks::Samples& samples_of(const checks::Verdict& v) {
+  const checks::CheckEntry* e = checks::find_check(v.check);
+  if (!e) throw std::logic_error("until-decided: a verdict of an unregistered check: " + v.check);
+  return *e->samples;
+}
 
-/// A verdict's identity across looks: its check and what it compares (its case name can
-/// change between looks, since it names the fit window, which moves as samples are added).
+/// A verdict's identity across looks: its check and what it compares, as its check declares
+/// it (its case name can change between looks, since it names the fit window, which moves as
+/// samples are added).
 std::string key_of(const checks::Verdict& v) {
   std::string key = v.check;
   // The region: a pooled verdict and its regions compare the same sets (states written before
   // regions name none, as "pooled").
   if (!v.region.empty() && v.region != "pooled") key += " region=" + v.region;
-  for (const char* k : kIdentifying)
-    if (const auto it = v.values.find(k); it != v.values.end())
+  for (const std::string_view k : samples_of(v).identity)
+    if (const auto it = v.values.find(std::string(k)); it != v.values.end())
       key += fmt::format(" {}={:.9g}", k, it->second);
   return key;
 }
 
-/// The ensembles a verdict compares (empty: nothing more samples could change, e.g. a single
-/// size).
-std::vector<EnsembleId> ensembles_of(const checks::Verdict& v) {
-  auto get = [&v](const char* k) -> std::optional<double> {
-    const auto it = v.values.find(k);
-    return it == v.values.end() ? std::nullopt : std::optional<double>(it->second);
-  };
-  auto id = [](double n, double phi, double rate) {
-    return EnsembleId{static_cast<std::int64_t>(std::llround(n)), phi, rate};
-  };
-  if (auto na = get("n_a"), nb = get("n_b"), phi = get("phi_init"), r = get("log10_rate");
-      na && nb && phi && r)
-    return {id(*na, *phi, *r), id(*nb, *phi, *r)};
-  if (auto n = get("n"), phi = get("phi_init"), low = get("lowest_phi_init"), r = get("log10_rate");
-      n && phi && low && r)
-    return {id(*n, *phi, *r), id(*n, *low, *r)};
-  if (auto n = get("n"), phi = get("phi_init"), slow = get("log10_rate_slow"),
-      fast = get("log10_rate_faster");
-      n && phi && slow && fast)
-    return {id(*n, *phi, *slow), id(*n, *phi, *fast)};
-  return {};
+/// The ensembles more samples of which would help decide the verdict, as its check declares
+/// them (empty: nothing more samples could change, e.g. a fit's verdict).
+std::vector<EnsembleId> ensembles_concerned(const checks::Verdict& v) {
+  return samples_of(v).ensembles(v.values);
 }
 
 // ---- the state -----------------------------------------------------------------------------
@@ -171,16 +153,8 @@ double batch_seconds(const Campaign& c, const SampleCounts& counts, const Cost& 
 
 /// The exit status of the stored checks.json (a sequence finished by an earlier invocation).
 int stored_exit_status(const Campaign& c) {
-  const std::string path = (fs::path(c.output) / "checks.json").string();
-  check_input_file("checks.json", path);
-  std::ifstream in(path);
-  bool fail = false, open = false;
-  for (const auto& v : checks::verdict_array(json::parse(in))) {
-    const std::string status = v.value("status", "");
-    fail = fail || (status == "fail" && !v.value("expected_failure", false));
-    open = open || status == "inconclusive";
-  }
-  return fail ? 1 : open ? 3 : 0;
+  return checks::exit_status(
+      checks::read_verdict_file((fs::path(c.output) / "checks.json").string()).verdicts);
 }
 
 // ---- one look ------------------------------------------------------------------------------
@@ -291,7 +265,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
       ++decided;
     } else if (question.states_range() && v.region != "asked") {
       ++not_asked;  // judged and reported, but the samples go where the question is
-    } else if (const auto ens = ensembles_of(v); ens.empty() || uncovered(v)) {
+    } else if (const auto ens = ensembles_concerned(v); ens.empty() || uncovered(v)) {
       ++not_by_samples;
     } else {
       ++undecided;
@@ -532,7 +506,8 @@ int run_looks(const Campaign& c, const CampaignRunOptions& run, const UntilDecid
       more = judge_look(c, o, s, &verdicts) ? 1 : 0;
       // The verdicts before the state that says they are final: a stop or a kill between the
       // two leaves the look to be judged again, never a finished state without checks.json.
-      if (!more) write_verdict_files(c.output, "all", verdicts, c.name, 0.0, question_of(c, o));
+      if (!more)
+        checks::write_verdict_files(c.output, "all", verdicts, c.name, 0.0, question_of(c, o));
       throw_if_stop_requested("until-decided.json");
       write_state(c, s);
       if (!more) fmt::print("until-decided: {}\n", s.outcome);

@@ -4,6 +4,7 @@
 
 #include <exception>
 
+#include "checks/verdict_file.hpp"
 #include "sim/io/open_run.hpp"
 #include "sim/io/terminal_text.hpp"
 
@@ -15,9 +16,33 @@ void add_validate_command(CLI::App& app, ValidateArgs& args) {
       "Check run files as the open run format says (docs/cross-simulator.md), before importing "
       "them: one line per file, `ok` or the field and value refused");
   v->add_option("RUN", args.runs, "Open runs or run files of jam's own")->required();
+  v->add_flag("--checks", args.checks,
+              "The files are verdict files (checks.json), checked against "
+              "reference/schema/checks.toml as every reader of them checks them");
 }
 
+namespace {
+
+/// `jam validate --checks`: each file read as every reader of a checks.json reads it.
+int validate_verdict_files(const ValidateArgs& args) {
+  int status = 0;
+  for (const std::string& path : args.runs) {
+    try {
+      const checks::VerdictFile f = checks::read_verdict_file(path);
+      fmt::print("{}: ok: schema {}, {} verdicts\n", visible(path), f.schema_version,
+                 f.verdicts.size());
+    } catch (const std::exception& e) {
+      fmt::print("{}\n", visible(e.what()));  // the reasons start with the file's name
+      status = 1;
+    }
+  }
+  return status;
+}
+
+}  // namespace
+
 int run_validate_command(const ValidateArgs& args) {
+  if (args.checks) return validate_verdict_files(args);
   int status = 0;
   for (const std::string& path : args.runs) {
     try {

@@ -24,13 +24,13 @@
 #include "campaign/campaign_dir.hpp"
 #include "campaign/campaign_lock.hpp"
 #include "campaign/external_campaign.hpp"
+#include "campaign/grid_limit.hpp"
 #include "campaign/import_store.hpp"
 #include "campaign/run_plan.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/open_run.hpp"
 #include "sim/io/output_path.hpp"
-#include "stats/grid_limit.hpp"
 
 namespace fs = std::filesystem;
 
@@ -81,15 +81,15 @@ std::string default_name(const fs::path& d) {
 }
 
 /// Why `step` cannot be a campaign's grid ("" when it can): stats refuses a grid beyond its
-/// limit (stats/grid_limit.hpp), and a grid of step s over packings in (0, 1) has 1/s points.
+/// limit (campaign/grid_limit.hpp), and a grid of step s over packings in (0, 1) has 1/s points.
 std::string phi_step_problem(double step) {
   if (!(step > 0 && step <= 0.05))
     return fmt::format("--phi-step {:g}: must be in (0, 0.05]", step);
-  if (!(1.0 / step <= stats::kMaxGridPoints))
+  if (!(1.0 / step <= kMaxGridPoints))
     return fmt::format(
         "--phi-step {:g}: a grid of up to {:.3g} points over packings in (0, 1), more than the "
         "statistics' limit of {:g} (the step must be at least {:g})",
-        step, 1.0 / step, stats::kMaxGridPoints, 1.0 / stats::kMaxGridPoints);
+        step, 1.0 / step, kMaxGridPoints, 1.0 / kMaxGridPoints);
   return "";
 }
 

@@ -15,13 +15,15 @@
 #include "checks/regression_check.hpp"
 #include "checks/run_checks.hpp"
 #include "checks/stats_data.hpp"
+#include "checks/verdict_ensembles.hpp"
 
 namespace jam::checks {
 namespace {
 
-#define JAM_CHECK_ENTRY(name, run, margin, unit, reason, in_all, figure)              \
-  CheckEntry{#name,  CheckRun{run}, margin, MarginUnit::unit, margin_reasons::reason, \
-             in_all, figure},
+#define JAM_CHECK_ENTRY(name, run, margin, unit, reason, in_all, figure, samples_of)         \
+  CheckEntry{                                                                                \
+      #name,  CheckRun{run},       margin, MarginUnit::unit, margin_reasons::reason, in_all, \
+      figure, &samples::samples_of},
 const CheckEntry kRegistry[] = {JAM_CHECK_TABLE(JAM_CHECK_ENTRY)};
 #undef JAM_CHECK_ENTRY
 

@@ -5,11 +5,13 @@
 // report reads to know which figure shows which check) are all derived from it.
 //
 // A new check: its own file (a function of one of the kinds below) and one line in
-// JAM_CHECK_TABLE.
+// JAM_CHECK_TABLE, which names the ensembles its verdicts concern (verdict_ensembles.hpp):
+// --until-decided and `campaign plan` then serve it with no further edit.
 //
-// The table is an X-macro so that the campaign file's reader can take the names from it (a
-// header-only expansion, check_names()) without linking the checks: the campaign library sits
-// below statistics and checks, which read campaign directories.
+// The table is an X-macro: check_names() expands it in this header, and the campaign library,
+// which sits below statistics and checks and includes neither, has its names and `all`
+// membership read from it at configure time (campaign/CMakeLists.txt, check_names.hpp.in):
+// keep each line X(name, run, margin, unit, reason, in_all, ...) with in_all a literal.
 #include <set>
 #include <span>
 #include <string>
@@ -24,6 +26,7 @@ struct CheckOptions;
 struct RegressionOptions;
 struct LammpsCheckOptions;
 struct Verdict;
+struct Samples;
 
 // What a check reads, one function type per kind:
 /// DIR/stats.h5 (the statistical checks).
@@ -42,20 +45,21 @@ using CheckRun = std::variant<StatsCheck, BaselineCheck, LammpsCheck, PartOf>;
 /// What a margin measures: a relative pressure difference, or a difference in packing.
 enum class MarginUnit { relative, packing_fraction };
 
-// Why each default margin is what it is (docs/statistics-and-checks.md has the measurements).
+// Why each default margin is what it is, in words that stay true when results change: the
+// measurements behind them are in docs/statistics-and-checks.md, never in these strings.
 namespace margin_reasons {
 // The paper treats differences of 1-2% as statistical; at this machine's scale (N <= 2048,
 // 10 samples, sample scatter 7-13% at phi 0.84) the checks exclude effects down to 4-8% at the
 // fast rates: at 1-2% every verdict of the stored campaigns would be inconclusive.
 inline constexpr std::string_view kPressure =
-    "what the checks can decide at this machine's scale (N <= 2048, 10 samples, 7-13% sample "
-    "scatter exclude effects down to 4-8% at the fast rates); the paper's 1-2% would leave "
-    "every verdict inconclusive";
+    "what the checks can decide at this machine's scale (N <= 2048, 10 samples: the effects "
+    "they exclude at the fast rates, measured in docs/statistics-and-checks.md); the paper's "
+    "1-2% would leave every verdict inconclusive";
 // The chain check judges the fit window's inverse-variance weighted mean (chain_check.cpp).
 inline constexpr std::string_view kChain =
-    "the weighted mean Delta p/p over the fit's window, as a fit weighs the points; 40 samples "
-    "at N = 256 exclude 4.5-9.7% at every chained rate of the stored results, and a 15% shift "
-    "planted in them fails every rate";
+    "the weighted mean Delta p/p over the fit's window, as a fit weighs the points; what the "
+    "stored chain controls exclude at every chained rate, and a planted 15% shift failing "
+    "every rate, are measured in docs/statistics-and-checks.md#chain";
 // The convergence check: the integrator's own error (convergence_check.cpp).
 inline constexpr std::string_view kConvergence =
     "the integrator's error must lie well below what the physics checks judge: a tenth of "
@@ -64,49 +68,57 @@ inline constexpr std::string_view kJammingPoint =
     "about the sample spread of phi_Ji at N ~ 10^3; a larger shift of <phi_Ji> would move "
     "phi_J by more than the fit's window steps";
 inline constexpr std::string_view kExponents =
-    "the jackknife errors of beta and y are 3-4% at N <= 1024 with 10 samples (reduced-2d: "
-    "beta 2.78 +- 0.09, y 1.04 +- 0.04), so 10% is what such fits can decide; the paper's "
-    "sizes agree within their 2-5% errors";
+    "what the jackknife errors of beta and y at N <= 1024 with 10 samples let such fits decide "
+    "(measured in docs/statistics-and-checks.md); the paper's sizes agree within their own "
+    "errors";
 inline constexpr std::string_view kFitPhiJ =
-    "about three jackknife errors of a fitted phi_J at N <= 1024 with 10 samples (0.0006 in "
-    "reduced-2d), and a fifth of the fit's narrowest window (+-0.01)";
+    "about three jackknife errors of a fitted phi_J at N <= 1024 with 10 samples (measured in "
+    "docs/statistics-and-checks.md), and a fifth of the fit's narrowest window (+-0.01)";
 // The compare check: two codes of one model (docs/statistics-and-checks.md#compare).
 inline constexpr std::string_view kCompare =
-    "two codes of one model, protocol and ensemble must give one pressure; jam and LAMMPS agree "
-    "to better than 0.1% on the same starts, so 5% is a difference of the physics simulated, "
-    "half the margin of a size or start effect; 10 against 10 samples at 5% scatter pass 91% of "
-    "equal ensembles (measured)";
+    "two codes of one model, protocol and ensemble must give one pressure (jam and LAMMPS on "
+    "the same starts: docs/statistics-and-checks.md#compare), so 5% is a difference of the "
+    "physics simulated, half the margin of a size or start effect";
 inline constexpr std::string_view kLammps =
-    "Q = 0.03 reproduces the overdamped limit to about 0.01%, so a difference beyond 0.5% is "
-    "an error of one of the two codes; 4 samples exclude differences down to 0.05-0.07%";
+    "Q = 0.03 reproduces the overdamped limit far within it (measured in "
+    "docs/statistics-and-checks.md), so a difference beyond 0.5% is an error of one of the two "
+    "codes";
 }  // namespace margin_reasons
 
 // One line per check, in the order `all` runs them and the verdicts are written:
-//   X(name, how it runs, default margin, its unit, why, member of `all`, report figure)
+//   X(name, how it runs, default margin, its unit, why, member of `all`, report figure,
+//     samples)
 // name: `jam check NAME`, the verdicts' `check`, the [margins] key. Member of `all`: lammps is
 // not (it tests jam against stored LAMMPS results, an installation's test that says nothing of
 // a campaign's data and took 18 of a small campaign's 20 passes): `all` judges it only when
 // asked (--with-lammps, or [question] checks naming it). Report figure: the stem of
 // the report figure that draws the check's verdicts (reports/report_figures*.py), or
-// "verdicts" when only the verdict table shows them. The functions (declared in checks.hpp,
-// lammps_check.hpp, regression_check.hpp) are named only where check_registry.cpp expands the
-// table; check_names() takes the first column alone.
+// "verdicts" when only the verdict table shows them. Samples: which ensembles its verdicts
+// concern, one of the declarations of verdict_ensembles.hpp (samples::). The functions
+// (declared in checks.hpp, lammps_check.hpp, regression_check.hpp) are named only where
+// check_registry.cpp expands the table; check_names() takes the first column alone.
 #define JAM_CHECK_TABLE(X)                                                                         \
-  X(finite_size, &finite_size_check, 0.10, relative, kPressure, true, "finite_size")               \
-  X(sample_pairs, &sample_pairs_check, 0.10, relative, kPressure, true, "sample_pairs")            \
-  X(phi_init, &phi_init_check, 0.10, relative, kPressure, true, "jamming_points")                  \
-  X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts")   \
-  X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts")                                \
-  X(fit_parameters, &fit_parameters_check, 0.10, relative, kExponents, true, "verdicts")           \
-  X(fit_phi_j, PartOf{"fit_parameters"}, 0.002, packing_fraction, kFitPhiJ, true, "verdicts")      \
-  X(lammps, &lammps_check, 0.005, relative, kLammps, false, "lammps")                              \
-  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts")                   \
-  X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts")                                \
-  X(convergence, &convergence_check, 0.01, relative, kConvergence, false, "verdicts")              \
-  X(compare, &compare_check, 0.05, relative, kCompare, false, "compare")                           \
-  X(compare_jamming, PartOf{"compare"}, 0.005, packing_fraction, kJammingPoint, false, "verdicts") \
-  X(compare_fit, PartOf{"compare"}, 0.10, relative, kExponents, false, "verdicts")                 \
-  X(compare_fit_phi_j, PartOf{"compare"}, 0.002, packing_fraction, kFitPhiJ, false, "verdicts")
+  X(finite_size, &finite_size_check, 0.10, relative, kPressure, true, "finite_size",               \
+    kSizesPlanned)                                                                                 \
+  X(sample_pairs, &sample_pairs_check, 0.10, relative, kPressure, true, "sample_pairs", kSizes)    \
+  X(phi_init, &phi_init_check, 0.10, relative, kPressure, true, "jamming_points", kStartsPlanned)  \
+  X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts",   \
+    kStarts)                                                                                       \
+  X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts", kRates)                        \
+  X(fit_parameters, &fit_parameters_check, 0.10, relative, kExponents, true, "verdicts", kFits)    \
+  X(fit_phi_j, PartOf{"fit_parameters"}, 0.002, packing_fraction, kFitPhiJ, true, "verdicts",      \
+    kFits)                                                                                         \
+  X(lammps, &lammps_check, 0.005, relative, kLammps, false, "lammps", kNotBySamples)               \
+  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts", kNotBySamples)    \
+  X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts", kNotBySamples)                 \
+  X(convergence, &convergence_check, 0.01, relative, kConvergence, false, "verdicts",              \
+    kNotBySamples)                                                                                 \
+  X(compare, &compare_check, 0.05, relative, kCompare, false, "compare", kNotBySamples)            \
+  X(compare_jamming, PartOf{"compare"}, 0.005, packing_fraction, kJammingPoint, false, "verdicts", \
+    kNotBySamples)                                                                                 \
+  X(compare_fit, PartOf{"compare"}, 0.10, relative, kExponents, false, "verdicts", kNotBySamples)  \
+  X(compare_fit_phi_j, PartOf{"compare"}, 0.002, packing_fraction, kFitPhiJ, false, "verdicts",    \
+    kNotBySamples)
 
 struct CheckEntry {
   std::string_view name;
@@ -116,6 +128,9 @@ struct CheckEntry {
   std::string_view margin_reason;
   bool in_all;  // `jam check all` runs it (a part: its parent writes its verdicts there)
   std::string_view figure;
+  // Which ensembles its verdicts concern (verdict_ensembles.hpp): what --until-decided adds
+  // samples to and `campaign plan` plans; never null (test_check_registry).
+  const Samples* samples;
 };
 
 /// Every registered check, in table order.
@@ -130,8 +145,8 @@ bool runs_by_name(const CheckEntry& e);
 /// The names `jam check` accepts: the checks that run by name, then "all".
 std::vector<std::string> command_names();
 
-/// Every registered name: the campaign file's [margins] keys. Expanded here, in the header, so
-/// that the campaign file's reader needs no link to the checks.
+/// Every registered name (the campaign file's [margins] keys, which campaign/ reads from the
+/// generated campaign/check_names.hpp).
 inline std::set<std::string> check_names() {
 #define JAM_CHECK_NAME(name, ...) #name,
   return {JAM_CHECK_TABLE(JAM_CHECK_NAME)};

@@ -117,22 +117,6 @@ TableRow table_row_from_json(const nlohmann::json& j);
 /// (tests/test_verdict_table.cpp compares them line for line).
 constexpr std::size_t kTableWidth = 100;
 std::string format_table(const std::vector<Verdict>& verdicts);
-/// checks.json: {"schema_version": 2, "campaign", "code_version", "created" (UTC),
-/// "checks" (the registry, check_registry.hpp), "options" (what `jam check` judged with, when
-/// given), "verdicts": [...]} (reference/schema.md).
-constexpr int kChecksSchemaVersion = 2;
-std::string to_json(const std::vector<Verdict>& verdicts, const std::string& campaign = "",
-                    const nlohmann::json& options = nullptr);
-
-/// The verdict array of a checks.json text, of schema 2 (an object) or 1 (a bare array).
-nlohmann::json verdict_array(const nlohmann::json& checks);
-std::string to_junit_xml(const std::vector<Verdict>& verdicts, const std::string& suite);
-
-/// Writes the curves of every verdict to an HDF5 file (schema in reference/schema.md).
-/// checks.h5: the verdicts' curves and values; root attributes `version` and `wall_time`
-/// (seconds the checks took).
-void write_curves(const std::string& path, const std::vector<Verdict>& verdicts, double wall_time);
-
 /// Exit status of `jam check`: 1 if any verdict failed (other than an expected failure), else
 /// 3 if any is inconclusive, else 0. (2 is a check that could not run: a tool error.)
 int exit_status(const std::vector<Verdict>& verdicts);

@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "stats/grid_limit.hpp"
+#include "campaign/grid_limit.hpp"
 
 namespace jam::stats {
 namespace {
@@ -41,7 +41,7 @@ std::vector<double> grid_between(double lo, double hi, double step) {
         lo, hi));
   }
   const double count = b - a + 1;
-  // A bound before anything is allocated (stats/grid_limit.hpp).
+  // A bound before anything is allocated (campaign/grid_limit.hpp).
   if (!(count <= kMaxGridPoints)) {
     throw std::runtime_error(
         fmt::format("a grid of step {:g} from {:g} to {:g} has {:.3g} points (at most {:g})", step,

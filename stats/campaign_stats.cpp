@@ -74,7 +74,7 @@ CampaignStats compute_campaign_stats(const std::string& directory, const StatsOp
   }
   s.runs_averaged = static_cast<std::int64_t>(s.data.runs.size());
   s.runs_skipped = static_cast<std::int64_t>(s.data.skipped.size());
-  if (o.fit) fit_campaign(s, directory, o);
+  if (o.fit) fit_campaign(s, o);
   return s;
 }
 
@@ -91,7 +91,7 @@ JammingStats jamming_stats(std::vector<double> samples, std::vector<std::int64_t
   return j;
 }
 
-void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOptions& o) {
+void fit_campaign(CampaignStats& s, const StatsOptions& o) {
   // Which ensembles enter the fit: one phi_init, the pooled or the largest size.
   std::set<double> phi_inits;
   std::set<std::int64_t> sizes;
@@ -119,11 +119,18 @@ void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOpt
     s.fit.failure = s.fit_z.failure = fewer_rates_words(rates, s.fit_phi_init, s.fit_size);
     return;
   }
-  s.clearance = read_clearance(directory, s.fit_size, s.fit_phi_init, *phi_inits.begin());
-  s.fit = scan_fits(at_phi, o, s.clearance, "phi");
-  if (!at_z.empty()) s.fit_z = scan_fits(at_z, o, s.clearance, "Z");
-  fit_families(s, o);
-  s.papers_protocol = fit_papers_protocol(s, directory, o);
+  // The verdicts declared to the fit, those it consults (fit_verdicts.hpp): recorded.
+  std::vector<EnsembleKey> keys;
+  for (const auto& e : s.ensembles) keys.push_back(e.key);
+  s.fit_selection = fit_selection(keys, s.fit_phi_init, s.fit_size);
+  s.fit_verdicts = consulted(o.verdicts, s.fit_selection);
+  StatsOptions used = o;
+  used.verdicts = s.fit_verdicts;
+  s.clearance = read_clearance(used.verdicts, s.fit_size, s.fit_phi_init, *phi_inits.begin());
+  s.fit = scan_fits(at_phi, used, s.clearance, "phi");
+  if (!at_z.empty()) s.fit_z = scan_fits(at_z, used, s.clearance, "Z");
+  fit_families(s, used);
+  s.papers_protocol = fit_papers_protocol(s, used);
 }
 
 void fit_families(CampaignStats& s, const StatsOptions& o) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "stats/averages.hpp"
+#include "stats/fit_verdicts.hpp"
 #include "stats/run_coverage.hpp"
 #include "stats/run_curves.hpp"
 #include "stats/scaling_fit.hpp"
@@ -22,6 +23,8 @@ struct StatsOptions {
   std::optional<double> fixed_phi_j, fixed_q, fixed_inv_znu;
   std::vector<double> half_windows = {0.03, 0.02, 0.01};  // phi windows: fitted phi_J +- these
   bool fit = true;
+  // The verdicts the fit may use, declared by the caller (fit_verdicts.hpp); none by default.
+  FitVerdicts verdicts;
 };
 
 /// The options of one scaling fit of the campaign: its order and held parameters, at this
@@ -135,6 +138,9 @@ struct CampaignStats {
   std::vector<FamilyFit> families;  // every (N, phi_init) fitted as the representative
   std::optional<PapersProtocolFit> papers_protocol;  // none without a rate <= 10^-6.5
   RateClearance clearance;
+  // What the fit was of and the verdicts it consulted (fit_verdicts.hpp).
+  FitSelection fit_selection;
+  FitVerdicts fit_verdicts;
   double fit_phi_init = 0.0;
   std::int64_t fit_size = 0;  // 0: pooled
   std::int64_t runs_averaged = 0, runs_skipped = 0;
@@ -147,8 +153,8 @@ struct CampaignStats {
 
 CampaignStats compute_campaign_stats(const std::string& directory, const StatsOptions& options);
 
-/// The fits (fit_scan.hpp) of s's ensembles; directory holds the phi_init verdicts, if any.
-void fit_campaign(CampaignStats& s, const std::string& directory, const StatsOptions& options);
+/// The fits (fit_scan.hpp) of s's ensembles, with the verdicts options.verdicts declares.
+void fit_campaign(CampaignStats& s, const StatsOptions& options);
 
 /// s.families: every (N, phi_init) fitted at the representative fit's window and rate_max
 /// (none when there is no representative fit).

@@ -4,11 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 
-#include "sim/io/output_path.hpp"
 
 namespace jam::stats {
 namespace {
@@ -62,7 +58,7 @@ bool cleared(const RateClearance& c, double rate) {
 
 }  // namespace
 
-RateClearance read_clearance(const std::string& directory, std::int64_t n, double fit_phi_init,
+RateClearance read_clearance(const FitVerdicts& verdicts, std::int64_t n, double fit_phi_init,
                              double lowest_phi_init) {
   RateClearance c;
   if (std::abs(fit_phi_init - lowest_phi_init) < 1e-9) {
@@ -72,33 +68,19 @@ RateClearance read_clearance(const std::string& directory, std::int64_t n, doubl
         fit_phi_init);
     return c;
   }
-  namespace fs = std::filesystem;
-  for (const char* name : {"checks.json", "checks-phi_init.json"}) {
-    const fs::path file = fs::path(directory) / name;
-    if (!fs::exists(file)) continue;
-    check_input_file("phi_init verdicts", file.string());
-    std::ifstream in(file);
-    const auto parsed = nlohmann::json::parse(in, nullptr, false);
-    // Schema 2: an object holding "verdicts"; schema 1: the bare array.
-    const auto verdicts =
-        parsed.is_object() && parsed.contains("verdicts") ? parsed["verdicts"] : parsed;
-    if (!verdicts.is_array()) continue;
-    std::vector<double> rates;
-    bool any = false;
-    for (const auto& v : verdicts) {
-      if (v.value("check", "") != "phi_init" || !v.contains("values")) continue;
-      const auto& x = v["values"];
-      if (!x.contains("n") || !x.contains("phi_init") || !x.contains("log10_rate")) continue;
-      if (x["n"].get<double>() != static_cast<double>(n) ||
-          std::abs(x["phi_init"].get<double>() - fit_phi_init) > 1e-9)
-        continue;
-      any = true;
-      if (v.value("status", "") == "pass") rates.push_back(x["log10_rate"].get<double>());
-    }
-    if (!any) continue;
+  // The first file (checks.json, then checks-phi_init.json) with a verdict on this ensemble.
+  std::string file;
+  std::vector<double> rates;
+  for (const auto& v : verdicts.phi_init) {
+    if (v.n != n || std::abs(v.phi_init - fit_phi_init) > 1e-9) continue;
+    if (file.empty()) file = v.file;
+    if (v.file != file) continue;
+    if (v.pass) rates.push_back(v.log10_rate);
+  }
+  if (!file.empty()) {
     c.cleared = rates;
     c.note = fmt::format(
-        "rates cleared by the phi_init check ({}): {}", name,
+        "rates cleared by the phi_init check ({}): {}", file,
         rates.empty() ? std::string("none") : fmt::format("1e{:g}", fmt::join(rates, ", 1e")));
     return c;
   }

@@ -13,9 +13,10 @@
 
 namespace jam::stats {
 
-/// What the phi_init verdicts in DIR (checks.json, else checks-phi_init.json) say about the
-/// rates of the ensembles (size n, phi_init) that are fitted.
-RateClearance read_clearance(const std::string& directory, std::int64_t n, double fit_phi_init,
+/// What the phi_init verdicts declared to the fit (fit_verdicts.hpp: those of DIR/checks.json,
+/// else of checks-phi_init.json) say about the rates of the fitted ensembles (size n,
+/// phi_init).
+RateClearance read_clearance(const FitVerdicts& verdicts, std::int64_t n, double fit_phi_init,
                              double lowest_phi_init);
 
 /// Fits every (window, rate_max) of `data` (one ensemble per rate) and picks the representative.

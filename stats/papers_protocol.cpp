@@ -4,13 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <set>
 
-#include "sim/io/output_path.hpp"
 
 namespace jam::stats {
 namespace {
@@ -20,31 +16,17 @@ constexpr double kPhiTolerance = 1e-9;
 bool rate_fitted(double log10_rate) { return log10_rate <= kPapersLog10RateMax + 1e-9; }
 
 /// Whether the finite_size check's pooled constant-phi verdicts for (fitted sizes, phi_init)
-/// pass at every fitted rate; the words say what was read.
-std::pair<bool, std::string> sizes_may_be_pooled(const std::string& directory, double phi_init,
+/// pass at every fitted rate, as declared to the fit (fit_verdicts.hpp: DIR/checks.json's);
+/// the words say what was read.
+std::pair<bool, std::string> sizes_may_be_pooled(const FitVerdicts& verdicts, double phi_init,
                                                  const std::set<double>& rates) {
-  namespace fs = std::filesystem;
-  const fs::path file = fs::path(directory) / "checks.json";
-  if (!fs::exists(file)) return {false, "no finite_size verdicts (checks.json) to allow pooling"};
-  check_input_file("finite_size verdicts", file.string());
-  std::ifstream in(file);
-  const auto parsed = nlohmann::json::parse(in, nullptr, false);
-  const auto verdicts =
-      parsed.is_object() && parsed.contains("verdicts") ? parsed["verdicts"] : parsed;
-  if (!verdicts.is_array()) return {false, "checks.json holds no verdicts"};
+  if (!verdicts.checks_json)
+    return {false, "no finite_size verdicts (checks.json) to allow pooling"};
   std::map<double, bool> passed;  // rate -> every pooled constant-phi verdict passed
-  for (const auto& v : verdicts) {
-    if (!v.is_object() || v.value("check", "") != "finite_size") continue;
-    if (v.value("region", "pooled") != "pooled" || !v.contains("values")) continue;
-    const auto& x = v["values"];
-    if (!x.is_object() || x.value("constant_z", 0.0) != 0.0 || !x.contains("log10_rate") ||
-        !x.contains("phi_init") || !x["log10_rate"].is_number() || !x["phi_init"].is_number())
-      continue;
-    if (std::abs(x["phi_init"].get<double>() - phi_init) > kPhiTolerance) continue;
-    const double rate = x["log10_rate"].get<double>();
-    const bool pass = v.value("status", "") == "pass";
-    const auto it = passed.find(rate);
-    passed[rate] = it == passed.end() ? pass : it->second && pass;
+  for (const auto& v : verdicts.finite_size) {
+    if (std::abs(v.phi_init - phi_init) > kPhiTolerance) continue;
+    const auto it = passed.find(v.log10_rate);
+    passed[v.log10_rate] = it == passed.end() ? v.pass : it->second && v.pass;
   }
   for (double rate : rates) {
     const auto it = passed.find(rate);
@@ -95,7 +77,6 @@ FitEnsemble pooled(const std::vector<const EnsembleStats*>& sizes) {
 }  // namespace
 
 std::optional<PapersProtocolFit> fit_papers_protocol(const CampaignStats& s,
-                                                     const std::string& directory,
                                                      const StatsOptions& o) {
   std::map<double, std::vector<const EnsembleStats*>> by_rate;
   std::set<std::int64_t> sizes;
@@ -108,7 +89,7 @@ std::optional<PapersProtocolFit> fit_papers_protocol(const CampaignStats& s,
   if (by_rate.empty()) return std::nullopt;
   std::set<double> rates;
   for (const auto& [rate, _] : by_rate) rates.insert(rate);
-  auto [pool, why] = sizes.size() >= 2 ? sizes_may_be_pooled(directory, s.fit_phi_init, rates)
+  auto [pool, why] = sizes.size() >= 2 ? sizes_may_be_pooled(o.verdicts, s.fit_phi_init, rates)
                                        : std::pair{false, std::string("a single size")};
   std::vector<FitEnsemble> data;
   for (auto& [rate, ensembles] : by_rate) {

@@ -16,10 +16,10 @@ namespace jam::stats {
 /// The paper's polynomial order of ln f (its Eq. 1 fits).
 constexpr int kPapersOrder = 5;
 
-/// Fits s's ensembles of s.fit_phi_init by the paper's protocol; `directory` holds the
-/// finite_size verdicts, if any. Empty when the campaign has no rate <= 10^-6.5.
+/// Fits s's ensembles of s.fit_phi_init by the paper's protocol; options.verdicts holds the
+/// finite_size verdicts declared to the fit, if any (fit_verdicts.hpp). Empty when the
+/// campaign has no rate <= 10^-6.5.
 std::optional<PapersProtocolFit> fit_papers_protocol(const CampaignStats& s,
-                                                     const std::string& directory,
                                                      const StatsOptions& options);
 
 }  // namespace jam::stats

@@ -245,6 +245,20 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
     f.write_attribute("z_step", o.z_step);
     f.write_attribute("constant_z_without_rattlers", std::int64_t{o.no_rattlers});
     f.write_attribute("wall_time", s.wall_time);
+    // The verdicts declared to the fit (fit_verdicts.hpp): which files, the digest `jam
+    // pipeline` compares to redo the fit when they change, and their bytes' checksum.
+    // The verdicts the fit consulted (fit_verdicts.hpp): which files ("none"), their digest,
+    // which `jam pipeline` compares to redo the fit when they change, the fit they were
+    // consulted for, and the checksum of the files' bytes.
+    const FitVerdicts& used = s.fit_verdicts;
+    f.write_attribute("fit_verdicts", used.files.empty() ? std::string("none") : used.files);
+    f.write_attribute("fit_verdicts_checksum", used.checksum());
+    if (s.fit_selection.fitted) {
+      f.write_attribute("fit_verdicts_n", s.fit_selection.n);
+      f.write_attribute("fit_verdicts_phi_init", s.fit_selection.phi_init);
+    }
+    if (!used.files_checksum.empty())
+      f.write_attribute("fit_verdicts_files_checksum", used.files_checksum);
     f.write_attribute("units", std::string(kRunFileUnits));
     // The output grid's spacing as the campaign file gives it, so that readers can put the
     // constant-phi grid on exact values k * phi_step (NaN: a refit of a file without it).

@@ -110,7 +110,7 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
     }
   }
   if (s.ensembles.empty()) throw std::runtime_error(path + ": no ensembles");
-  if (o.fit) fit_campaign(s, directory, o);
+  if (o.fit) fit_campaign(s, o);
   return s;
 }
 

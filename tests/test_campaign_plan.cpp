@@ -1,4 +1,4 @@
-// `jam campaign plan` on what a design can decide (app/plan_decidability.hpp), through the
+// `jam campaign plan` on what a design can decide (design/plan_decidability.hpp), through the
 // executable: the stored 2D variance model says that two samples of N = 256 against N = 1024
 // cannot decide the pressure at constant phi, and warns with the samples needed; with 400
 // samples every comparison decides; a --scatter-from that is missing is one line and no plan;
@@ -131,7 +131,8 @@ BOOST_AUTO_TEST_CASE(the_phi_init_findings_in_the_directory_are_printed) {
   const fs::path file = write_campaign("found", kSizes + "samples = 2\n");
   fs::create_directories(kDir / "found");
   std::ofstream(kDir / "found" / "checks.json")
-      << R"({"verdicts": [{"check": "phi_init", "case": "n256 rate 1e-4", "status": "pass",)"
+      << R"({"schema_version": 2, "verdicts": [{"check": "phi_init", "case": "n256 rate 1e-4",)"
+      << R"( "status": "pass",)"
       << R"( "values": {"n": 256, "log10_rate": -4, "largest_consistent_phi_init": 0.6,)"
       << R"( "lowest_phi_init": 0.4, "compression_time_saved": 0.37}}]})";
   const auto o = run_jam("campaign plan " + file.string());
@@ -158,8 +159,9 @@ BOOST_AUTO_TEST_CASE(one_size_in_the_data_holds_the_n_exponent) {
     const char* sep = "[";
     for (const auto& [n, s] : scatter) {
       for (const char* rate : {"-4", "-5"}) {
-        out << sep << "{\"values\": {\"log10_rate\": " << rate << ", \"n\": " << n
-            << ", \"scatter_a\": " << s << ", \"scatter_b\": " << s
+        out << sep << "{\"check\": \"finite_size\", \"case\": \"pilot\", "
+            << "\"status\": \"inconclusive\", \"values\": {\"log10_rate\": " << rate
+            << ", \"n\": " << n << ", \"scatter_a\": " << s << ", \"scatter_b\": " << s
             << ", \"samples_a\": 10, \"samples_b\": 10}}";
         sep = ", ";
       }

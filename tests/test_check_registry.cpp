@@ -13,8 +13,10 @@
 #include <string>
 
 #include "campaign/campaign_file.hpp"
+#include "campaign/check_names.hpp"
 #include "checks/check_registry.hpp"
 #include "checks/run_checks.hpp"
+#include "checks/verdict_ensembles.hpp"
 #include "process.hpp"
 #include "synthetic_runs.hpp"
 
@@ -79,6 +81,13 @@ BOOST_AUTO_TEST_CASE(names_are_unique_and_entries_complete) {
     BOOST_TEST(!e.margin_reason.empty(), e.name);
     BOOST_TEST(!e.figure.empty(), e.name);
     BOOST_TEST(find_check(e.name) == &e, e.name);
+    // Every check declares which ensembles its verdicts concern (verdict_ensembles.hpp), so
+    // that --until-decided and `campaign plan` serve it: a check that declares nothing is
+    // refused here, never skipped at run time.
+    BOOST_TEST_REQUIRE(e.samples != nullptr, e.name << " declares no ensembles");
+    BOOST_TEST(e.samples->ensembles != nullptr, e.name);
+    BOOST_TEST(e.samples->planned != nullptr, e.name);
+    BOOST_TEST(!e.samples->identity.empty(), e.name);
     // A part's verdicts are written by a check that runs by name, and only in `all` with it.
     if (const auto* part = std::get_if<PartOf>(&e.run)) {
       const CheckEntry* parent = find_check(part->check);
@@ -88,6 +97,13 @@ BOOST_AUTO_TEST_CASE(names_are_unique_and_entries_complete) {
     }
   }
   BOOST_TEST(names == check_names(), "the header's names and the table's entries differ");
+  // The names campaign/ checks campaign files against, generated from the table at configure
+  // time (campaign/check_names.hpp.in): every entry, in order, with its membership of `all`.
+  BOOST_TEST_REQUIRE(std::size(jam::kRegisteredCheckNames) == check_registry().size());
+  for (std::size_t k = 0; k < check_registry().size(); ++k) {
+    BOOST_TEST(jam::kRegisteredCheckNames[k].name == check_registry()[k].name);
+    BOOST_TEST(jam::kRegisteredCheckNames[k].in_all == check_registry()[k].in_all);
+  }
   BOOST_TEST(find_check("no_such_check") == nullptr);
   BOOST_CHECK_THROW(default_margin("no_such_check"), std::invalid_argument);
   // The listing that checks.json carries names every entry once, with its figure.
@@ -215,4 +231,42 @@ BOOST_AUTO_TEST_CASE(all_runs_exactly_the_members_of_all) {
     }
   }
   fs::remove_all(dir);
+}
+
+// Each registry line declares which ensembles its check's verdicts concern
+// (checks/verdict_ensembles.hpp): --until-decided adds samples to them and `campaign plan`
+// plans the comparisons the declaration names, with no check named anywhere else. The
+// declarations decode the values their checks write.
+BOOST_AUTO_TEST_CASE(each_check_declares_the_ensembles_its_verdicts_concern) {
+  auto ensembles = [](const char* check, const checks::Values& values) {
+    return find_check(check)->samples->ensembles(values);
+  };
+  using E = EnsembleId;
+  const auto sizes = ensembles(
+      "finite_size", {{"n_a", 256}, {"n_b", 1024}, {"phi_init", 0.4}, {"log10_rate", -4}});
+  BOOST_TEST((sizes == std::vector<E>{{256, 0.4, -4}, {1024, 0.4, -4}}));
+  const auto starts = ensembles(
+      "phi_init", {{"n", 256}, {"phi_init", 0.6}, {"lowest_phi_init", 0.4}, {"log10_rate", -5}});
+  BOOST_TEST((starts == std::vector<E>{{256, 0.6, -5}, {256, 0.4, -5}}));
+  const auto rates = ensembles("zeta", {{"n", 64},
+                                        {"phi_init", 0.4},
+                                        {"log10_rate_slow", -5},
+                                        {"log10_rate_faster", -4.5}});
+  BOOST_TEST((rates == std::vector<E>{{64, 0.4, -5}, {64, 0.4, -4.5}}));
+  // A fit's verdict: no pair of ensembles whose samples decide it, said by its declaration.
+  BOOST_TEST(ensembles("fit_parameters", {{"n_a", 256}, {"n_b", 1024}}).empty());
+  // The planner's comparisons: the smallest size against the largest at constant phi and Z,
+  // every phi_init above the lowest against it; the others plan none.
+  const Campaign c = parse_campaign(kCampaign, "c.toml");
+  std::size_t planned = 0;
+  for (const auto& e : check_registry()) {
+    for (const auto& values : e.samples->planned(c)) {
+      ++planned;
+      BOOST_TEST(e.samples->ensembles(values).size() == 2u, e.name);
+    }
+  }
+  const std::size_t phi_inits = c.phi_init.size(), rates_n = c.log10_rates.size();
+  const std::size_t expected = (c.sizes.size() >= 2 ? phi_inits * rates_n * 2 : 0) +
+                               (phi_inits >= 2 ? c.sizes.size() * rates_n * (phi_inits - 1) : 0);
+  BOOST_TEST(planned == expected);
 }

@@ -11,6 +11,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/relative_difference.hpp"
+#include "checks/verdict_file.hpp"
 #include "sim/io/process.hpp"
 #include "synthetic_runs.hpp"
 
@@ -169,10 +170,19 @@ BOOST_AUTO_TEST_CASE(json_and_junit_are_valid_and_exit_status_follows_failures) 
   BOOST_TEST(file["schema_version"] == kChecksSchemaVersion);
   BOOST_TEST(file["campaign"] == "demo");
   BOOST_TEST(file["created"].get<std::string>().size() == 20u);  // 2026-11-23T01:02:03Z
-  const auto json = verdict_array(file);
+  const auto json = file["verdicts"];
   BOOST_TEST(json.size() == 3u);
   BOOST_TEST(json[1]["status"] == "fail");
   BOOST_TEST(json[2]["statistic"].is_null());  // NaN is written as null, not as invalid JSON
+  // Read back through the one reader (verdict_file.hpp): every field as written.
+  const VerdictFile back = parse_verdict_file(to_json({pass, fail, skip}, "demo"), "demo.json");
+  BOOST_TEST(back.campaign == "demo");
+  BOOST_TEST(back.verdicts.size() == 3u);
+  BOOST_TEST(back.verdicts[0].case_name == pass.case_name);
+  BOOST_TEST(back.verdicts[1].reason == fail.reason);
+  BOOST_TEST(std::isnan(back.verdicts[2].statistic));
+  BOOST_TEST(back.tables[1].has_value());
+  BOOST_TEST(back.tables[1]->status == "fail");
   const auto dir =
       std::filesystem::temp_directory_path() / ("jam-junit-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);

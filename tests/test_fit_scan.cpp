@@ -182,22 +182,17 @@ CampaignStats two_sizes(const Truth& t) {
   return s;
 }
 
-std::filesystem::path verdict_dir(const std::string& statuses) {
-  const auto dir = std::filesystem::temp_directory_path() / "jam_test_papers_protocol";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  if (!statuses.empty()) {
-    std::string verdicts;
-    const double rates[] = {-6.5, -7.0, -7.5};
-    for (std::size_t k = 0; k < 3; ++k)
-      verdicts += std::string(k ? "," : "") +
-                  "{\"check\": \"finite_size\", \"region\": \"pooled\", \"status\": \"" +
-                  (statuses[k] == 'p' ? "pass" : "fail") +
-                  "\", \"values\": {\"constant_z\": 0, \"phi_init\": 0.4, \"log10_rate\": " +
-                  std::to_string(rates[k]) + "}}";
-    std::ofstream(dir / "checks.json") << "{\"verdicts\": [" << verdicts << "]}";
-  }
-  return dir;
+/// The options with the finite_size verdicts declared to the fit (fit_verdicts.hpp): one per
+/// rate, 'p' pass, else fail; "" none declared.
+StatsOptions with_verdicts(const std::string& statuses) {
+  StatsOptions o;  // half windows 0.03, 0.02, 0.01
+  if (statuses.empty()) return o;
+  o.verdicts.files = "checks.json";
+  o.verdicts.checks_json = true;
+  const double rates[] = {-6.5, -7.0, -7.5};
+  for (std::size_t k = 0; k < 3; ++k)
+    o.verdicts.finite_size.push_back({0, 0.4, rates[k], statuses[k] == 'p', "checks.json"});
+  return o;
 }
 
 }  // namespace
@@ -208,8 +203,7 @@ std::filesystem::path verdict_dir(const std::string& statuses) {
 BOOST_AUTO_TEST_CASE(the_papers_protocol_pools_sizes_only_where_finite_size_allows) {
   const Truth t;
   const CampaignStats s = two_sizes(t);
-  const StatsOptions o;  // half windows 0.03, 0.02, 0.01
-  const auto alone = fit_papers_protocol(s, verdict_dir("").string(), o);
+  const auto alone = fit_papers_protocol(s, with_verdicts(""));
   BOOST_TEST_REQUIRE(alone.has_value());
   BOOST_TEST_REQUIRE(alone->result.has_value(), alone->failure);
   BOOST_TEST(alone->result->samples == 10u);
@@ -219,7 +213,7 @@ BOOST_AUTO_TEST_CASE(the_papers_protocol_pools_sizes_only_where_finite_size_allo
   BOOST_TEST(alone->row.half_window == 0.01);
   BOOST_TEST(std::log10(alone->row.rate_max) == -6.5, boost::test_tools::tolerance(1e-9));
 
-  const auto pooled = fit_papers_protocol(s, verdict_dir("ppp").string(), o);
+  const auto pooled = fit_papers_protocol(s, with_verdicts("ppp"));
   BOOST_TEST_REQUIRE(pooled->result.has_value(), pooled->failure);
   BOOST_TEST(pooled->result->samples == 20u);  // both sizes' samples, kept apart
   BOOST_TEST(pooled->how.find("pooled: the finite_size check") != std::string::npos, pooled->how);
@@ -227,13 +221,12 @@ BOOST_AUTO_TEST_CASE(the_papers_protocol_pools_sizes_only_where_finite_size_allo
   BOOST_TEST(std::abs(pooled->result->beta - t.beta()) < 3 * pooled->result->beta_err,
              pooled->result->beta << " +- " << pooled->result->beta_err);
 
-  const auto refused = fit_papers_protocol(s, verdict_dir("pfp").string(), o);
+  const auto refused = fit_papers_protocol(s, with_verdicts("pfp"));
   BOOST_TEST(refused->result->samples == 10u);
   BOOST_TEST(refused->how.find("does not pass at rate 1e-7") != std::string::npos, refused->how);
 
   // No rate at or below 10^-6.5: no such fit.
   CampaignStats fast = s;
   std::erase_if(fast.ensembles, [](const EnsembleStats& e) { return e.key.log10_rate < -6.0; });
-  BOOST_TEST(!fit_papers_protocol(fast, verdict_dir("").string(), o).has_value());
-  std::filesystem::remove_all(verdict_dir(""));
+  BOOST_TEST(!fit_papers_protocol(fast, with_verdicts("")).has_value());
 }

@@ -9,6 +9,7 @@
 
 #include "checks/checks.hpp"
 #include "checks/pooled_verdict.hpp"
+#include "checks/verdict_file.hpp"
 #include "synthetic_runs.hpp"
 
 using namespace jam::checks;

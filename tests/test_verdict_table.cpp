@@ -20,6 +20,7 @@
 #include "checks/margin.hpp"
 #include "checks/pooled_verdict.hpp"
 #include "checks/verdict.hpp"
+#include "checks/verdict_file.hpp"
 #include "sim/io/process.hpp"
 
 using namespace jam::checks;

@@ -1,6 +1,7 @@
 """A campaign's verdicts (`checks.json`, written by `jam check`) and the curves behind them
 (`checks.h5`). checks.json is an object {schema_version, campaign, code_version, created,
-verdicts} since schema 2; schema 1 files are the bare array of verdicts. Both read."""
+verdicts} since schema 2; schema 1 files are the bare array of verdicts. Both read, and
+checked against the one schema jam checks them against (reference/schema/checks.toml)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,8 @@ from dataclasses import dataclass, field
 
 import h5py
 
-from .errors import JamioError, open_regular, reading, shown
+from .checks_schema import SchemaError, checked
+from .errors import JamioError, open_regular, reading
 from .hdf5 import attrs, group, member, members, read_hdf5
 
 
@@ -62,39 +64,36 @@ class Checks:
 MOST_JSON_BYTES = 256 << 20
 
 
+def _no_constant(name):
+    """NaN and Infinity are not JSON (jam writes null): refused, as jam refuses them."""
+    raise ValueError(f"{name} is not JSON")
+
+
 def _parse(path):
     """The JSON of `path` (a regular file of at most MOST_JSON_BYTES); invalid JSON is a
     JamioError naming the line."""
     with open_regular(path, "verdict file", MOST_JSON_BYTES) as f:
         text = f.read().decode("utf-8")
     try:
-        return json.loads(text)
+        return json.loads(text, parse_constant=_no_constant)
     except json.JSONDecodeError as e:
         raise JamioError(path, f"line {e.lineno}: not valid JSON ({e.msg})") from e
-
-
-def _split(path, content):
-    """(schema_version, metadata, verdicts) of either schema."""
-    if isinstance(content, list):
-        return 1, {}, content
-    if not isinstance(content, dict) or not isinstance(content.get("verdicts"), list):
-        raise JamioError(path, "not a verdict file (neither an array of verdicts nor an object "
-                               "with a 'verdicts' array)")
-    metadata = {k: v for k, v in content.items() if k != "verdicts"}
-    schema = metadata.get("schema_version", 2)
-    if isinstance(schema, bool) or not isinstance(schema, int):
-        raise JamioError(path, f"field 'schema_version' is {shown(schema)}, not a whole number")
-    return schema, metadata, content["verdicts"]
+    except ValueError as e:
+        raise JamioError(path, f"not valid JSON ({e})") from e
 
 
 def read_verdicts(path):
-    """checks.json (either schema) as a Checks without curves."""
+    """checks.json (either schema) as a Checks without curves, checked against the schema
+    (reference/schema/checks.toml, checks_schema.py): a field of another type or value is a
+    JamioError naming the verdict, the field and the value."""
     path = os.fspath(path)
     with reading(path, "verdict file"):
-        schema, metadata, verdicts = _split(path, _parse(path))
-    for k, v in enumerate(verdicts):
-        if not isinstance(v, dict):
-            raise JamioError(path, f"verdict {k}: not a JSON object")
+        content = _parse(path)
+        try:
+            schema, verdicts = checked(content)
+        except SchemaError as e:
+            raise JamioError(path, str(e)) from None
+    metadata = {} if schema == 1 else {k: v for k, v in content.items() if k != "verdicts"}
     return Checks(path, schema, metadata, verdicts)
 
 

@@ -2,7 +2,7 @@
 // `jam campaign plan FILE --pilot K`: K samples of every ensemble of the campaign, run and
 // judged in <output>-pilot-K (a campaign of its own: the same seeds, so its runs are the
 // campaign's first K samples), whose runs' scatter then tells the planner what the full design
-// can decide (app/plan_decidability.hpp). Resumes like any campaign.
+// can decide (design/plan_decidability.hpp). Resumes like any campaign.
 #include <string>
 
 #include "campaign/campaign_file.hpp"

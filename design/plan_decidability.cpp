@@ -1,4 +1,4 @@
-#include "app/plan_decidability.hpp"
+#include "design/plan_decidability.hpp"
 
 #include <fmt/format.h>
 #include <gsl/gsl_cdf.h>
@@ -7,17 +7,17 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <tuple>
 
 #include "campaign/added_samples.hpp"
 #include "campaign/run_plan.hpp"
+#include "checks/check_registry.hpp"
 #include "checks/checks.hpp"
-#include "checks/verdict.hpp"
+#include "checks/verdict_ensembles.hpp"
+#include "checks/verdict_file.hpp"
 #include "checks/window_scatter.hpp"
 #include "sim/io/install_paths.hpp"
 #include "sim/io/output_path.hpp"
@@ -82,8 +82,10 @@ ScatterFit fit(const std::vector<ScatterPoint>& p) {
   return f;
 }
 
-double number(const nlohmann::json& values, const char* key) {
-  return values.contains(key) && values[key].is_number() ? values[key].get<double>() : NAN;
+/// values[key], NaN where the verdict has none.
+double number(const std::map<std::string, double>& values, const char* key) {
+  const auto it = values.find(key);
+  return it == values.end() ? NAN : it->second;
 }
 
 }  // namespace
@@ -103,24 +105,16 @@ ScatterModel fit_scatter_model(const std::vector<std::string>& checks_files,
   for (const auto& path : checks_files) {
     if (!std::filesystem::exists(path))
       throw std::runtime_error(path + ": not found (judge the campaign first: jam check all DIR)");
-    check_input_file("--scatter-from", path);
-    std::ifstream in(path);
-    nlohmann::json verdicts;
-    try {
-      verdicts = checks::verdict_array(nlohmann::json::parse(in));
-    } catch (const std::exception& e) {
-      throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
-    }
+    const std::vector<checks::Verdict> verdicts = checks::read_verdict_file(path).verdicts;
     const std::size_t before = at_phi.size() + at_z.size();
     // The range asked, where the file judged it: its scatter, not that of a wider window.
-    const bool of_region =
-        !region.empty() && std::any_of(verdicts.begin(), verdicts.end(), [&](const auto& v) {
-          return v.is_object() && v.value("region", "") == region;
-        });
-    for (const auto& v : verdicts) {
-      if (!v.is_object() || !v.contains("values") || !v["values"].is_object()) continue;
-      if (of_region && v.value("region", "") != region) continue;
-      const auto& x = v["values"];
+    const bool of_region = !region.empty() && std::any_of(verdicts.begin(), verdicts.end(),
+                                                          [&](const checks::Verdict& v) {
+                                                            return v.region == region;
+                                                          });
+    for (const checks::Verdict& v : verdicts) {
+      if (of_region && v.region != region) continue;
+      const auto& x = v.values;
       const double rate = number(x, "log10_rate");
       const double na = std::isfinite(number(x, "n_a")) ? number(x, "n_a") : number(x, "n");
       const double nb = std::isfinite(number(x, "n_b")) ? number(x, "n_b") : number(x, "n");
@@ -151,39 +145,38 @@ namespace {
 
 /// One comparison a check of the campaign will make.
 struct Planned {
-  std::string check;  // "finite_size" or "phi_init"
+  std::string check;
+  std::string kind;  // the check, with ", constant Z" or ", constant phi" where it says which
   bool at_z = false;
-  std::int64_t n_a = 0, n_b = 0;
-  double phi_a = 0, phi_b = 0, log10_rate = 0;
+  EnsembleId a, b;
 };
 
+/// The comparisons every check the campaign asks for will make, as each declares them in its
+/// registry line (verdict_ensembles.hpp): no check is named here.
 std::vector<Planned> planned_comparisons(const Campaign& c) {
   std::vector<Planned> out;
   const auto& wanted = c.question.checks;  // empty: every check
-  auto asks = [&wanted](const char* check) {
-    return wanted.empty() || std::find(wanted.begin(), wanted.end(), check) != wanted.end();
-  };
-  if (c.sizes.size() >= 2 && asks("finite_size")) {
-    const auto [lo, hi] = std::minmax_element(c.sizes.begin(), c.sizes.end());
-    for (double phi : c.phi_init)
-      for (double r : c.log10_rates)
-        for (bool z : {false, true}) out.push_back({"finite_size", z, *lo, *hi, phi, phi, r});
-  }
-  if (c.phi_init.size() >= 2 && asks("phi_init")) {
-    const double low = *std::min_element(c.phi_init.begin(), c.phi_init.end());
-    for (auto n : c.sizes)
-      for (double r : c.log10_rates)
-        for (double phi : c.phi_init)
-          if (phi != low) out.push_back({"phi_init", false, n, n, phi, low, r});
+  for (const checks::CheckEntry& e : checks::check_registry()) {
+    const std::string name(e.name);
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), name) == wanted.end()) continue;
+    for (const checks::Values& values : e.samples->planned(c)) {
+      const std::vector<EnsembleId> ens = e.samples->ensembles(values);
+      if (ens.size() != 2) continue;
+      const auto z = values.find("constant_z");
+      const bool at_z = z != values.end() && z->second == 1.0;
+      const std::string kind = z == values.end() ? name
+                               : at_z            ? name + ", constant Z"
+                                                 : name + ", constant phi";
+      out.push_back({name, kind, at_z, ens[0], ens[1]});
+    }
   }
   return out;
 }
 
 using EnsembleKey = std::tuple<std::int64_t, double, double>;  // n, phi_init, log10 rate
 
-std::string kind_of(const Planned& p) {
-  if (p.check != "finite_size") return p.check;
-  return p.check + (p.at_z ? ", constant Z" : ", constant phi");
+EnsembleKey key(const EnsembleId& e) {
+  return {e.n, e.phi_init, e.log10_rate};
 }
 
 }  // namespace
@@ -233,11 +226,11 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
   std::map<std::string, SampleCounts> want;  // samples per ensemble, per check
   std::map<std::string, double> most;
   const auto samples = static_cast<double>(c.samples);
-  for (const auto& p : planned) ++count[kind_of(p)];
+  for (const auto& p : planned) ++count[p.kind];
   int warnings = 0;
   std::set<std::string> unmodelled;  // no verdict of that kind in the data: no scatter to use
   for (const auto& p : planned) {
-    const std::string kind = kind_of(p);
+    const std::string& kind = p.kind;
     const ScatterFit& f = p.at_z ? model.at_z : model.at_phi;
     if (f.points == 0) {
       unmodelled.insert(kind);
@@ -248,8 +241,8 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
     // Only the pass level matters here (a TOST at the check's alpha).
     const double z_pass =
         gsl_cdf_ugaussian_Qinv(c.question.alpha.value_or(checks::CheckOptions{}.alpha));
-    const double sa = f.scatter(static_cast<double>(p.n_a), p.log10_rate),
-                 sb = f.scatter(static_cast<double>(p.n_b), p.log10_rate);
+    const double sa = f.scatter(static_cast<double>(p.a.n), p.a.log10_rate),
+                 sb = f.scatter(static_cast<double>(p.b.n), p.b.log10_rate);
     // With no effect, D ~ N(0, sigma) passes when |D| <= M - z_pass sigma: with probability
     // kPlanPower when sigma <= M / (z_pass + z), z the two-sided quantile of that power.
     const double target =
@@ -259,11 +252,9 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
       continue;
     }
     const checks::SamplesNeeded n =
-        checks::samples_for_sigma(target, sa, sb, cost[{p.n_a, p.phi_a, p.log10_rate}],
-                                  cost[{p.n_b, p.phi_b, p.log10_rate}], samples, samples);
+        checks::samples_for_sigma(target, sa, sb, cost[key(p.a)], cost[key(p.b)], samples, samples);
     most[kind] = std::max(most[kind], n.equal);
-    for (const auto& [id, needed] : {std::pair{EnsembleId{p.n_a, p.phi_a, p.log10_rate}, n.a},
-                                     std::pair{EnsembleId{p.n_b, p.phi_b, p.log10_rate}, n.b}}) {
+    for (const auto& [id, needed] : {std::pair{p.a, n.a}, std::pair{p.b, n.b}}) {
       auto& x = want[kind][id];
       x = std::max(x, static_cast<std::int64_t>(needed));
     }
@@ -309,25 +300,21 @@ int print_decidability(const Campaign& c, const ScatterModel& model, const Throu
 }
 
 void print_phi_init_findings(const Campaign& c) {
-  const std::filesystem::path checks = std::filesystem::path(c.output) / "checks.json";
-  if (std::filesystem::exists(checks)) {
-    try {
-      check_input_file("checks", checks.string());
-      std::ifstream in(checks);
-      const auto verdicts = checks::verdict_array(nlohmann::json::parse(in));
-      for (const auto& v : verdicts) {
-        if (!v.contains("values") || !v["values"].contains("largest_consistent_phi_init")) continue;
-        const auto& x = v["values"];
-        fmt::print(
-            "  phi_init check (N {}, rate 1e{:g}): starting at phi_init {:g} instead of {:g} "
-            "gives the same pressures and saves {:.0f}% of the compression time\n",
-            x["n"].get<double>(), x["log10_rate"].get<double>(),
-            x["largest_consistent_phi_init"].get<double>(), x["lowest_phi_init"].get<double>(),
-            100 * x["compression_time_saved"].get<double>());
-      }
-    } catch (const std::exception& e) {
-      fmt::print("  ({}: {})\n", checks.string(), e.what());
+  const std::filesystem::path file = std::filesystem::path(c.output) / "checks.json";
+  if (!std::filesystem::exists(file)) return;
+  try {
+    for (const checks::Verdict& v : checks::read_verdict_file(file.string()).verdicts) {
+      const auto& x = v.values;
+      if (!x.contains("largest_consistent_phi_init")) continue;
+      fmt::print(
+          "  phi_init check (N {}, rate 1e{:g}): starting at phi_init {:g} instead of {:g} "
+          "gives the same pressures and saves {:.0f}% of the compression time\n",
+          number(x, "n"), number(x, "log10_rate"), number(x, "largest_consistent_phi_init"),
+          number(x, "lowest_phi_init"), 100 * number(x, "compression_time_saved"));
     }
+  } catch (const std::exception& e) {
+    // read_verdict_file's reasons start with the file's name.
+    fmt::print("  ({})\n", e.what());
   }
 }
 

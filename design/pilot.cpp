@@ -1,4 +1,4 @@
-#include "app/pilot.hpp"
+#include "design/pilot.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -6,10 +6,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "app/check_command.hpp"
-#include "app/stats_command.hpp"
 #include "campaign/toml_file.hpp"
 #include "checks/checks.hpp"
+#include "checks/verdict_file.hpp"
+#include "design/stats_stage.hpp"
 
 namespace jam {
 
@@ -25,8 +25,7 @@ Campaign pilot_campaign(const Campaign& c, int samples) {
   t.insert_or_assign("name", fmt::format("{}-pilot-{}", c.name, samples));
   std::ostringstream text;
   // The name, not the file's path: the text must stay plain ASCII, a path need not be.
-  text << "# The pilot of campaign " << c.name << " (jam campaign plan --pilot " << samples
-       << ")\n"
+  text << "# The pilot of campaign " << c.name << " (jam campaign plan --pilot " << samples << ")\n"
        << toml_text(t) << "\n";
   return parse_campaign(text.str(), c.source_path);
 }
@@ -36,14 +35,14 @@ std::string run_pilot(const Campaign& pilot, const CampaignRunOptions& run, cons
     throw std::runtime_error(
         fmt::format("pilot {}: jam campaign run exited {}", pilot.output, status));
   if (ranks.rank != 0) return pilot.output;
-  StatsArgs stats;
-  stats.directory = pilot.output;
-  if (const int status = run_stats_command(stats); status != 0)
-    throw std::runtime_error(fmt::format("pilot {}: jam stats exited {}", pilot.output, status));
+  // As `jam stats DIR` (its default options, the verdicts in DIR declared to the fit).
+  stats::StatsOptions averaging;
+  averaging.verdicts = design::declared_fit_verdicts(pilot.output);
+  design::write_campaign_stats(pilot.output, averaging);
   checks::CheckOptions options;
   options.margins = pilot.margins;
   const auto verdicts = checks::run_check("all", checks::read_stats(pilot.output), options);
-  write_verdict_files(pilot.output, "all", verdicts, pilot.name, 0.0);
+  checks::write_verdict_files(pilot.output, "all", verdicts, pilot.name, 0.0);
   return pilot.output;
 }
 
