@@ -218,7 +218,8 @@ BOOST_AUTO_TEST_CASE(a_two_point_pilot_is_fitted_exactly_and_a_missing_kind_is_s
   const fs::path dir = kDir / "two-point";
   fs::create_directories(dir);
   std::ofstream(dir / "checks.json")
-      << "[{\"values\": {\"log10_rate\": -3, \"n_a\": 128, \"n_b\": 512, \"constant_z\": 0, "
+      << "[{\"check\": \"finite_size\", \"case\": \"pilot\", \"status\": \"pass\", "
+         "\"values\": {\"log10_rate\": -3, \"n_a\": 128, \"n_b\": 512, \"constant_z\": 0, "
          "\"scatter_a\": 0.04, \"scatter_b\": 0.027, \"samples_a\": 20, \"samples_b\": 20}}]\n";
   const std::string design = write_campaign("two-point-design",
                                             "dim = 2\nsizes = [128, 512]\nphi_init = [0.8]\n"
@@ -230,16 +231,16 @@ BOOST_AUTO_TEST_CASE(a_two_point_pilot_is_fitted_exactly_and_a_missing_kind_is_s
   // ln s^2 through (ln 128, ln 0.04^2) and (ln 512, ln 0.027^2): slope 2 ln(0.027/0.04)/ln 4.
   const double slope = 2 * std::log(0.027 / 0.04) / std::log(4.0);
   BOOST_TEST(r.output.find(fmt_two(slope) + " ln N ") != std::string::npos, r.output);
-  BOOST_TEST(r.output.find("through its points exactly: no residual to estimate") !=
-                 std::string::npos,
-             r.output);
+  BOOST_TEST(
+      r.output.find("through its points exactly: no residual to estimate") != std::string::npos,
+      r.output);
   // s_a = 0.04, s_b = 0.027 at 20 samples: sigma_D 0.011, well under 0.1 / (1.645 + 1.28).
   BOOST_TEST(r.output.find("finite_size, constant phi: all 1 comparisons decide with 20") !=
                  std::string::npos,
              r.output);
-  BOOST_TEST(r.output.find("finite_size, constant Z: no verdict of its kind in") !=
-                 std::string::npos,
-             r.output);
+  BOOST_TEST(
+      r.output.find("finite_size, constant Z: no verdict of its kind in") != std::string::npos,
+      r.output);
 }
 
 // The price comes from stored measurements (reference/throughput.toml), then from the
