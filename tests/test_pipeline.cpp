@@ -177,11 +177,13 @@ bool not_written_since(const fs::path& file, fs::file_time_type signalled) {
   return !fs::exists(file) || fs::last_write_time(file) < signalled;
 }
 
-/// The report's temporary directories (`<report>.partial-*`) left in kDir.
+/// The report's temporary directories (`<report>.<pid>.partial`, jamio.output) left in kDir.
 std::size_t partial_reports(const std::string& report) {
   std::size_t n = 0;
-  for (const auto& e : fs::directory_iterator(kDir))
-    if (e.path().filename().string().rfind(report + ".partial-", 0) == 0) ++n;
+  for (const auto& e : fs::directory_iterator(kDir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(report + ".", 0) == 0 && name.ends_with(".partial")) ++n;
+  }
   return n;
 }
 
