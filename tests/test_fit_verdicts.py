@@ -15,11 +15,12 @@ import h5py
 import numpy as np
 import pytest
 
+# Three rates: with fewer no scaling fit is attempted, and the fit consults no verdict.
 CAMPAIGN = """name = "fv"
 dim = 2
 sizes = [64]
 phi_init = [0.6, 0.7]
-log10_rates = [-2.5, -3.0]
+log10_rates = [-2.0, -2.5, -3.0]
 samples = 3
 phi_stop = 0.86
 phi_step = 0.002
