@@ -102,8 +102,8 @@ def test_given_resources_are_kept_by_the_chain(cluster):
         last = f.read().splitlines()[-1]
     job = replacement["job"]
     assert f"finishing job {job} submitted in place of {finish1['job']}" in last
-    assert (f"its state: squeue -j {job} (pending, reason PartitionConfig: it can "
-            "never start;") in last
+    assert (f"its state: squeue -j {job} (if it stays pending with reason PartitionConfig, "
+            "it can never start as asked:") in last
     assert f"sacct -j {job} once it ended" in last
 
 
