@@ -35,9 +35,9 @@ void mark_expected_failures(std::vector<checks::Verdict>& verdicts,
   }
 }
 
-/// The campaign's part in judging it: its name, margins and expected failures, from
-/// DIR/campaign.toml when there is one.
-struct CampaignPart {
+/// What the campaign file says about judging it (DIR/campaign.toml, when there is one): its
+/// name, margins, regions, expected failures, compared campaigns and question.
+struct JudgingSettings {
   std::string name;
   std::map<std::string, double> margins;
   std::map<std::string, double> regions;  // [regions]
@@ -46,9 +46,9 @@ struct CampaignPart {
   CampaignQuestion question;              // [question]
 };
 
-CampaignPart campaign_part(const std::string& directory) {
+JudgingSettings judging_settings(const std::string& directory) {
   const std::filesystem::path file = std::filesystem::path(directory) / "campaign.toml";
-  CampaignPart c{std::filesystem::absolute(directory).filename().string(), {}, {}, {}, {}, {}};
+  JudgingSettings c{std::filesystem::absolute(directory).filename().string(), {}, {}, {}, {}, {}};
   if (std::filesystem::exists(file)) {
     const Campaign campaign = read_campaign(file.string());
     c = {campaign.name,         campaign.margins, campaign.regions, campaign.expected_failures,
@@ -69,7 +69,7 @@ void require_current_stats(const std::string& directory) {
 
 /// Every campaign whose stats.h5 the checks will read: DIR (unless only lmp runs), the
 /// --against directory and, for `all`, the campaigns of compare_with.
-void require_current_inputs(const CheckArgs& a, const CampaignPart& campaign) {
+void require_current_inputs(const CheckArgs& a, const JudgingSettings& campaign) {
   const checks::CheckEntry* e = checks::find_check(a.name);
   if (!e || !std::holds_alternative<checks::LammpsCheck>(e->run))
     require_current_stats(a.directory);
@@ -165,7 +165,7 @@ struct Comparison {
 /// `all` of a campaign whose file names `compare_with`: each of those campaigns judged against
 /// this one (`jam check compare OTHER --against THIS`), its verdicts named by both campaigns.
 std::vector<Comparison> append_comparisons(std::vector<checks::Verdict>& verdicts,
-                                           const CampaignPart& campaign,
+                                           const JudgingSettings& campaign,
                                            const checks::CheckInputs& in) {
   std::vector<Comparison> out;
   for (const std::string& other : campaign.compare_with) {
@@ -255,7 +255,7 @@ bool question_wants(const std::vector<std::string>& wanted, const std::string& c
 }
 
 nlohmann::json check_record(const CheckArgs& a) {
-  const CampaignPart c = campaign_part(a.directory);
+  const JudgingSettings c = judging_settings(a.directory);
   return judging_record(a.judging,
                         check_options(a.judging, a.name, c.margins, c.regions, c.question),
                         a.name == "all" ? c.question : CampaignQuestion{});
@@ -276,7 +276,7 @@ int run_check_command(const CheckArgs& a) {
     for (const char* ext : {".json", ".xml", ".h5"}) output_file_target(stem.string() + ext);
   }
   // Margins and expected failures: the campaign file's, then --margin.
-  const CampaignPart campaign = campaign_part(a.directory);
+  const JudgingSettings campaign = judging_settings(a.directory);
   require_current_inputs(a, campaign);
   checks::CheckOptions o =
       check_options(a.judging, a.name, campaign.margins, campaign.regions, campaign.question);

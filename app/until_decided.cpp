@@ -349,7 +349,7 @@ json question_of(const Campaign& c, const UntilDecidedOptions& o) {
 }
 
 /// Sleeps `seconds` in short steps; false when a stop was asked for meanwhile.
-bool doze(double seconds) {
+bool sleep_unless_stopped(double seconds) {
   const auto& stop = install_stop_handlers();
   for (int k = 0; k < static_cast<int>(seconds * 10); ++k) {
     if (stop.load()) return false;
@@ -384,7 +384,7 @@ int wait_for_runs(const Campaign& c, const UntilDecidedOptions& o, const SampleC
       std::fflush(stdout);
       last = std::chrono::steady_clock::now();
     }
-    if (!doze(o.poll_seconds)) return 130;
+    if (!sleep_unless_stopped(o.poll_seconds)) return 130;
   }
 }
 
@@ -399,7 +399,7 @@ bool wait_for_plan(const Campaign& c, const UntilDecidedOptions& o, const Sample
     } catch (const CampaignError&) {
       // Being replaced (atomically, but a reader may see none): look again.
     }
-    if (!doze(o.poll_seconds)) return false;
+    if (!sleep_unless_stopped(o.poll_seconds)) return false;
   }
 }
 
@@ -519,7 +519,7 @@ int run_looks(const Campaign& c, const CampaignRunOptions& run, const UntilDecid
           more = now.finished ? 0 : 1;
           break;
         }
-        if (!doze(o.poll_seconds)) return 130;
+        if (!sleep_unless_stopped(o.poll_seconds)) return 130;
       }
     }
     more = broadcast_from_root({more}).front();

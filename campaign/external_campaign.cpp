@@ -48,8 +48,8 @@ double number_of(const toml::table& t, const char* key, const std::string& where
 
 /// A whole number in [lo, hi] (n, sample, dim): anything else would be cast to an integer
 /// out of range or truncated without a word.
-std::int64_t whole_of(const toml::table& t, const char* key, const std::string& where,
-                      std::int64_t lo, std::int64_t hi) {
+std::int64_t whole_number_field(const toml::table& t, const char* key, const std::string& where,
+                                std::int64_t lo, std::int64_t hi) {
   // A TOML integer is judged as written: rounded to a double, 2^53 + 1 would pass as 2^53.
   const toml::node* node = t.get(key);
   if (const auto* exact = node ? node->as_integer() : nullptr) {
@@ -147,7 +147,7 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
   ExternalCampaign c;
   c.name = text_of(t, "name", path);
   c.phi_step = number_of(t, "phi_step", path);
-  c.dim = static_cast<int>(whole_of(t, "dim", path, 2, 3));
+  c.dim = static_cast<int>(whole_number_field(t, "dim", path, 2, 3));
   c.diameter_ratio = number_of(t, "diameter_ratio", path);
   c.contact = text_of(t, "contact", path);
   c.dynamics = text_of(t, "dynamics", path);
@@ -175,7 +175,7 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
       x.name = text_of(*r, "name", where);
       if (x.name.find('/') != std::string::npos || x.name.find("..") != std::string::npos)
         throw std::runtime_error(fmt::format("{}: name '{}' is not a run name", where, x.name));
-      x.n = whole_of(*r, "n", where, 1, kMaxExactWhole);
+      x.n = whole_number_field(*r, "n", where, 1, kMaxExactWhole);
       model.n = x.n;
       validate_open_run_model(model, where);
       x.phi_init = number_of(*r, "phi_init", where);
@@ -183,7 +183,7 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
         throw std::runtime_error(
             fmt::format("{}: phi_init {} must be in (0, 1)", where, x.phi_init));
       x.log10_rate = number_of(*r, "log10_rate", where);
-      x.sample = whole_of(*r, "sample", where, 0, kMaxExactWhole);
+      x.sample = whole_number_field(*r, "sample", where, 0, kMaxExactWhole);
       x.source = text_of(*r, "source", where);
       x.source_checksum = text_of(*r, "source_checksum", where);
       x.simulator = text_of(*r, "simulator", where);
