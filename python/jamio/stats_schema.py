@@ -19,7 +19,7 @@ import h5py
 import numpy as np
 
 from .hdf5 import _attribute, _check_size, _is_string, _kind, member
-from .errors import shown
+from .errors import shown, visible
 
 SCHEMA_PATH = os.path.join(os.path.dirname(__file__), "schema", "stats.toml")
 
@@ -31,7 +31,10 @@ _LONGEST_PATH = 300
 
 
 def _path(p):
-    return shown(p, _LONGEST_PATH)
+    """A path as messages show it (control characters as escapes); a long one keeps its end,
+    which names the field."""
+    text = visible(repr(p), longest=len(repr(p)) * 4 + 1)
+    return text if len(text) <= _LONGEST_PATH else text[:100] + "..." + text[-150:]
 
 
 # 2^53: every whole number up to it is exact in a double (sim/io/whole_number.hpp).
