@@ -7,6 +7,7 @@
 #include "checks/verdict_file.hpp"
 #include "sim/io/open_run.hpp"
 #include "sim/io/terminal_text.hpp"
+#include "stats/stats_schema.hpp"
 
 namespace jam {
 
@@ -19,6 +20,10 @@ void add_validate_command(CLI::App& app, ValidateArgs& args) {
   v->add_flag("--checks", args.checks,
               "The files are verdict files (checks.json), checked against "
               "reference/schema/checks.toml as every reader of them checks them");
+  v->add_flag("--stats", args.stats,
+              "The files are statistics (stats.h5), checked against "
+              "reference/schema/stats.toml as every reader of them checks them")
+      ->excludes("--checks");
 }
 
 namespace {
@@ -39,10 +44,27 @@ int validate_verdict_files(const ValidateArgs& args) {
   return status;
 }
 
+/// `jam validate --stats`: each file read as every reader of a stats.h5 reads it.
+int validate_stats_files(const ValidateArgs& args) {
+  int status = 0;
+  for (const std::string& path : args.runs) {
+    try {
+      const stats::StatsFileSummary s = stats::check_stats_file(path);
+      fmt::print("{}: ok: schema {}, campaign {}, {} ensembles\n", visible(path), s.schema_version,
+                 visible(s.campaign), s.ensembles);
+    } catch (const std::exception& e) {
+      fmt::print("{}\n", visible(e.what()));  // the reasons start with the file's name
+      status = 1;
+    }
+  }
+  return status;
+}
+
 }  // namespace
 
 int run_validate_command(const ValidateArgs& args) {
   if (args.checks) return validate_verdict_files(args);
+  if (args.stats) return validate_stats_files(args);
   int status = 0;
   for (const std::string& path : args.runs) {
     try {

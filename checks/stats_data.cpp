@@ -11,6 +11,7 @@
 #include "sim/io/hdf5_file.hpp"
 #include "stats/sample_ids.hpp"
 #include "stats/stats_inputs.hpp"
+#include "stats/stats_schema.hpp"
 
 namespace jam::checks {
 namespace {
@@ -156,6 +157,7 @@ StatsData read_stats(const std::string& directory) {
   }
   const h5::File f = h5::File::open_read(path);
   stats::check_stats_checksum(f, directory);  // a table changed by hand is not judged
+  stats::check_stats_schema(f);               // reference/schema/stats.toml, as jamio checks it
   StatsData d;
   d.directory = directory;
   d.campaign = f.read_attribute_string("campaign");

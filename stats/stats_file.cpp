@@ -17,6 +17,7 @@
 #include "stats/campaign_stats.hpp"
 #include "stats/papers_protocol.hpp"
 #include "stats/scan_failures.hpp"
+#include "stats/stats_schema.hpp"
 
 namespace jam::stats {
 namespace {
@@ -234,6 +235,8 @@ void write_stats_file(const std::string& given, const CampaignStats& s, const St
   const std::string temporary = AtomicFile::temporary_name(path);
   try {
     h5::File f = h5::File::create(temporary);
+    // The layout's version (reference/schema/stats.toml): a reader of another refuses the file.
+    f.write_attribute("schema_version", std::int64_t{current_stats_schema_version()});
     f.write_attribute("campaign", s.data.name);
     f.write_attribute("dim", std::int64_t{s.data.dim});
     f.write_attribute("version", std::string(kVersion));

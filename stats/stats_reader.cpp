@@ -10,6 +10,7 @@
 #include "stats/campaign_stats.hpp"
 #include "stats/sample_ids.hpp"
 #include "stats/stats_inputs.hpp"
+#include "stats/stats_schema.hpp"
 
 namespace jam::stats {
 namespace {
@@ -74,6 +75,7 @@ CampaignStats refit_campaign_stats(const std::string& directory, const StatsOpti
   {
     const h5::File f = h5::File::open_read(path);
     check_stats_checksum(f, directory);
+    check_stats_schema(f);  // reference/schema/stats.toml, as jamio checks it
     s.data.name = f.read_attribute_string("campaign");
     // The averages are the earlier file's: so are the runs they were computed from.
     if (f.has_attribute("inputs_checksum"))

@@ -317,9 +317,11 @@ inline void write_template_start(const std::string& path, const std::string& ide
 /// `jam check` and `jam stats --refit` read, written with jam's writer.
 inline void write_template_stats(const std::string& path, std::size_t samples = 4,
                                  std::size_t points = 5) {
+  // What reference/schema/stats.toml requires of a stats.h5, and little more.
   h5::File f = h5::File::create(path);
   f.write_attribute("campaign", std::string("template"));
   f.write_attribute("dim", std::int64_t{2});
+  f.write_attribute("version", std::string("template"));
   f.write_attribute("pooled_sizes", std::int64_t{0});
   f.write_attribute("runs", static_cast<std::int64_t>(samples));
   f.write_attribute("runs_skipped", std::int64_t{0});
@@ -328,27 +330,36 @@ inline void write_template_stats(const std::string& path, std::size_t samples = 
   f.write_attribute("n", std::int64_t{64}, g);
   f.write_attribute("phi_init", 0.7, g);
   f.write_attribute("log10_rate", -2.0, g);
-  std::vector<double> grid, ids, pressure;
+  f.write_attribute("compression_rate", 0.01, g);
+  f.write_attribute("samples", static_cast<std::int64_t>(samples), g);
+  std::vector<double> grid, ids, pressure, mean;
   for (std::size_t k = 0; k < points; ++k) grid.push_back(0.80 + 0.001 * static_cast<double>(k));
+  for (std::size_t k = 0; k < points; ++k) mean.push_back(1e-3 * static_cast<double>(k + 1));
   for (std::size_t s = 0; s < samples; ++s) {
     ids.push_back(static_cast<double>(s));
-    for (std::size_t k = 0; k < points; ++k) pressure.push_back(1e-3 * static_cast<double>(k + 1));
+    pressure.insert(pressure.end(), mean.begin(), mean.end());
   }
   f.write_dataset(g + "/constant_phi/packing_fraction", grid);
   f.write_dataset(g + "/constant_phi/sample_ids", ids);
+  f.write_dataset(g + "/constant_phi/pressure_mean", mean);
   f.write_dataset(g + "/constant_phi/pressure_samples", pressure, {samples, points});
   f.write_dataset(g + "/constant_phi/contacts_per_particle_samples", pressure, {samples, points});
   // Constant Z on its own grid and samples, the jamming points, the fit's window.
   f.create_group(g + "/constant_z");
   f.write_dataset(g + "/constant_z/contacts_per_particle", grid);
   f.write_dataset(g + "/constant_z/sample_ids", ids);
+  f.write_dataset(g + "/constant_z/pressure_mean", mean);
   f.write_dataset(g + "/constant_z/pressure_samples", pressure, {samples, points});
   f.create_group(g + "/jamming");
   f.write_dataset(g + "/jamming/packing_fraction_samples", std::vector<double>(samples, 0.84));
   f.write_dataset(g + "/jamming/sample_ids", ids);
-  f.create_group("fit/representative");
-  f.write_attribute("phi_min", 0.8, "fit/representative");
-  f.write_attribute("phi_j", 0.84, "fit/representative");
+  const std::string fit = "fit/representative";
+  f.create_group(fit);
+  f.write_attribute("phi_min", 0.8, fit);
+  f.write_attribute("phi_j", 0.84, fit);
+  for (const char* name : {"phi_j_error", "beta", "beta_error", "y", "y_error"})
+    f.write_attribute(name, 0.1, fit);
+  f.write_attribute("samples", static_cast<std::int64_t>(samples), fit);
   f.close();
 }
 

@@ -254,7 +254,7 @@ BOOST_AUTO_TEST_CASE(stats_h5_sample_ids_that_are_not_sample_numbers_are_refused
       const std::string what =
           "dataset 'ensembles/n64_phi0.7000_r-2.00/constant_phi/sample_ids'"
           " holds " +
-          shown + ", not a sample number";
+          shown + ", not a whole number";
       expect_both_stats_readers(dir, what);
     }
   }

@@ -343,14 +343,15 @@ def test_a_samples_table_of_another_shape_is_refused(made):
             f[name] = v.T if len(shape) == 2 else v.reshape(-1)
         path = planted_stats(made, edit)
         assert_one_line(lambda: jamio.stats_frame(path, samples=True),
-                             [path, name, f"has shape {shape}", f"expected shape {(s, m)}"])
+                             [path, name, f"has shape {' x '.join(map(str, shape))}",
+                              f"expected S x M = {s} x {m}"])
 
 
 def test_sample_ids_and_sizes_that_are_not_whole_numbers_are_refused(made):
     """A sample id of 1.5 (read as 1) or NaN (as -2^63), an ensemble's n of 64.5 and a
     run's sample of 2.7 (cut to 64 and 2): each refused, naming the field and the value."""
-    for ids, words in (([0.0, 1.5], ["sample_ids[1] = 1.5"]),
-                       ([np.nan, 1.0], ["sample_ids[0] = nan"])):
+    for ids, words in (([0.0, 1.5], ["sample_ids' holds 1.5"]),
+                       ([np.nan, 1.0], ["sample_ids' holds nan"])):
         def edit(f):
             f[f"{GROUP}/sample_ids"][...] = ids
         path = planted_stats(made, edit)
@@ -388,11 +389,11 @@ def test_missing_or_mismatched_datasets_are_one_line(made):
     for edit, words, average, tables in (
             (lambda f: f[GROUP].__delitem__("pressure_error"),
              ["pressure_error missing"], "constant_phi", (False,)),
-            (lambda f: f[GROUP].__delitem__("sample_ids"), ["sample_ids missing"],
+            (lambda f: f[GROUP].__delitem__("sample_ids"), ["sample_ids' missing"],
              "constant_phi", (False, True)),
             (lambda f: f.attrs.__delitem__("z_step"), ["'z_step'"], "constant_z",
              (False, True)),
-            (shorten, ["pressure_mean has shape", "expected shape"], "constant_phi",
+            (shorten, ["pressure_mean' has", "values, expected"], "constant_phi",
              (False,))):
         path = planted_stats(made, edit)
         for samples in tables:

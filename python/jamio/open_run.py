@@ -3,7 +3,8 @@
     validate_run(path)       an open run, or a run file of jam's own -> OpenRun (its attributes
                              and series), every field checked as the format's tables say
 
-The rules (`_model`, `_series` and the field checks they call) are those the writers
+The rules (`_model`, `_series` in open_run_series.py, and the field checks they call; the
+schema in open_run_format.py) are those the writers
 (write.py) apply before anything is written. A violation raises JamioError, one line naming the
 file, the field and the value.
 """
@@ -18,83 +19,18 @@ from dataclasses import dataclass, field
 import h5py
 import numpy as np
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python < 3.11
-    import tomli as tomllib
-
 from .errors import JamioError, cause, shown
 from .hdf5 import (MOST_STRING_BYTES, _check_size, _kind, _plain_type, member, read_hdf5,
                    value)
-
-
-
-@dataclass(frozen=True)
-class Schema:
-    """The open run format as jam validates it, read from the schema file `jam schema open-run`
-    writes (reference/schema/open_run.toml): the contact laws and integrators of jam's own
-    registry, the dynamics, the attributes and series with their units, the limits."""
-
-    path: str
-    format: str
-    format_version: int
-    protocol: str
-    units: str
-    contacts: tuple
-    dynamics: tuple
-    integrators: dict  # name -> its table (dynamics, adaptive, order, force_evaluations)
-    limits: dict  # name -> its table (value or min/max or above/below, why)
-    attributes: tuple  # the root attributes an open run states, in the format's order
-    optional_attributes: tuple
-    series_units: dict  # series -> the unit its `units` attribute must state
-    required_series: tuple
-    frames_units: dict  # a frames file's datasets -> their units
-
-
-def load_schema(path=None):
-    """The schema at `path` (default: the one jamio ships, schema/open_run.toml)."""
-    path = os.fspath(path) if path is not None else os.path.join(
-        os.path.dirname(__file__), "schema", "open_run.toml")
-    try:
-        with open(path, "rb") as f:
-            t = tomllib.load(f)
-        attributes = t["attribute"]
-        dynamics = next(a["allowed"] for a in attributes if a["name"] == "dynamics")
-        return Schema(
-            path=path, format=t["format"], format_version=t["format_version"],
-            protocol=t["protocol"], units=t["units"],
-            contacts=tuple(c["name"] for c in t["contact_law"]), dynamics=tuple(dynamics),
-            integrators={i["name"]: i for i in t["integrator"]}, limits=t["limits"],
-            attributes=tuple(a["name"] for a in attributes if a["required"] != "no"),
-            optional_attributes=tuple(a["name"] for a in attributes if a["required"] == "no"),
-            series_units={d["name"]: d["units"] for d in t["dataset"]},
-            required_series=tuple(d["name"] for d in t["dataset"] if d["required"]),
-            frames_units={d["name"]: d["units"] for d in t["frames_dataset"]})
-    except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError, StopIteration) as e:
-        raise JamioError(path, f"cannot read the open run schema ({cause(e)})") from None
-
-
-# The schema of jam's own registry and limits, and its values under their former names.
-SCHEMA = load_schema()
-FORMAT, FORMAT_VERSION = SCHEMA.format, SCHEMA.format_version
-PROTOCOL, UNITS = SCHEMA.protocol, SCHEMA.units
-CONTACTS, DYNAMICS = SCHEMA.contacts, SCHEMA.dynamics
-SERIES_UNITS, REQUIRED_SERIES = SCHEMA.series_units, SCHEMA.required_series
-FRAMES_UNITS = SCHEMA.frames_units
-LIMITS = SCHEMA.limits
-MAX_WHOLE = LIMITS["max_whole"]["value"]  # n and sample: 2^53
-MAX_POINTS = LIMITS["max_points"]["value"]
-MAX_CONTACTS = LIMITS["max_contacts_per_particle"]["value"]
-# The first packing may lie this far (relative) below phi_init: round-off.
-PHI_INIT_SLACK = LIMITS["phi_init_slack"]["value"]
-# phi(t) = phi_init exp(D rate t) must hold to this, relative.
-RATE_TOLERANCE = LIMITS["rate_tolerance"]["value"]
-# The order of the root attributes in the format's table (and in a written file's listing).
-ATTRIBUTES, OPTIONAL_ATTRIBUTES = SCHEMA.attributes, SCHEMA.optional_attributes
-
-
-class Invalid(ValueError):
-    """One field of a run that the format refuses; its message names the field and the value."""
+# The format's schema and the series' checks live beside this file; their names are jamio's
+# open_run names as before (write.py, runs.py, gsd_import.py and grid.py import them here).
+from .open_run_format import (ATTRIBUTES, CONTACTS, DYNAMICS, FORMAT, FORMAT_VERSION,  # noqa: F401
+                              FRAMES_UNITS, LIMITS, MAX_CONTACTS, MAX_POINTS, MAX_WHOLE,
+                              OPTIONAL_ATTRIBUTES, PHI_INIT_SLACK, PROTOCOL, RATE_TOLERANCE,
+                              REQUIRED_SERIES, SCHEMA, SERIES_UNITS, UNITS, Invalid, Schema,
+                              load_schema)
+from .open_run_series import (_array, _at_rate, _finite, _first_bad, _increasing,  # noqa: F401
+                              _lengths, _not_negative, _packing, _series, _time)
 
 
 # ---- the checks, shared by the writers and the reader -------------------------------------------
@@ -240,120 +176,6 @@ def _model(a, schema=SCHEMA):
     for name, check in checks.items():
         out[name] = None if a.get(name) is None else check(a[name])
     return out
-
-
-def _array(name, v, ndim=1):
-    """An array-like of numbers as float64 of `ndim` dimensions (checked before converting).
-    A masked array with a masked value is refused: converting it would write the raw values
-    hidden behind its mask."""
-    if isinstance(v, np.ma.MaskedArray) and np.ma.getmaskarray(v).any():
-        k = int(np.flatnonzero(np.ma.getmaskarray(v))[0])
-        raise Invalid(f"{name} has a masked value (at flat index {k}): fill or drop masked "
-                      "points before writing")
-    try:
-        x = np.asarray(v)
-    except (ValueError, TypeError) as e:
-        raise Invalid(f"{name} is not an array of numbers ({cause(e)})") from e
-    if x.dtype.kind not in "iuf":
-        raise Invalid(f"{name} holds {x.dtype} values, expected numbers")
-    if x.ndim != ndim:
-        expected = "one dimension" if ndim == 1 else f"{ndim} dimensions"
-        raise Invalid(f"{name} has shape {x.shape}, expected {expected}")
-    return np.ascontiguousarray(x, dtype=np.float64)
-
-
-def _first_bad(mask):
-    """The first index where mask holds, or None."""
-    where = np.flatnonzero(mask)
-    return int(where[0]) if where.size else None
-
-
-def _finite(name, x):
-    k = _first_bad(~np.isfinite(x))
-    if k is not None:
-        raise Invalid(f"{name}[{k}] = {shown(float(x[k]))} must be finite")
-
-
-def _increasing(name, x):
-    k = _first_bad(np.diff(x) <= 0)
-    if k is not None:
-        raise Invalid(f"{name}[{k + 1}] = {shown(float(x[k + 1]))} is not above {name}[{k}] = "
-                      f"{shown(float(x[k]))} (must increase strictly)")
-
-
-def _not_negative(name, x):
-    k = _first_bad(x < 0)
-    if k is not None:
-        raise Invalid(f"{name}[{k}] = {shown(float(x[k]))} must be >= 0")
-
-
-def _lengths(series, schema=SCHEMA):
-    """All series of one length M >= 2 (shapes only: nothing read)."""
-    first, m = next(iter(series.items()))
-    for name, length in series.items():
-        if length != m:
-            raise Invalid(f"{name} has {length} values and {first} {m}: the series must have "
-                          "equal lengths")
-    if m < 2:
-        raise Invalid(f"{first} has {m} values; a run needs at least 2 points")
-    most = schema.limits["max_points"]["value"]
-    if m > most:
-        raise Invalid(f"{first} has {m} values, at most {most}")
-    return m
-
-
-def _packing(name, phi, phi_init, schema=SCHEMA):
-    _finite(name, phi)
-    k = _first_bad((phi <= 0) | (phi >= 1))
-    if k is not None:
-        raise Invalid(f"{name}[{k}] = {shown(float(phi[k]))} must be in (0, 1)")
-    _increasing(name, phi)
-    if phi[0] < phi_init * (1 - schema.limits["phi_init_slack"]["value"]):
-        raise Invalid(f"{name}[0] = {shown(float(phi[0]))} is below phi_init {shown(phi_init)}")
-
-
-def _time(t):
-    _finite("time", t)
-    _not_negative("time", t)
-    _increasing("time", t)
-
-
-def _at_rate(name, phi, t, phi_init, rate, dim, schema=SCHEMA):
-    """phi(t) = phi_init exp(D rate t) to the schema's rate_tolerance, relative."""
-    tolerance = schema.limits["rate_tolerance"]["value"]
-    expected = phi_init * np.exp(dim * rate * t)
-    off = phi / expected - 1
-    k = _first_bad(~(np.abs(off) <= tolerance))
-    if k is not None:
-        raise Invalid(f"{name}[{k}] = {shown(float(phi[k]))} at time {shown(float(t[k]))} is not "
-                      f"phi_init exp(D rate t) = {shown(float(expected[k]))} (relative difference "
-                      f"{float(off[k]):.3g}, at most {tolerance:g}): the box does not shrink "
-                      f"at compression_rate {shown(rate)}")
-
-
-def _series(data, model, schema=SCHEMA):
-    """The series of a run (name -> float64 array, absent ones left out), checked as the
-    format's table says."""
-    for name in schema.required_series:
-        if name not in data:
-            raise Invalid(f"dataset '{name}' missing")
-    _lengths({k: len(v) for k, v in data.items()}, schema)
-    _packing("packing_fraction", data["packing_fraction"], model["phi_init"], schema)
-    for name in ("pressure", "contacts_per_particle", "energy_per_particle"):
-        if name in data:
-            _finite(name, data[name])
-            _not_negative(name, data[name])
-    if "contacts_per_particle" in data:
-        z = data["contacts_per_particle"]
-        most = schema.limits["max_contacts_per_particle"]["value"]
-        k = _first_bad(z > most)
-        if k is not None:
-            raise Invalid(f"contacts_per_particle[{k}] = {shown(float(z[k]))} must be in "
-                          f"[0, {most:g}]")
-    if "time" in data:
-        _time(data["time"])
-        _at_rate("packing_fraction", data["packing_fraction"], data["time"], model["phi_init"],
-                 model["compression_rate"], model["dim"], schema)
 
 
 # ---- reading ------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@ import h5py
 
 from .hdf5 import (Group, array, attrs, group, member, members, optional_group, read_hdf5,
                    require, units)
+from .stats_schema import check_stats
 
 # The root attributes every stats.h5 has.
 REQUIRED = ("campaign", "dim", "version")
@@ -221,6 +222,7 @@ def _coefficient_units(g):
 
 
 def _read_stats(path, f):
+    check_stats(f)  # reference/schema/stats.toml, as jam checks it
     root = attrs(f)
     for key in REQUIRED:
         if key not in root:
@@ -245,6 +247,7 @@ def stats_path(dir_or_file):
 
 def load_stats(dir_or_file):
     """stats.h5 of a campaign directory (or the file named) as a Stats. Raises JamioError
-    naming the file when it is missing or cannot be read."""
+    naming the file when it is missing, cannot be read or breaks the schema jam checks it
+    against (reference/schema/stats.toml: the field and its value)."""
     path = stats_path(dir_or_file)
     return read_hdf5(path, "stats file", lambda f: _read_stats(path, f))

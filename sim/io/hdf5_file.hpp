@@ -1,5 +1,6 @@
 #pragma once
-// A thin RAII layer over the HDF5 C API: just what run files need (scalar attributes,
+// A thin RAII layer over the HDF5 C API (writing and opening in hdf5_file.cpp, the checked
+// reading in hdf5_read.cpp): just what run files need (scalar attributes,
 // string attributes, 1-D and N-D double datasets), with errors turned into exceptions.
 // Object modification times are not recorded, so identical runs give identical files.
 //
@@ -109,7 +110,10 @@ class File {
   void write_dataset(const std::string& name, const std::vector<std::uint32_t>& data);
 
   bool has_attribute(const std::string& name, const std::string& object = ".") const;
+  /// Whether a link of that name exists (a group or a dataset: jam's readers ask of either).
   bool has_dataset(const std::string& name) const;
+  /// Whether `path` names a group (not a dataset, not a link that leaves the file).
+  bool is_group(const std::string& path) const;
   double read_attribute_double(const std::string& name, const std::string& object = ".") const;
   std::int64_t read_attribute_int(const std::string& name, const std::string& object = ".") const;
   std::string read_attribute_string(const std::string& name, const std::string& object = ".") const;
