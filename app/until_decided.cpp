@@ -35,31 +35,10 @@ namespace {
 
 // ---- what a verdict compares -------------------------------------------------------------
 
-/// What the verdict's check declares of its verdicts (check_registry.hpp, verdict_ensembles.hpp).
-const checks::Samples& samples_of(const checks::Verdict& v) {
-  const checks::CheckEntry* e = checks::find_check(v.check);
-  if (!e) throw std::logic_error("until-decided: a verdict of an unregistered check: " + v.check);
-  return *e->samples;
-}
-
-/// A verdict's identity across looks: its check and what it compares, as its check declares
-/// it (its case name can change between looks, since it names the fit window, which moves as
-/// samples are added).
-std::string key_of(const checks::Verdict& v) {
-  std::string key = v.check;
-  // The region: a pooled verdict and its regions compare the same sets (states written before
-  // regions name none, as "pooled").
-  if (!v.region.empty() && v.region != "pooled") key += " region=" + v.region;
-  for (const std::string_view k : samples_of(v).identity)
-    if (const auto it = v.values.find(std::string(k)); it != v.values.end())
-      key += fmt::format(" {}={:.9g}", k, it->second);
-  return key;
-}
-
 /// The ensembles more samples of which would help decide the verdict, as its check declares
 /// them (empty: nothing more samples could change, e.g. a fit's verdict).
 std::vector<EnsembleId> ensembles_concerned(const checks::Verdict& v) {
-  return samples_of(v).ensembles(v.values);
+  return checks::samples_of(v).ensembles(v.values);
 }
 
 // ---- the state -----------------------------------------------------------------------------
@@ -228,7 +207,7 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
   const SampleCounts present = next;
   int decided = 0, undecided = 0, not_by_samples = 0, not_asked = 0;
   for (auto& v : verdicts) {
-    const std::string key = key_of(v);
+    const std::string key = checks::verdict_identity(v);
     if (s.decided.contains(key)) {
       // The verdict of the look that decided it; its curves are this look's data.
       const json& d = s.decided[key];
