@@ -3,12 +3,12 @@
 // redoes the statistics, the checks and the report only when their inputs changed since they
 // were last made (a newer run file, campaign file or manifest for stats.h5; a newer stats.h5
 // or campaign file, or other check options than checks.json records, for checks.json; newer
-// checks or statistics for the report).
+// checks or statistics for the report: design/pipeline_stages.hpp).
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "app/check_options.hpp"
 #include "campaign/ranks.hpp"
+#include "design/judging_options.hpp"
 
 namespace jam {
 
@@ -16,7 +16,7 @@ struct PipelineArgs {
   std::string file;
   std::string report;  // report directory (default reports/<campaign name>)
   int jobs = 0;
-  JudgingArgs judging;  // the check options, as `jam check` takes them (check_options.hpp)
+  design::JudgingArgs judging;  // the check options, as `jam check` takes them
 };
 
 void add_pipeline_command(CLI::App& app, PipelineArgs& args);

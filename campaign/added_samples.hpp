@@ -1,6 +1,6 @@
 #pragma once
 // Samples added to some ensembles of a campaign beyond its `samples`, by `jam campaign run
-// --until-decided` (app/until_decided.hpp): <output>/added-samples.toml, jam's own file in the
+// --until-decided` (design/until_decided.hpp): <output>/added-samples.toml, jam's own file in the
 // campaign directory. Every planner of the directory reads it (run_plan.cpp), so the runner,
 // `jam stats`, `jam campaign status` and the shards all see one plan.
 //

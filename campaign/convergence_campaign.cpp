@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "campaign/toml_file.hpp"
+#include "sim/io/atomic_file.hpp"
 #include "sim/run/sim_config.hpp"
 
 namespace jam {
@@ -95,6 +97,22 @@ std::string convergence_campaign_text(const Campaign& c, const ConvergenceChoice
   // Read back: what is written must be a campaign file like any other.
   parse_campaign(text.str(), c.source_path);
   return text.str();
+}
+
+std::string write_convergence_campaign(const Campaign& c, const std::string& text,
+                                       const std::string& out) {
+  {
+    AtomicFile file(out);
+    std::fputs(text.c_str(), file.stream());
+    file.commit();
+  }
+  const Campaign written = read_campaign(out);
+  return fmt::format(
+      "wrote {}: {} runs of {} redone\nthen:\n  jam campaign run {}\n  jam stats {}\n"
+      "  jam check convergence {} --against {}\n",
+      out,
+      written.samples * written.sizes.size() * written.phi_init.size() * written.log10_rates.size(),
+      c.name, out, written.output, c.output, written.output);
 }
 
 }  // namespace jam

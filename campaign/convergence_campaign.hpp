@@ -32,4 +32,10 @@ struct ConvergenceChoice {
 /// size or rate it does not have, more samples than it holds, a factor outside (0, 1)).
 std::string convergence_campaign_text(const Campaign& c, const ConvergenceChoice& choice);
 
+/// `jam campaign converge`: writes `text` (convergence_campaign_text of `c`) to `out`, whole,
+/// under a temporary name, and returns what to say: the file, its runs, and the commands that
+/// judge it. The caller refuses an `out` that exists.
+std::string write_convergence_campaign(const Campaign& c, const std::string& text,
+                                       const std::string& out);
+
 }  // namespace jam

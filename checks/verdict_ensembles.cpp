@@ -1,8 +1,13 @@
 #include "checks/verdict_ensembles.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+
+#include "checks/check_registry.hpp"
 
 namespace jam::checks::samples {
 namespace {
@@ -81,7 +86,9 @@ constexpr std::string_view kSizeKeys[] = {"n",        "n_a",        "n_b",
                                           "phi_init", "log10_rate", "constant_z"};
 constexpr std::string_view kStartKeys[] = {"n", "phi_init", "lowest_phi_init", "log10_rate"};
 constexpr std::string_view kRateKeys[] = {"n", "phi_init", "log10_rate_slow", "log10_rate_faster"};
-constexpr std::string_view kFitKeys[] = {"n_a", "n_b"};
+// Both families' starts too: a campaign with several phi_init compares n_a against n_b at
+// each of them, and each size's starts against the lowest.
+constexpr std::string_view kFitKeys[] = {"n_a", "n_b", "phi_init_a", "phi_init_b"};
 constexpr std::string_view kAnyKeys[] = {"n", "n_a", "n_b", "phi_init", "log10_rate", "constant_z"};
 
 }  // namespace
@@ -95,3 +102,22 @@ const Samples kFits{&none, kFitKeys, &planned_none};
 const Samples kNotBySamples{&none, kAnyKeys, &planned_none};
 
 }  // namespace jam::checks::samples
+
+namespace jam::checks {
+
+const Samples& samples_of(const Verdict& v) {
+  const CheckEntry* e = find_check(v.check);
+  if (!e) throw std::logic_error("a verdict of an unregistered check: " + v.check);
+  return *e->samples;
+}
+
+std::string verdict_identity(const Verdict& v) {
+  std::string key = v.check;
+  if (!v.region.empty() && v.region != "pooled") key += " region=" + v.region;
+  for (const std::string_view k : samples_of(v).identity)
+    if (const auto it = v.values.find(std::string(k)); it != v.values.end())
+      key += fmt::format(" {}={:.9g}", k, it->second);
+  return key;
+}
+
+}  // namespace jam::checks

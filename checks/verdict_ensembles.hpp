@@ -13,6 +13,7 @@
 
 #include "campaign/added_samples.hpp"
 #include "campaign/campaign_file.hpp"
+#include "checks/verdict.hpp"
 
 namespace jam::checks {
 
@@ -23,9 +24,10 @@ struct Samples {
   /// the first set first (its values `samples_needed_a`), then the second; empty when more
   /// samples of this campaign cannot decide it.
   std::vector<EnsembleId> (*ensembles)(const Values&);
-  /// The `values` keys that name what a verdict compares, in this order. With its check and
-  /// region they identify it across looks (its case name names the fit window, which moves
-  /// as samples are added); the order is that of the states until-decided has written.
+  /// The `values` keys that name what a verdict compares, in this order: every key its check
+  /// writes that tells two of its verdicts apart. With its check and region they identify it
+  /// across looks (verdict_identity: its case name names the fit window, which moves as
+  /// samples are added); the order is that of the states until-decided has written.
   std::span<const std::string_view> identity;
   /// The comparisons the check will make for a design, as the values its verdicts will
   /// carry (`constant_z` 1: at constant Z); empty: the planner plans none for it.
@@ -45,12 +47,21 @@ extern const Samples kStartsPlanned;
 extern const Samples kStarts;
 /// Two rates of size n at phi_init: log10_rate_slow against log10_rate_faster (zeta).
 extern const Samples kRates;
-/// Fitted families n_a against n_b: a fit's verdict, which the samples of no single pair of
-/// ensembles decide (fit_parameters, fit_phi_j).
+/// Fitted families (n_a, phi_init_a) against (n_b, phi_init_b): a fit's verdict, which the samples
+/// of no single pair of ensembles decide (fit_parameters, fit_phi_j).
 extern const Samples kFits;
 /// Verdicts more samples of this campaign cannot decide: another campaign's (regression,
 /// chain, convergence, compare), LAMMPS's (lammps).
 extern const Samples kNotBySamples;
 }  // namespace samples
+
+/// What the verdict's check declares of its verdicts (its registry line); throws
+/// std::logic_error for a verdict of a check the registry does not hold.
+const Samples& samples_of(const Verdict& v);
+
+/// A verdict's identity across looks: "CHECK[ region=R] key=value ...", its region (none for
+/// "pooled": a pooled verdict and its regions compare the same sets, and states written before
+/// regions name none) and the values of its declaration's identity, in their order.
+std::string verdict_identity(const Verdict& v);
 
 }  // namespace jam::checks

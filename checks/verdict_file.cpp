@@ -52,35 +52,37 @@ std::string xml_escape(const std::string& s) {
 
 }  // namespace
 
+nlohmann::json verdict_json(const Verdict& x) {
+  auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  return {{"check", x.check},
+          {"case", x.case_name},
+          {"status", x.status},
+          {"reason", x.reason},
+          {"statistic_name", x.statistic_name},
+          {"statistic", num(x.statistic)},
+          {"threshold", num(x.threshold)},
+          {"detectable_effect", num(x.detectable)},
+          {"excluded_above", num(x.excluded_above)},
+          {"excluded_below", num(x.excluded_below)},
+          {"estimate", num(x.estimate)},
+          {"region", x.region},
+          {"range_variable", x.range_variable},
+          {"margin", num(x.margin)},
+          {"unit", effect_unit(x)},
+          {"samples_needed", num(x.samples_needed)},
+          {"expected_failure", x.expected_failure},
+          {"values", x.values},
+          // What every table shows of it (table_row): the report reads these cells rather
+          // than computing its own.
+          {"table", to_json(table_row(x))}};
+}
+
 std::string to_json(const std::vector<Verdict>& v, const std::string& campaign,
                     const nlohmann::json& options) {
   nlohmann::json j = nlohmann::json::array();
-  auto num = [](double x) {
-    return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-  };
-  for (const auto& x : v) {
-    j.push_back({{"check", x.check},
-                 {"case", x.case_name},
-                 {"status", x.status},
-                 {"reason", x.reason},
-                 {"statistic_name", x.statistic_name},
-                 {"statistic", num(x.statistic)},
-                 {"threshold", num(x.threshold)},
-                 {"detectable_effect", num(x.detectable)},
-                 {"excluded_above", num(x.excluded_above)},
-                 {"excluded_below", num(x.excluded_below)},
-                 {"estimate", num(x.estimate)},
-                 {"region", x.region},
-                 {"range_variable", x.range_variable},
-                 {"margin", num(x.margin)},
-                 {"unit", effect_unit(x)},
-                 {"samples_needed", num(x.samples_needed)},
-                 {"expected_failure", x.expected_failure},
-                 {"values", x.values},
-                 // What every table shows of it (table_row): the report reads these cells
-                 // rather than computing its own.
-                 {"table", to_json(table_row(x))}});
-  }
+  for (const auto& x : v) j.push_back(verdict_json(x));
   const std::time_t now = std::time(nullptr);
   char created[32];
   std::strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
@@ -187,8 +189,9 @@ std::string text(const json& v, const char* key) {
   return v.contains(key) ? v[key].get<std::string>() : std::string();
 }
 
-/// One verdict as jam wrote it (the schema has checked every field's type).
-Verdict verdict_of(const json& v) {
+}  // namespace
+
+Verdict verdict_from_json(const json& v) {
   Verdict x;
   x.check = text(v, "check");
   x.case_name = text(v, "case");
@@ -212,8 +215,6 @@ Verdict verdict_of(const json& v) {
       x.values[key] = value.is_number() ? value.get<double>() : NAN;
   return x;
 }
-
-}  // namespace
 
 VerdictFile parse_verdict_file(const std::string& text_of_file, const std::string& where) {
   VerdictFile f;
@@ -239,7 +240,7 @@ VerdictFile parse_verdict_file(const std::string& text_of_file, const std::strin
       f.question = j.value("question", json());
     }
     for (const json& v : verdicts) {
-      f.verdicts.push_back(verdict_of(v));
+      f.verdicts.push_back(verdict_from_json(v));
       f.tables.push_back(v.contains("table") ? std::optional(table_row_from_json(v["table"]))
                                              : std::nullopt);
     }

@@ -38,6 +38,13 @@ VerdictFile read_verdict_file(const std::string& path);
 /// The same from text; `where` names it in the messages.
 VerdictFile parse_verdict_file(const std::string& text, const std::string& where);
 
+/// One verdict as checks.json holds it (the schema's fields, "table" too): what every writer
+/// of a verdict's record uses (checks.json, until-decided.json's decided verdicts).
+nlohmann::json verdict_json(const Verdict& v);
+/// A verdict from that form (its fields' types checked by the schema, or written by
+/// verdict_json); absent or null numbers are NaN.
+Verdict verdict_from_json(const nlohmann::json& v);
+
 /// "checks" for `all`, else "checks-NAME": the stem of the three files.
 std::string verdict_file_stem(const std::string& check_name);
 

@@ -35,10 +35,7 @@ std::string run_pilot(const Campaign& pilot, const CampaignRunOptions& run, cons
     throw std::runtime_error(
         fmt::format("pilot {}: jam campaign run exited {}", pilot.output, status));
   if (ranks.rank != 0) return pilot.output;
-  // As `jam stats DIR` (its default options, the verdicts in DIR declared to the fit).
-  stats::StatsOptions averaging;
-  averaging.verdicts = design::declared_fit_verdicts(pilot.output);
-  design::write_campaign_stats(pilot.output, averaging);
+  design::average_campaign(pilot.output);  // as `jam stats DIR`
   checks::CheckOptions options;
   options.margins = pilot.margins;
   const auto verdicts = checks::run_check("all", checks::read_stats(pilot.output), options);

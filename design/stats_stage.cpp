@@ -38,4 +38,10 @@ void write_campaign_stats(const std::string& directory, const stats::StatsOption
   fmt::print("wrote {}\n", out);
 }
 
+void average_campaign(const std::string& directory) {
+  stats::StatsOptions options;
+  options.verdicts = declared_fit_verdicts(directory);
+  write_campaign_stats(directory, options);
+}
+
 }  // namespace jam::design

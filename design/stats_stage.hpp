@@ -19,4 +19,8 @@ stats::FitVerdicts declared_fit_verdicts(const std::string& directory);
 void write_campaign_stats(const std::string& directory, const stats::StatsOptions& options,
                           bool refit = false);
 
+/// `jam stats DIR` with its default options: the verdicts DIR declares to the fit
+/// (declared_fit_verdicts), DIR/stats.h5 written (write_campaign_stats).
+void average_campaign(const std::string& directory);
+
 }  // namespace jam::design

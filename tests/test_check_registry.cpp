@@ -248,10 +248,8 @@ BOOST_AUTO_TEST_CASE(each_check_declares_the_ensembles_its_verdicts_concern) {
   const auto starts = ensembles(
       "phi_init", {{"n", 256}, {"phi_init", 0.6}, {"lowest_phi_init", 0.4}, {"log10_rate", -5}});
   BOOST_TEST((starts == std::vector<E>{{256, 0.6, -5}, {256, 0.4, -5}}));
-  const auto rates = ensembles("zeta", {{"n", 64},
-                                        {"phi_init", 0.4},
-                                        {"log10_rate_slow", -5},
-                                        {"log10_rate_faster", -4.5}});
+  const auto rates = ensembles(
+      "zeta", {{"n", 64}, {"phi_init", 0.4}, {"log10_rate_slow", -5}, {"log10_rate_faster", -4.5}});
   BOOST_TEST((rates == std::vector<E>{{64, 0.4, -5}, {64, 0.4, -4.5}}));
   // A fit's verdict: no pair of ensembles whose samples decide it, said by its declaration.
   BOOST_TEST(ensembles("fit_parameters", {{"n_a", 256}, {"n_b", 1024}}).empty());
@@ -269,4 +267,39 @@ BOOST_AUTO_TEST_CASE(each_check_declares_the_ensembles_its_verdicts_concern) {
   const std::size_t expected = (c.sizes.size() >= 2 ? phi_inits * rates_n * 2 : 0) +
                                (phi_inits >= 2 ? c.sizes.size() * rates_n * (phi_inits - 1) : 0);
   BOOST_TEST(planned == expected);
+}
+
+// A verdict's identity across the looks of --until-decided (verdict_identity) holds everything
+// its check's declaration names: two fit_parameters verdicts of a campaign with several
+// phi_init, the same sizes compared at two starts, or in two regions, are two verdicts (with
+// the sizes alone, a verdict decided at one start stood for the other's).
+BOOST_AUTO_TEST_CASE(fit_verdicts_are_identified_by_their_starts_and_region) {
+  auto family = [](std::int64_t n, double phi_init) {
+    FamilyParameters f;
+    f.n = n;
+    f.phi_init = phi_init;
+    f.beta = 2.8, f.beta_err = 0.03;
+    f.y = 1.05, f.y_err = 0.01;
+    f.phi_j = 0.8415, f.phi_j_err = 0.0001;
+    f.samples = 10;
+    return f;
+  };
+  StatsData d;
+  d.families = {family(256, 0.4), family(1024, 0.4), family(256, 0.6), family(1024, 0.6)};
+  const std::vector<Verdict> verdicts = fit_parameters_check(d, CheckOptions{});
+  // n256 vs n1024 at each start, and each size's start 0.6 against 0.4: two verdicts each.
+  BOOST_TEST_REQUIRE(verdicts.size() == 8u);
+  std::set<std::string> identities;
+  for (const auto& v : verdicts) identities.insert(verdict_identity(v));
+  BOOST_TEST(identities.size() == verdicts.size());
+  BOOST_TEST(identities.count("fit_parameters n_a=256 n_b=1024 phi_init_a=0.4 phi_init_b=0.4"));
+  // The same comparison in two regions.
+  Verdict below = verdicts[0], above = verdicts[0];
+  below.region = "below";
+  above.region = "above";
+  BOOST_TEST(verdict_identity(below) != verdict_identity(above));
+  // A pooled verdict names no region (states written before regions name none).
+  Verdict pooled = verdicts[0];
+  pooled.region = "pooled";
+  BOOST_TEST(verdict_identity(pooled) == verdict_identity(verdicts[0]));
 }

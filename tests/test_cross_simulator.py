@@ -177,7 +177,7 @@ def test_the_reference_pipeline_judges_both_and_reports_the_comparison_first(jam
     images = re.findall(r"src=['\"]([a-z_]+)\.png", page)
     assert images and images[0] == "compare", images
     # The planted code fails its own headline line; the reference's headline judges the
-    # reference's own checks alone (reports/report_html.py, app/check_command.cpp).
+    # reference's own checks alone (reports/report_html.py, design/check_stage.cpp).
     own = [v["status"] for v in judged if not v["check"].startswith("compare")]
     word = ("FAIL" if "fail" in own else "INCONCLUSIVE" if "inconclusive" in own
             else "PASS")

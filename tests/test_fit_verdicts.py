@@ -108,7 +108,7 @@ def test_a_fit_that_consults_verdicts_says_so_and_none_declares_none(jam, campai
 
 def test_pipeline_averages_again_when_the_consulted_verdicts_change(jam, campaign, tmp_path):
     # stats.h5 of a fit that consulted the phi_init verdicts, then those verdicts gone: the
-    # pipeline's definition of out of date (app/pipeline_command.cpp) says so.
+    # pipeline's definition of out of date (design/pipeline_stages.cpp) says so.
     run(jam, "check", "phi_init", campaign, "--no-lmp")
     stats(jam, campaign, "--fit-phi-init", "0.7")
     saved = tmp_path / "checks-phi_init.json"

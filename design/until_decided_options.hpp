@@ -11,7 +11,7 @@
 #include "campaign/campaign_file.hpp"
 #include "checks/checks.hpp"
 
-namespace jam {
+namespace jam::design {
 
 /// The checks' options of every look but its alpha: the campaign's margins and regions, as
 /// `jam check all` takes them from the campaign file, and the question asked (its range
@@ -26,4 +26,4 @@ nlohmann::json sequence_record(const Campaign& c, const CampaignQuestion& q, dou
 /// differs, with the value now and the recorded one.
 std::string sequence_difference(const nlohmann::json& recorded, const nlohmann::json& now);
 
-}  // namespace jam
+}  // namespace jam::design

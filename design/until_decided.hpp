@@ -11,13 +11,17 @@
 // state, so the same command gives the same files. Under MPI rank 0 judges and the ranks run
 // every batch together; with --shard each share runs its runs, shard 1 judges once every run of
 // the look is done and the others wait for its decision.
+//
+// Files: until_decided.cpp (the looks in turn, the shards' waits, the budget),
+// until_decided_look.cpp (one look), until_decided_state.cpp (the state),
+// until_decided_options.cpp (what a sequence is judged with), sequence_cost.cpp.
 #include <optional>
 
 #include "campaign/campaign_file.hpp"
 #include "campaign/campaign_runner.hpp"
 #include "campaign/ranks.hpp"
 
-namespace jam {
+namespace jam::design {
 
 struct UntilDecidedOptions {
   double budget_core_hours = 0;  // core-hours all runs of the directory may take, in all
@@ -26,7 +30,7 @@ struct UntilDecidedOptions {
   // [question] phi_min/phi_max. With a range asked, only the verdicts of that range drive the
   // samples added; the others are judged and reported as they stand.
   std::optional<double> phi_min, phi_max;
-  double poll_seconds = 2;       // --shard: how often the shards look at each other's work
+  double poll_seconds = 2;  // --shard: how often the shards look at each other's work
 };
 
 /// Throws CLI-style std::invalid_argument naming --budget when it is not finite and > 0.
@@ -42,4 +46,4 @@ CampaignQuestion sequence_question(const Campaign& c, const UntilDecidedOptions&
 int run_until_decided(const Campaign& campaign, const CampaignRunOptions& run,
                       const UntilDecidedOptions& o, const Ranks& ranks);
 
-}  // namespace jam
+}  // namespace jam::design

@@ -1,14 +1,14 @@
-#include "app/until_decided_options.hpp"
+#include "design/until_decided_options.hpp"
 
 #include <fmt/format.h>
 
 #include <variant>
 
-#include "app/check_command.hpp"
-#include "app/check_options.hpp"
 #include "checks/check_registry.hpp"
+#include "design/check_stage.hpp"
+#include "design/judging_options.hpp"
 
-namespace jam {
+namespace jam::design {
 namespace {
 
 using nlohmann::json;
@@ -86,4 +86,4 @@ std::string sequence_difference(const json& recorded, const json& now) {
   return differs("the checks judged", recorded.value("checks", json()), now.at("checks"));
 }
 
-}  // namespace jam
+}  // namespace jam::design
