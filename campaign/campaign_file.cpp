@@ -343,10 +343,11 @@ static std::set<std::string> registered_check_names() {
 
 std::vector<std::string> question_check_names() {
   std::vector<std::string> names;
-  // The registry's names (campaign/check_names.hpp, generated from it): the members of `all`;
-  // lammps too: not in `all` unless asked, and the question is one way to ask for it.
+  // The registry's names (campaign/check_names.hpp, generated from it): the members of `all`,
+  // and every check of this campaign's own data or of LAMMPS that `all` leaves out unless asked
+  // (the question is one way to ask for it); not those that need another campaign's.
   for (const auto& c : kRegisteredCheckNames)
-    if (c.in_all || c.name == "lammps") names.emplace_back(c.name);
+    if (c.in_all || c.kind == "stats" || c.kind == "lammps") names.emplace_back(c.name);
   names.emplace_back("compare");
   return names;
 }

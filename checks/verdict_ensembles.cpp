@@ -37,6 +37,12 @@ std::vector<EnsembleId> rates(const Values& v) {
   return {id(*n, *phi, *slow), id(*n, *phi, *fast)};
 }
 
+std::vector<EnsembleId> one(const Values& v) {
+  const auto n = get(v, "n"), phi = get(v, "phi_init"), rate = get(v, "log10_rate");
+  if (!(n && phi && rate)) return {};
+  return {id(*n, *phi, *rate)};
+}
+
 std::vector<EnsembleId> none(const Values&) {
   return {};
 }
@@ -81,6 +87,7 @@ constexpr std::string_view kSizeKeys[] = {"n",        "n_a",        "n_b",
                                           "phi_init", "log10_rate", "constant_z"};
 constexpr std::string_view kStartKeys[] = {"n", "phi_init", "lowest_phi_init", "log10_rate"};
 constexpr std::string_view kRateKeys[] = {"n", "phi_init", "log10_rate_slow", "log10_rate_faster"};
+constexpr std::string_view kEnsembleKeys[] = {"n", "phi_init", "log10_rate"};
 constexpr std::string_view kFitKeys[] = {"n_a", "n_b"};
 constexpr std::string_view kAnyKeys[] = {"n", "n_a", "n_b", "phi_init", "log10_rate", "constant_z"};
 
@@ -91,6 +98,7 @@ const Samples kSizes{&sizes, kSizeKeys, &planned_none};
 const Samples kStartsPlanned{&starts, kStartKeys, &planned_starts};
 const Samples kStarts{&starts, kStartKeys, &planned_none};
 const Samples kRates{&rates, kRateKeys, &planned_none};
+const Samples kEnsemble{&one, kEnsembleKeys, &planned_none};
 const Samples kFits{&none, kFitKeys, &planned_none};
 const Samples kNotBySamples{&none, kAnyKeys, &planned_none};
 
