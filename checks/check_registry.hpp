@@ -83,6 +83,12 @@ inline constexpr std::string_view kLammps =
     "Q = 0.03 reproduces the overdamped limit far within it (measured in "
     "docs/statistics-and-checks.md), so a difference beyond 0.5% is an error of one of the two "
     "codes";
+// The isostaticity check: stats.h5's contacts count rattlers (isostaticity_check.cpp).
+inline constexpr std::string_view kIsostatic =
+    "rattlers, which the stored contacts count, hold none at jamming and lower <Z> below the "
+    "isostatic count by their share of the particles, a few percent (measured in "
+    "docs/statistics-and-checks.md#isostaticity); a count further off is an error of the "
+    "contacts or the jamming points, or a rate far from the quasistatic limit";
 }  // namespace margin_reasons
 
 // One line per check, in the order `all` runs them and the verdicts are written:
@@ -118,7 +124,8 @@ inline constexpr std::string_view kLammps =
     kNotBySamples)                                                                               \
   X(compare_fit, part(compare), 0.10, relative, kExponents, false, "verdicts", kNotBySamples)    \
   X(compare_fit_phi_j, part(compare), 0.002, packing_fraction, kFitPhiJ, false, "verdicts",      \
-    kNotBySamples)
+    kNotBySamples)                                                                               \
+  X(isostaticity, stats, 0.05, relative, kIsostatic, false, "verdicts", kEnsemble)
 
 struct CheckEntry {
   std::string_view name;
