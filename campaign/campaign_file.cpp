@@ -18,6 +18,7 @@
 #include "campaign/check_names.hpp"
 #include "campaign/run_plan.hpp"
 #include "campaign/toml_file.hpp"
+#include "campaign/toml_reader.hpp"
 #include "sim/io/output_path.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/run/run_parameters.hpp"
@@ -26,181 +27,10 @@
 namespace jam {
 namespace {
 
-class Reader {
- public:
-  // prefix: the table's name when it is not the file's top level ("question"): keys are then
-  // named "question.alpha" in messages.
-  Reader(const toml::table& table, std::string path, std::string prefix = "")
-      : table_(table), path_(std::move(path)), prefix_(std::move(prefix)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    const toml::node* node = table_.get(key);
-    const auto line = node ? node->source().begin.line : 0u;
-    const std::string name = prefix_.empty() ? key : prefix_ + "." + key;
-    if (line > 0) throw CampaignError(fmt::format("{}:{}: {}: {}", path_, line, name, what));
-    throw CampaignError(fmt::format("{}: {}: {}", path_, name, what));
-  }
-
-  const std::string& path() const { return path_; }
-
-  const toml::node* find(const std::string& key, bool required) {
-    seen_.insert(key);
-    const toml::node* node = table_.get(key);
-    if (!node && required) fail(key, "missing (required)");
-    return node;
-  }
-
-  double number(const std::string& key, bool required, double fallback) {
-    const toml::node* node = find(key, required);
-    if (!node) return fallback;
-    if (!node->is_number()) fail(key, "must be a number");
-    const double v = *toml_number(node);
-    if (!std::isfinite(v)) fail(key, "must be finite");
-    return v;
-  }
-
-  std::int64_t integer(const std::string& key, bool required, std::int64_t fallback) {
-    const toml::node* node = find(key, required);
-    if (!node) return fallback;
-    if (!node->is_integer()) fail(key, "must be an integer");
-    return node->value<std::int64_t>().value();
-  }
-
-  std::string string(const std::string& key, bool required, const std::string& fallback) {
-    const toml::node* node = find(key, required);
-    if (!node) return fallback;
-    if (!node->is_string()) fail(key, "must be a string");
-    return printable(key, node->value<std::string>().value());
-  }
-
-  /// A string value as decoded: the file is plain ASCII, but TOML escapes ("\u0000",
-  /// "\u001b[31m", "\u00e9") can still put any character into it. Values name directories,
-  /// checks and reports and reach terminals and file names: printable ASCII only, and at most
-  /// 4096 characters (a path's limit).
-  std::string printable(const std::string& key, const std::string& v) const {
-    for (const char ch : v) {
-      const auto byte = static_cast<unsigned char>(ch);
-      if (byte < 0x20 || byte >= 0x7f) {
-        fail(key, fmt::format("a string with the character 0x{:02x} (escapes must give printable "
-                              "ASCII)",
-                              byte));
-      }
-    }
-    if (v.size() > 4096)
-      fail(key, fmt::format("a string of {} characters (at most 4096)", v.size()));
-    return v;
-  }
-
-  /// A string, or a number as its text ("auto"-or-number keys: tolerance, relax_energy).
-  std::string text(const std::string& key, bool required, const std::string& fallback) {
-    const toml::node* node = find(key, required);
-    if (node && node->is_number()) return fmt::format("{:.17g}", *toml_number(node));
-    return string(key, required, fallback);
-  }
-
-  bool boolean(const std::string& key, bool fallback) {
-    const toml::node* node = find(key, false);
-    if (!node) return fallback;
-    if (!node->is_boolean()) fail(key, "must be true or false");
-    return node->value<bool>().value();
-  }
-
-  /// A required non-empty array of distinct finite numbers.
-  std::vector<double> numbers(const std::string& key) {
-    const std::vector<double> v = number_array(key, true, "must be a non-empty array of numbers");
-    if (v.empty()) fail(key, "must be a non-empty array of numbers");
-    if (std::set<double>(v.begin(), v.end()).size() != v.size()) fail(key, "repeated value");
-    return v;
-  }
-
-  std::vector<std::int64_t> integers(const std::string& key) {
-    const toml::node* node = find(key, true);
-    const toml::array* array = node->as_array();
-    if (!array || array->empty()) fail(key, "must be a non-empty array of integers");
-    std::vector<std::int64_t> v;
-    for (const auto& element : *array) {
-      if (!element.is_integer()) fail(key, "must be a non-empty array of integers");
-      v.push_back(element.value<std::int64_t>().value());
-    }
-    if (std::set<std::int64_t>(v.begin(), v.end()).size() != v.size()) fail(key, "repeated value");
-    return v;
-  }
-
-  /// An optional table of positive finite numbers, keys from `allowed`.
-  std::map<std::string, double> number_table(const std::string& key,
-                                             const std::set<std::string>& allowed,
-                                             const char* what = "check") {
-    std::map<std::string, double> out;
-    const toml::node* node = find(key, false);
-    if (!node) return out;
-    const toml::table* table = node->as_table();
-    if (!table) fail(key, "must be a table of numbers");
-    for (const auto& [name, value] : *table) {
-      const std::string k(name.str());
-      if (!allowed.count(k)) fail(key, fmt::format("{}: unknown {}", k, what));
-      if (!value.is_number()) fail(key, fmt::format("{}: must be a number", k));
-      const double v = *toml_number(&value);
-      if (!std::isfinite(v) || v <= 0) fail(key, fmt::format("{} = {}: must be > 0", k, v));
-      out[k] = v;
-    }
-    return out;
-  }
-
-  /// An optional array of finite numbers (repeats allowed).
-  std::vector<double> optional_numbers(const std::string& key) {
-    return number_array(key, false, "must be an array of numbers");
-  }
-
-  /// The array of finite numbers at key (empty when absent and not required); `shape` says
-  /// what it must be when it is not an array of numbers.
-  std::vector<double> number_array(const std::string& key, bool required, const char* shape) {
-    std::vector<double> v;
-    const toml::node* node = find(key, required);
-    if (!node) return v;
-    const toml::array* array = node->as_array();
-    if (!array) fail(key, shape);
-    for (const auto& element : *array) {
-      if (!element.is_number()) fail(key, shape);
-      v.push_back(*toml_number(&element));
-      if (!std::isfinite(v.back())) fail(key, "values must be finite");
-    }
-    return v;
-  }
-
-  /// An optional array of strings.
-  std::vector<std::string> strings(const std::string& key) {
-    std::vector<std::string> out;
-    const toml::node* node = find(key, false);
-    if (!node) return out;
-    const toml::array* array = node->as_array();
-    if (!array) fail(key, "must be an array of strings");
-    for (const auto& element : *array) {
-      if (!element.is_string()) fail(key, "must be an array of strings");
-      out.push_back(printable(key, element.value<std::string>().value()));
-    }
-    return out;
-  }
-
-  void reject_unknown_keys() const {
-    for (const auto& [key, node] : table_) {
-      if (!seen_.count(std::string(key.str()))) {
-        throw CampaignError(fmt::format("{}:{}: {}{}: unknown key", path_, node.source().begin.line,
-                                        prefix_.empty() ? "" : prefix_ + ".", key.str()));
-      }
-    }
-  }
-
- private:
-  const toml::table& table_;
-  std::string path_;
-  std::string prefix_;
-  std::set<std::string> seen_;
-};
-
 /// A campaign key of an integer parameter: the allowed values and the member's range are
 /// checked before narrowing, so that 2^32 + 2 is not read as 2.
 template <class T>
-T integer_key(Reader& r, const RunParameter& p, T fallback) {
+T integer_key(TableReader& r, const RunParameter& p, T fallback) {
   const std::int64_t v =
       r.integer(p.name, p.campaign == CampaignKey::required, static_cast<std::int64_t>(fallback));
   const std::string text = std::to_string(v);
@@ -213,7 +43,7 @@ T integer_key(Reader& r, const RunParameter& p, T fallback) {
 }
 
 /// The per-run keys of a campaign: the campaign keys of the parameter table, by type.
-void read_run_parameters(Reader& r, SimConfig& run) {
+void read_run_parameters(TableReader& r, SimConfig& run) {
   for (const RunParameter& p : run_parameters()) {
     if (p.campaign == CampaignKey::none) continue;
     const bool required = p.campaign == CampaignKey::required;
@@ -240,7 +70,7 @@ void read_run_parameters(Reader& r, SimConfig& run) {
 /// fastest rate must), a packing phi'_init takes the next faster rate's configuration there.
 /// A start lies above every phi_init and the faster rate's own start, below phi_stop, and on
 /// the output grid (the faster run leaves it at an output point).
-void validate_chain(Reader& r, const Campaign& c) {
+void validate_chain(TableReader& r, const Campaign& c) {
   if (c.chain_phi_init.empty()) return;
   const std::string key = "chain_phi_init";
   if (c.chain_phi_init.size() != c.log10_rates.size()) {
@@ -283,13 +113,13 @@ void validate_chain(Reader& r, const Campaign& c) {
 /// [question] (CampaignQuestion): each key checked on its own, the error naming the key and
 /// its value. The range must lie where the campaign compresses (above its lowest phi_init,
 /// below phi_stop): a range no run reaches would only ever be "nothing to judge".
-CampaignQuestion read_question(Reader& r, const Campaign& c) {
+CampaignQuestion read_question(TableReader& r, const Campaign& c) {
   CampaignQuestion q;
   const toml::node* node = r.find("question", false);
   if (!node) return q;
   const toml::table* table = node->as_table();
   if (!table) r.fail("question", "must be a table ([question])");
-  Reader t(*table, r.path(), "question");
+  TableReader t(*table, r.path(), "question");
   auto packing = [&t](const char* key) -> std::optional<double> {
     if (!t.find(key, false)) return std::nullopt;
     const double v = t.number(key, false, NAN);
@@ -343,10 +173,11 @@ static std::set<std::string> registered_check_names() {
 
 std::vector<std::string> question_check_names() {
   std::vector<std::string> names;
-  // The registry's names (campaign/check_names.hpp, generated from it): the members of `all`;
-  // lammps too: not in `all` unless asked, and the question is one way to ask for it.
+  // The registry's names (campaign/check_names.hpp, generated from it): the members of `all`,
+  // and every check of this campaign's own data or of LAMMPS that `all` leaves out unless asked
+  // (the question is one way to ask for it); not those that need another campaign's.
   for (const auto& c : kRegisteredCheckNames)
-    if (c.in_all || c.name == "lammps") names.emplace_back(c.name);
+    if (c.in_all || c.kind == "stats" || c.kind == "lammps") names.emplace_back(c.name);
   names.emplace_back("compare");
   return names;
 }
@@ -381,7 +212,7 @@ Campaign parse_campaign(const std::string& text, const std::string& path) {
   } catch (const toml::parse_error& e) {
     throw CampaignError(fmt::format("{}:{}: {}", path, e.source().begin.line, e.description()));
   }
-  Reader r(table, path);
+  TableReader r(table, path);
   Campaign c;
   c.source_path = path;
   c.source_text = text;

@@ -18,14 +18,46 @@
 #include "checks/verdict_ensembles.hpp"
 
 namespace jam::checks {
+
+// The run column is a kind (stats, baseline, lammps) or part(parent); pasted onto a prefix it
+// names the macro below that declares `<name>_check` with its kind's signature, or gives the
+// entry's CheckRun. part(parent) pastes to a macro of the parent that leaves behind
+// JAM_CHECK_DROP, which swallows the (name) that follows it.
+#define JAM_CHECK_DROP(name)
+#define JAM_CHECK_DECLARE_stats(name) \
+  std::vector<Verdict> name##_check(const StatsData&, const CheckOptions&);
+#define JAM_CHECK_DECLARE_baseline(name)                                                     \
+  std::vector<Verdict> name##_check(const StatsData&, const StatsData&, const CheckOptions&, \
+                                    const RegressionOptions&);
+#define JAM_CHECK_DECLARE_lammps(name) std::vector<Verdict> name##_check(const LammpsCheckOptions&);
+#define JAM_CHECK_DECLARE_part(parent) JAM_CHECK_DROP
+#define JAM_CHECK_DECLARE(name, run, ...) JAM_CHECK_DECLARE_##run(name)
+JAM_CHECK_TABLE(JAM_CHECK_DECLARE)
+
 namespace {
 
-#define JAM_CHECK_ENTRY(name, run, margin, unit, reason, in_all, figure, samples_of)         \
-  CheckEntry{                                                                                \
-      #name,  CheckRun{run},       margin, MarginUnit::unit, margin_reasons::reason, in_all, \
-      figure, &samples::samples_of},
+// clang-format off
+#define JAM_CHECK_RUN_stats(name) CheckRun(StatsCheck(&name##_check))
+#define JAM_CHECK_RUN_baseline(name) CheckRun(BaselineCheck(&name##_check))
+#define JAM_CHECK_RUN_lammps(name) CheckRun(LammpsCheck(&name##_check))
+#define JAM_CHECK_RUN_part(parent) CheckRun(PartOf{#parent}) JAM_CHECK_DROP
+#define JAM_CHECK_ENTRY(name, run, margin, unit, reason, in_all, figure, samples_of)              \
+  CheckEntry{#name, JAM_CHECK_RUN_##run(name), margin, MarginUnit::unit, margin_reasons::reason,  \
+             in_all, figure, &samples::samples_of},
+// clang-format on
 const CheckEntry kRegistry[] = {JAM_CHECK_TABLE(JAM_CHECK_ENTRY)};
+// Not left to the other files of a unity batch.
 #undef JAM_CHECK_ENTRY
+#undef JAM_CHECK_RUN_part
+#undef JAM_CHECK_RUN_lammps
+#undef JAM_CHECK_RUN_baseline
+#undef JAM_CHECK_RUN_stats
+#undef JAM_CHECK_DECLARE
+#undef JAM_CHECK_DECLARE_part
+#undef JAM_CHECK_DECLARE_lammps
+#undef JAM_CHECK_DECLARE_baseline
+#undef JAM_CHECK_DECLARE_stats
+#undef JAM_CHECK_DROP
 
 template <class... F>
 struct Overloaded : F... {

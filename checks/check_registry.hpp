@@ -83,42 +83,49 @@ inline constexpr std::string_view kLammps =
     "Q = 0.03 reproduces the overdamped limit far within it (measured in "
     "docs/statistics-and-checks.md), so a difference beyond 0.5% is an error of one of the two "
     "codes";
+// The isostaticity check: stats.h5's contacts count rattlers (isostaticity_check.cpp).
+inline constexpr std::string_view kIsostatic =
+    "rattlers, which the stored contacts count, hold none at jamming and lower <Z> below the "
+    "isostatic count by their share of the particles, a few percent (measured in "
+    "docs/statistics-and-checks.md#isostaticity); a count further off is an error of the "
+    "contacts or the jamming points, or a rate far from the quasistatic limit";
 }  // namespace margin_reasons
 
 // One line per check, in the order `all` runs them and the verdicts are written:
 //   X(name, how it runs, default margin, its unit, why, member of `all`, report figure,
 //     samples)
-// name: `jam check NAME`, the verdicts' `check`, the [margins] key. Member of `all`: lammps is
-// not (it tests jam against stored LAMMPS results, an installation's test that says nothing of
-// a campaign's data and took 18 of a small campaign's 20 passes): `all` judges it only when
-// asked (--with-lammps, or [question] checks naming it). Report figure: the stem of
-// the report figure that draws the check's verdicts (reports/report_figures*.py), or
-// "verdicts" when only the verdict table shows them. Samples: which ensembles its verdicts
-// concern, one of the declarations of verdict_ensembles.hpp (samples::). The functions
-// (declared in checks.hpp, lammps_check.hpp, regression_check.hpp) are named only where
-// check_registry.cpp expands the table; check_names() takes the first column alone.
-#define JAM_CHECK_TABLE(X)                                                                         \
-  X(finite_size, &finite_size_check, 0.10, relative, kPressure, true, "finite_size",               \
-    kSizesPlanned)                                                                                 \
-  X(sample_pairs, &sample_pairs_check, 0.10, relative, kPressure, true, "sample_pairs", kSizes)    \
-  X(phi_init, &phi_init_check, 0.10, relative, kPressure, true, "jamming_points", kStartsPlanned)  \
-  X(jamming_point, PartOf{"phi_init"}, 0.005, packing_fraction, kJammingPoint, true, "verdicts",   \
-    kStarts)                                                                                       \
-  X(zeta, &zeta_check, 0.10, relative, kPressure, true, "verdicts", kRates)                        \
-  X(fit_parameters, &fit_parameters_check, 0.10, relative, kExponents, true, "verdicts", kFits)    \
-  X(fit_phi_j, PartOf{"fit_parameters"}, 0.002, packing_fraction, kFitPhiJ, true, "verdicts",      \
-    kFits)                                                                                         \
-  X(lammps, &lammps_check, 0.005, relative, kLammps, false, "lammps", kNotBySamples)               \
-  X(regression, &regression_check, 0.10, relative, kPressure, false, "verdicts", kNotBySamples)    \
-  X(chain, &chain_check, 0.10, relative, kChain, false, "verdicts", kNotBySamples)                 \
-  X(convergence, &convergence_check, 0.01, relative, kConvergence, false, "verdicts",              \
-    kNotBySamples)                                                                                 \
-  X(compare, &compare_check, 0.05, relative, kCompare, false, "compare", kNotBySamples)            \
-  X(compare_jamming, PartOf{"compare"}, 0.005, packing_fraction, kJammingPoint, false, "verdicts", \
-    kNotBySamples)                                                                                 \
-  X(compare_fit, PartOf{"compare"}, 0.10, relative, kExponents, false, "verdicts", kNotBySamples)  \
-  X(compare_fit_phi_j, PartOf{"compare"}, 0.002, packing_fraction, kFitPhiJ, false, "verdicts",    \
-    kNotBySamples)
+// name: `jam check NAME`, the verdicts' `check`, the [margins] key. How it runs: the kind of
+// its function, always named `<name>_check` (stats: a StatsCheck, baseline: a BaselineCheck,
+// lammps: a LammpsCheck), or part(parent) for verdicts its parent writes; check_registry.cpp
+// declares each function from its kind, so a new check's file needs no header. Member of `all`:
+// lammps is not (it tests jam against stored LAMMPS results, an installation's test that says
+// nothing of a campaign's data and took 18 of a small campaign's 20 passes): `all` judges it only
+// when asked (--with-lammps, or [question] checks naming it). Report figure: the stem of the report
+// figure that draws the check's verdicts (reports/report_figures*.py), or "verdicts" when only the
+// verdict table shows them. Samples: which ensembles its verdicts concern, one of the declarations
+// of verdict_ensembles.hpp (samples::). The functions are named only where check_registry.cpp
+// expands the table (those other code calls directly are declared again in checks.hpp,
+// lammps_check.hpp, regression_check.hpp); check_names() takes the first column alone.
+#define JAM_CHECK_TABLE(X)                                                                       \
+  X(finite_size, stats, 0.10, relative, kPressure, true, "finite_size", kSizesPlanned)           \
+  X(sample_pairs, stats, 0.10, relative, kPressure, true, "sample_pairs", kSizes)                \
+  X(phi_init, stats, 0.10, relative, kPressure, true, "jamming_points", kStartsPlanned)          \
+  X(jamming_point, part(phi_init), 0.005, packing_fraction, kJammingPoint, true, "verdicts",     \
+    kStarts)                                                                                     \
+  X(zeta, stats, 0.10, relative, kPressure, true, "verdicts", kRates)                            \
+  X(fit_parameters, stats, 0.10, relative, kExponents, true, "verdicts", kFits)                  \
+  X(fit_phi_j, part(fit_parameters), 0.002, packing_fraction, kFitPhiJ, true, "verdicts", kFits) \
+  X(lammps, lammps, 0.005, relative, kLammps, false, "lammps", kNotBySamples)                    \
+  X(regression, baseline, 0.10, relative, kPressure, false, "verdicts", kNotBySamples)           \
+  X(chain, baseline, 0.10, relative, kChain, false, "verdicts", kNotBySamples)                   \
+  X(convergence, baseline, 0.01, relative, kConvergence, false, "verdicts", kNotBySamples)       \
+  X(compare, baseline, 0.05, relative, kCompare, false, "compare", kNotBySamples)                \
+  X(compare_jamming, part(compare), 0.005, packing_fraction, kJammingPoint, false, "verdicts",   \
+    kNotBySamples)                                                                               \
+  X(compare_fit, part(compare), 0.10, relative, kExponents, false, "verdicts", kNotBySamples)    \
+  X(compare_fit_phi_j, part(compare), 0.002, packing_fraction, kFitPhiJ, false, "verdicts",      \
+    kNotBySamples)                                                                               \
+  X(isostaticity, stats, 0.05, relative, kIsostatic, false, "verdicts", kEnsemble)
 
 struct CheckEntry {
   std::string_view name;

@@ -124,12 +124,14 @@ EnsembleTables read_ensemble(const h5::File& f, const std::string& name) {
   e.pressure_at_phi = table(f, phi + "/pressure_samples", rows, m);
   read_constant_z(f, g, e);
   const std::string z_name = phi + "/contacts_per_particle_samples";
-  const std::vector<std::vector<double>> z_at_phi =
-      f.has_dataset(z_name) ? table(f, z_name, rows, m) : std::vector<std::vector<double>>{};
-  find_compressed_range(e, z_at_phi);
-  if (!z_at_phi.empty()) e.z_at_phi = column_means(z_at_phi, m);
-  if (f.has_dataset(g + "/jamming"))
-    e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples");
+  if (f.has_dataset(z_name)) e.z_samples_at_phi = table(f, z_name, rows, m);
+  find_compressed_range(e, e.z_samples_at_phi);
+  if (!e.z_samples_at_phi.empty()) e.z_at_phi = column_means(e.z_samples_at_phi, m);
+  if (f.has_dataset(g + "/jamming")) {
+    e.jamming_sample_ids = stats::read_sample_ids(f, g + "/jamming");
+    e.jamming_points = f.read_dataset(g + "/jamming/packing_fraction_samples",
+                                      h5::exactly(e.jamming_sample_ids.size()));
+  }
   if (f.has_dataset(g + "/coverage")) read_coverage(f, g + "/coverage", e);
   return e;
 }

@@ -20,11 +20,15 @@ struct EnsembleTables {
   std::vector<std::vector<double>> pressure_at_z;  // empty when no constant-Z average
   std::vector<double> phi_at_z;                    // mean packing at each Z (empty when not stored)
   std::vector<double> jamming_points;  // phi_Ji per sample (NaN: not found); empty if not sought
+  std::vector<std::int64_t> jamming_sample_ids;  // the sample of each jamming point (same order)
   // <Z> at each packing of phi_grid: the mean over the samples of the contacts per particle
   // (constant_phi/contacts_per_particle_samples; NaN where no sample has one); empty when the
   // runs stored no contacts. Where it crosses isostaticity places the regions when nothing
   // else gives phi_J (checks/regions.hpp).
   std::vector<double> z_at_phi;
+  // ... and per sample, the rows of sample_ids ([sample][point]; empty likewise): what a check
+  // of the contacts of each run reads (isostaticity_check.cpp).
+  std::vector<std::vector<double>> z_samples_at_phi;
   // Where the compression, not the start, sets the pressure (margin.hpp,
   // first_compression_point): the packing, and the mean Z there. Comparisons start here.
   double compressed_from_phi = 0, compressed_from_z = 0;

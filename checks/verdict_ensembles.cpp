@@ -42,6 +42,12 @@ std::vector<EnsembleId> rates(const Values& v) {
   return {id(*n, *phi, *slow), id(*n, *phi, *fast)};
 }
 
+std::vector<EnsembleId> one(const Values& v) {
+  const auto n = get(v, "n"), phi = get(v, "phi_init"), rate = get(v, "log10_rate");
+  if (!(n && phi && rate)) return {};
+  return {id(*n, *phi, *rate)};
+}
+
 std::vector<EnsembleId> none(const Values&) {
   return {};
 }
@@ -89,6 +95,7 @@ constexpr std::string_view kRateKeys[] = {"n", "phi_init", "log10_rate_slow", "l
 // Both families' starts too: a campaign with several phi_init compares n_a against n_b at
 // each of them, and each size's starts against the lowest.
 constexpr std::string_view kFitKeys[] = {"n_a", "n_b", "phi_init_a", "phi_init_b"};
+constexpr std::string_view kEnsembleKeys[] = {"n", "phi_init", "log10_rate"};
 constexpr std::string_view kAnyKeys[] = {"n", "n_a", "n_b", "phi_init", "log10_rate", "constant_z"};
 
 }  // namespace
@@ -98,6 +105,7 @@ const Samples kSizes{&sizes, kSizeKeys, &planned_none};
 const Samples kStartsPlanned{&starts, kStartKeys, &planned_starts};
 const Samples kStarts{&starts, kStartKeys, &planned_none};
 const Samples kRates{&rates, kRateKeys, &planned_none};
+const Samples kEnsemble{&one, kEnsembleKeys, &planned_none};
 const Samples kFits{&none, kFitKeys, &planned_none};
 const Samples kNotBySamples{&none, kAnyKeys, &planned_none};
 

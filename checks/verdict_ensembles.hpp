@@ -47,6 +47,10 @@ extern const Samples kStartsPlanned;
 extern const Samples kStarts;
 /// Two rates of size n at phi_init: log10_rate_slow against log10_rate_faster (zeta).
 extern const Samples kRates;
+/// One ensemble, n at phi_init and log10_rate, judged against a value the model states (not
+/// against another ensemble), not planned: the planner's variance model is of pressure
+/// differences between two ensembles (isostaticity).
+extern const Samples kEnsemble;
 /// Fitted families (n_a, phi_init_a) against (n_b, phi_init_b): a fit's verdict, which the samples
 /// of no single pair of ensembles decide (fit_parameters, fit_phi_j).
 extern const Samples kFits;

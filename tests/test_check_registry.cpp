@@ -103,6 +103,12 @@ BOOST_AUTO_TEST_CASE(names_are_unique_and_entries_complete) {
   for (std::size_t k = 0; k < check_registry().size(); ++k) {
     BOOST_TEST(jam::kRegisteredCheckNames[k].name == check_registry()[k].name);
     BOOST_TEST(jam::kRegisteredCheckNames[k].in_all == check_registry()[k].in_all);
+    const CheckRun& run = check_registry()[k].run;
+    const std::string_view kind = std::holds_alternative<StatsCheck>(run)      ? "stats"
+                                  : std::holds_alternative<BaselineCheck>(run) ? "baseline"
+                                  : std::holds_alternative<LammpsCheck>(run)   ? "lammps"
+                                                                               : "part";
+    BOOST_TEST(jam::kRegisteredCheckNames[k].kind == kind, check_registry()[k].name);
   }
   BOOST_TEST(find_check("no_such_check") == nullptr);
   BOOST_CHECK_THROW(default_margin("no_such_check"), std::invalid_argument);
@@ -175,6 +181,21 @@ BOOST_AUTO_TEST_CASE(campaign_margins_accept_every_registered_name_and_refuse_ot
   BOOST_TEST(lines(out.output) == 1u, out.output);
   BOOST_TEST(out.output.find("margins: no_such_check: unknown check") != std::string::npos,
              out.output);
+}
+
+// [question] checks names what `jam check all` and --until-decided judge: every member of
+// `all`, and every check of the campaign's own data (or LAMMPS) that `all` leaves out unless
+// asked, with no list of names kept beside the registry.
+BOOST_AUTO_TEST_CASE(campaign_question_accepts_every_check_of_its_own_data) {
+  for (const auto& e : check_registry()) {
+    const std::string name(e.name);
+    if (!e.in_all && !std::holds_alternative<StatsCheck>(e.run) &&
+        !std::holds_alternative<LammpsCheck>(e.run))
+      continue;
+    const Campaign c =
+        parse_campaign(kCampaign + "[question]\nchecks = [\"" + name + "\"]\n", "c.toml");
+    BOOST_TEST(c.question.checks == std::vector<std::string>{name}, name);
+  }
 }
 
 BOOST_AUTO_TEST_CASE(all_runs_exactly_the_members_of_all) {
