@@ -28,32 +28,18 @@ void add_validate_command(CLI::App& app, ValidateArgs& args) {
 
 namespace {
 
-/// `jam validate --checks`: each file read as every reader of a checks.json reads it.
-int validate_verdict_files(const ValidateArgs& args) {
+/// Each file judged by `ok_line` (a line after "FILE: ok: "), or its reason printed: one line
+/// per file that starts with the file's name (HDF5's own message on a file that is not HDF5
+/// at all does not, so it gets the name in front). Status 1 when any file is refused.
+template <class OkLine>
+int validate_each(const std::vector<std::string>& paths, OkLine ok_line) {
   int status = 0;
-  for (const std::string& path : args.runs) {
+  for (const std::string& path : paths) {
     try {
-      const checks::VerdictFile f = checks::read_verdict_file(path);
-      fmt::print("{}: ok: schema {}, {} verdicts\n", visible(path), f.schema_version,
-                 f.verdicts.size());
+      fmt::print("{}: ok: {}\n", visible(path), ok_line(path));
     } catch (const std::exception& e) {
-      fmt::print("{}\n", visible(e.what()));  // the reasons start with the file's name
-      status = 1;
-    }
-  }
-  return status;
-}
-
-/// `jam validate --stats`: each file read as every reader of a stats.h5 reads it.
-int validate_stats_files(const ValidateArgs& args) {
-  int status = 0;
-  for (const std::string& path : args.runs) {
-    try {
-      const stats::StatsFileSummary s = stats::check_stats_file(path);
-      fmt::print("{}: ok: schema {}, campaign {}, {} ensembles\n", visible(path), s.schema_version,
-                 visible(s.campaign), s.ensembles);
-    } catch (const std::exception& e) {
-      fmt::print("{}\n", visible(e.what()));  // the reasons start with the file's name
+      const std::string why = e.what();
+      fmt::print("{}\n", visible(why.starts_with(path) ? why : path + ": " + why));
       status = 1;
     }
   }
@@ -63,25 +49,26 @@ int validate_stats_files(const ValidateArgs& args) {
 }  // namespace
 
 int run_validate_command(const ValidateArgs& args) {
-  if (args.checks) return validate_verdict_files(args);
-  if (args.stats) return validate_stats_files(args);
-  int status = 0;
-  for (const std::string& path : args.runs) {
-    try {
-      const OpenRun r = read_open_run(path);
-      const auto& phi = r.packing_fraction;
-      fmt::print(
-          "{}: ok: {} {}, D {}, N {}, rate {:.4g}, phi_init {:.6g}, sample {}, {} points "
-          "(phi {:.6g} to {:.6g})\n",
-          visible(path), visible(r.simulator), visible(r.simulator_version), r.dim, r.n,
-          r.compression_rate, r.phi_init, r.sample, phi.size(), phi.front(), phi.back());
-    } catch (const std::exception& e) {
-      // read_open_run's reasons start with the file's name.
-      fmt::print("{}\n", visible(e.what()));
-      status = 1;
-    }
-  }
-  return status;
+  if (args.checks)  // as every reader of a checks.json reads it
+    return validate_each(args.runs, [](const std::string& path) {
+      const checks::VerdictFile f = checks::read_verdict_file(path);
+      return fmt::format("schema {}, {} verdicts", f.schema_version, f.verdicts.size());
+    });
+  if (args.stats)  // as every reader of a stats.h5 reads it
+    return validate_each(args.runs, [](const std::string& path) {
+      const stats::StatsFileSummary s = stats::check_stats_file(path);
+      return fmt::format("schema {}, campaign {}, {} ensembles", s.schema_version,
+                         visible(s.campaign), s.ensembles);
+    });
+  return validate_each(args.runs, [](const std::string& path) {
+    const OpenRun r = read_open_run(path);
+    const auto& phi = r.packing_fraction;
+    return fmt::format(
+        "{} {}, D {}, N {}, rate {:.4g}, phi_init {:.6g}, sample {}, {} points (phi {:.6g} to "
+        "{:.6g})",
+        visible(r.simulator), visible(r.simulator_version), r.dim, r.n, r.compression_rate,
+        r.phi_init, r.sample, phi.size(), phi.front(), phi.back());
+  });
 }
 
 }  // namespace jam

@@ -1,6 +1,7 @@
 // libFuzzer target: the stats.h5 readers (jam check's read_stats, jam stats --refit's
 // refit_campaign_stats without the fit) on a valid stats.h5 edited by a recipe of shapes and
-// classes (hdf5_recipe.hpp). stats.h5 has no checksum: the readers' shape checks are all
+// classes (hdf5_recipe.hpp). The template carries no checksum (a stats.h5 without one is read
+// unsealed), so the schema (reference/schema/stats.toml) and the readers' shape checks are all
 // there is. They may throw std::exception; nothing may crash or allocate beyond the file.
 #include <unistd.h>
 
