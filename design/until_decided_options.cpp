@@ -32,6 +32,19 @@ std::string differs(const std::string& what, const json& recorded, const json& n
                      shown(recorded));
 }
 
+/// Whether a look's verdicts hold `e`'s (until_decided_look.cpp, judge_question): without
+/// checks in the question, the statistical checks of `all` and their parts
+/// (checks::run_check("all")); with them, every check of stats.h5 (and part of one) the
+/// question names, in `all` or not.
+bool judged_by_a_look(const CampaignQuestion& q, const checks::CheckEntry& e) {
+  if (std::holds_alternative<checks::LammpsCheck>(e.run)) return false;
+  if (q.checks.empty()) return e.in_all;
+  const checks::CheckEntry* runs = &e;
+  if (const auto* part = std::get_if<checks::PartOf>(&e.run)) runs = checks::find_check(part->check);
+  return runs && std::holds_alternative<checks::StatsCheck>(runs->run) &&
+         question_wants(q.checks, std::string(e.name));
+}
+
 }  // namespace
 
 checks::CheckOptions sequence_check_options(const Campaign& c, const CampaignQuestion& q) {
@@ -43,11 +56,7 @@ json sequence_record(const Campaign& c, const CampaignQuestion& q, double alpha)
   json margins = json::object(), judged = json::array();
   for (const auto& e : checks::check_registry()) {
     margins[std::string(e.name)] = o.margin(std::string(e.name));
-    // What checks::run_check("all") runs: the statistical checks of `all` and their parts, or
-    // those of them the question wants.
-    if (e.in_all && !std::holds_alternative<checks::LammpsCheck>(e.run) &&
-        question_wants(q.checks, std::string(e.name)))
-      judged.push_back(std::string(e.name));
+    if (judged_by_a_look(q, e)) judged.push_back(std::string(e.name));
   }
   const json question =
       q.states_range() ? json{{"phi_min", *q.phi_min}, {"phi_max", *q.phi_max}} : json(nullptr);

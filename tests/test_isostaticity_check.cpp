@@ -142,6 +142,9 @@ BOOST_AUTO_TEST_CASE(plan_and_until_decided_serve_it_through_its_registry_line) 
     BOOST_TEST(key.starts_with("isostaticity n="), key);
   // The first look left one verdict undecided, and runs were added to its ensemble only.
   BOOST_TEST(state.at("looks").size() > 1u, state.dump());
+  // The sequence's record names the check its looks judge (it is not a member of `all`).
+  BOOST_TEST(state.at("options").at("checks") == nlohmann::json::array({"isostaticity"}),
+             state.at("options").dump());
   const std::string added = jam::test::slurp(dir / "runs" / "added-samples.toml");
   auto samples_of = [&added](int n) {
     std::smatch m;
