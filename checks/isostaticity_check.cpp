@@ -6,9 +6,10 @@
 // When the runs removed their rattlers (rattlers = true: stats.h5 holds
 // constant_phi/contacts_per_particle_no_rattlers_samples), that count is judged: the clean
 // statement. N_nr of each run is not in stats.h5, so N stands for it: Z_nr,iso is then too high
-// by 2 (D - 1) f_r / (N (1 - f_r)) for a rattler fraction f_r, 4.7e-4 of Z's 4 (a relative
-// 1.2e-4) at 2D N = 256 with f_r = 0.057, less at larger N: far below the margin and the runs'
-// scatter. Otherwise the contacts over every particle, rattlers included, are judged against
+// by 2 (D - 1) f_r / (N (1 - f_r)) for a rattler fraction f_r: at most 8.1e-4 of Z's 4 (a
+// relative 2.0e-4) at 2D N = 256 with the largest f_r measured, 9.4%, less at larger N
+// (docs/statistics-and-checks.md#isostaticity): far below the margin and the runs' scatter.
+// Otherwise the contacts over every particle, rattlers included, are judged against
 // the same count with N_nr = N; rattlers hold no contacts in the quasistatic limit, so there
 // <Z> / Z_iso - 1 is about minus their share of the particles. A finite rate adds the contacts
 // of the flow. The margin holds both; a count further off is an error of the contacts, of the
