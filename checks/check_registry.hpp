@@ -83,10 +83,12 @@ inline constexpr std::string_view kLammps =
     "Q = 0.03 reproduces the overdamped limit far within it (measured in "
     "docs/statistics-and-checks.md), so a difference beyond 0.5% is an error of one of the two "
     "codes";
-// The isostaticity check: stats.h5's contacts count rattlers (isostaticity_check.cpp).
+// The isostaticity check: the non-rattlers' contacts when the runs removed their rattlers,
+// else every particle's (isostaticity_check.cpp); one margin holds both counts.
 inline constexpr std::string_view kIsostatic =
-    "rattlers, which the stored contacts count, hold none at jamming and lower <Z> below the "
-    "isostatic count by their share of the particles, a few percent (measured in "
+    "the slowest rate's flow adds contacts above the isostatic count, and where the runs kept "
+    "their rattlers (no rattlers = true) these hold few contacts at jamming and lower <Z>: a "
+    "few percent each, for either count (measured in "
     "docs/statistics-and-checks.md#isostaticity); a count further off is an error of the "
     "contacts or the jamming points, or a rate far from the quasistatic limit";
 }  // namespace margin_reasons

@@ -125,6 +125,8 @@ EnsembleTables read_ensemble(const h5::File& f, const std::string& name) {
   read_constant_z(f, g, e);
   const std::string z_name = phi + "/contacts_per_particle_samples";
   if (f.has_dataset(z_name)) e.z_samples_at_phi = table(f, z_name, rows, m);
+  const std::string z_nr_name = phi + "/contacts_per_particle_no_rattlers_samples";
+  if (f.has_dataset(z_nr_name)) e.z_nr_samples_at_phi = table(f, z_nr_name, rows, m);
   find_compressed_range(e, e.z_samples_at_phi);
   if (!e.z_samples_at_phi.empty()) e.z_at_phi = column_means(e.z_samples_at_phi, m);
   if (f.has_dataset(g + "/jamming")) {

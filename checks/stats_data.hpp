@@ -29,6 +29,9 @@ struct EnsembleTables {
   // ... and per sample, the rows of sample_ids ([sample][point]; empty likewise): what a check
   // of the contacts of each run reads (isostaticity_check.cpp).
   std::vector<std::vector<double>> z_samples_at_phi;
+  // ... and with rattlers removed (constant_phi/contacts_per_particle_no_rattlers_samples,
+  // stored when every run was made with rattlers = true; empty otherwise).
+  std::vector<std::vector<double>> z_nr_samples_at_phi;
   // Where the compression, not the start, sets the pressure (margin.hpp,
   // first_compression_point): the packing, and the mean Z there. Comparisons start here.
   double compressed_from_phi = 0, compressed_from_z = 0;

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <boost/test/unit_test.hpp>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "app/sim_command.hpp"
@@ -20,6 +22,7 @@
 #include "campaign/run_plan.hpp"
 #include "process.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/model/contact_laws.hpp"
 #include "sim/run/compression_run.hpp"
 #include "sim/run/run_parameters.hpp"
 
@@ -243,6 +246,25 @@ BOOST_AUTO_TEST_CASE(unknown_keys_and_bad_contacts_are_refused) {
   BOOST_TEST(o.status == 2);
   BOOST_TEST(o.output == "jam: error: --contact Hertzian: must be harmonic or hertzian\n");
   BOOST_TEST(!fs::exists(kDir / "x.h5"));
+}
+
+// The help of --contact names the laws of the list, as its allowed values do: a law added to
+// the list (here a test-only one) is named with no edit of the help.
+namespace {
+struct TestOnlyContact : jam::HertzianContact {
+  static constexpr const char* kName = "test-only";
+};
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(contact_help_comes_from_the_list) {
+  using Longer = std::tuple<jam::HarmonicContact, jam::HertzianContact, TestOnlyContact>;
+  BOOST_TEST(jam::contact_law_help<Longer>() ==
+             "Contact law: harmonic, hertzian or test-only (default harmonic, the paper's)");
+  const auto& table = jam::run_parameters();
+  const auto row = std::find_if(table.begin(), table.end(),
+                                [](const jam::RunParameter& p) { return p.name == "contact"; });
+  BOOST_TEST_REQUIRE((row != table.end()));
+  BOOST_TEST(row->help == "Contact law: harmonic or hertzian (default harmonic, the paper's)");
 }
 
 BOOST_AUTO_TEST_CASE(integrators_come_from_the_list) {

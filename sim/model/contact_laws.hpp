@@ -24,6 +24,17 @@ std::vector<std::string> contact_law_names() {
                     Laws{});
 }
 
+/// --contact's help: the laws of the list joined as the one-line errors list allowed values, so
+/// that a new law's line names it there too. The default is the list's first (the paper's).
+template <class Laws = ContactLaws>
+std::string contact_law_help() {
+  const std::vector<std::string> names = contact_law_names<Laws>();
+  std::string out = "Contact law: ";
+  for (std::size_t k = 0; k < names.size(); ++k)
+    out += (k == 0 ? "" : k + 1 == names.size() ? " or " : ", ") + names[k];
+  return out + " (default " + names.front() + ", the paper's)";
+}
+
 /// Calls f.template operator()<Law>() for the law of Laws named `name` and returns its result;
 /// throws std::invalid_argument for a name not in the list.
 template <class Laws = ContactLaws, class F>

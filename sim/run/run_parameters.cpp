@@ -166,7 +166,7 @@ std::vector<RunParameter> make_table() {
        .attribute = "diameter_ratio"},
       {.name = "contact",
        .field = &SimConfig::contact,
-       .help = "Contact law: harmonic (the paper's) or hertzian",
+       .help = contact_law_help(),
        .campaign = C::optional,
        .identity = I::suffix_unless_default,
        .relaxation_position = 15,
