@@ -53,7 +53,8 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
   c->add_option("--heun-dt", o.heun_dt, "Time steps of overdamped Heun");
   c->add_option("--chebyshev-tolerance", o.chebyshev_tolerance,
                 "Local error tolerances of the adaptive Chebyshev integrator (its first step 0.1)");
-  c->add_option("--verlet-q", o.verlet_q, "Quality factors of the inertial runs (jam and LAMMPS)");
+  c->add_option("--verlet-q", o.verlet_quality_factors,
+                "Quality factors of the inertial runs (jam and LAMMPS)");
   c->add_option("--verlet-dt-fraction", o.verlet_fraction,
                 "Inertial time steps as fractions of the stability bound 4 Q^2 / D");
   c->add_option("--lammps-dt-fraction", o.lammps_fraction,

@@ -33,7 +33,8 @@ void add_import_command(CLI::App& app, ImportRequest& r) {
   lmp->add_option("--diameter-ratio", l.diameter_ratio, "d_big / d_small of the model simulated");
   lmp->add_option("--contact", l.contact, "Contact law: " + or_list(contact_law_names()))
       ->default_str("harmonic");
-  lmp->add_option("--q", l.q, "Quality factor Q of an inertial run (default: overdamped)");
+  lmp->add_option("--q", l.quality_factor,
+                  "Quality factor Q of an inertial run (default: overdamped)");
   lmp->add_option("--sample", l.sample, "The run's sample id in its ensemble, >= 0");
   CLI::App* frames = imp->add_subcommand(
       "frames",

@@ -25,11 +25,11 @@ void add_stats_command(CLI::App& app, StatsArgs& a) {
       ->always_capture_default(false);
   s->add_option("--order", a.options.order, "Polynomial order of ln f(x)");
   s->add_option("--fix-phi-j", a.fix_phi_j, "Hold phi_J at this value (optional)");
-  s->add_option("--fix-q", a.fix_q, "Hold q at this value (optional)");
+  s->add_option("--fix-q", a.fix_rate_exponent, "Hold q at this value (optional)");
   s->add_option("--fix-inv-znu", a.fix_inv_znu, "Hold 1/(z nu) at this value (optional)");
   s->add_flag("--fix-paper-exponents", a.fix_paper_exponents,
               "Hold q and 1/(z nu) at the paper's values for the dimension");
-  s->add_flag("--fix-paper-q", a.fix_paper_q,
+  s->add_flag("--fix-paper-q", a.fix_paper_rate_exponent,
               "Hold q at the paper's value for the dimension (phi_J and 1/(z nu) fitted)");
   s->add_flag(
       "--no-fit", [&a](std::int64_t) { a.options.fit = false; }, "Averages only");
@@ -54,7 +54,7 @@ int run_stats_command(const StatsArgs& a) {
     return v;
   };
   o.fixed_phi_j = held("--fix-phi-j", a.fix_phi_j, 1.5);
-  o.fixed_q = held("--fix-q", a.fix_q, 1.0);
+  o.fixed_rate_exponent = held("--fix-q", a.fix_rate_exponent, 1.0);
   o.fixed_inv_znu = held("--fix-inv-znu", a.fix_inv_znu, 1e3);
   // A refit reads the stored averages; it cannot average the sizes together (that needs the
   // runs), and fitting the largest size alone under --pool-sizes would say nothing of it.
@@ -69,13 +69,13 @@ int run_stats_command(const StatsArgs& a) {
   // costs memory in every run's curve.
   if (!(o.z_step >= 1e-4 && o.z_step <= 1))
     throw std::runtime_error(fmt::format("--z-step {:g}: must be in [1e-4, 1]", o.z_step));
-  if (a.fix_paper_exponents || a.fix_paper_q) {
+  if (a.fix_paper_exponents || a.fix_paper_rate_exponent) {
     // Needs the dimension: read it with the data.
     stats::StatsOptions averages_only;
     averages_only.fit = false;
     const auto dim = a.refit ? stats::refit_campaign_stats(a.directory, averages_only).data.dim
                              : stats::read_campaign_runs(a.directory).dim;
-    o.fixed_q = paper_values(dim).q();
+    o.fixed_rate_exponent = paper_values(dim).rate_exponent();
     if (a.fix_paper_exponents) o.fixed_inv_znu = paper_values(dim).inv_znu();
   }
   // The verdicts the fit may use, declared here (read through checks/verdict_file.hpp), never

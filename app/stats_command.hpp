@@ -9,9 +9,10 @@ namespace jam {
 struct StatsArgs {
   std::string directory;
   stats::StatsOptions options;
-  std::optional<double> fit_phi_init, fix_phi_j, fix_q, fix_inv_znu;  // absent: not given
+  // absent: not given
+  std::optional<double> fit_phi_init, fix_phi_j, fix_rate_exponent, fix_inv_znu;
   bool fix_paper_exponents = false;
-  bool fix_paper_q = false;
+  bool fix_paper_rate_exponent = false;
   bool refit = false;
   // The verdicts the fit uses (stats/fit_verdicts.hpp): "auto" DIR's verdict files where
   // present, "none" none.

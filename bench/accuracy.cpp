@@ -58,7 +58,8 @@ void run_pool(std::vector<std::function<void()>>& tasks, int jobs) {
   if (error) std::rethrow_exception(error);
 }
 
-// The defaults of `jam sim` (its q writes the data files' masses, which overdamped runs ignore).
+// The defaults of `jam sim` (its quality factor writes the data files' masses, which overdamped
+// runs ignore).
 const SimConfig kDefaults;
 
 std::string process_data(int dim, int seed, const std::string& start) {
@@ -109,8 +110,9 @@ void validate(const AccuracyOptions& o) {
   for (const auto* list : {&o.euler_dt, &o.heun_dt})
     for (double dt : *list)
       if (!(dt > 0)) throw std::runtime_error(fmt::format("time step {:g}: must be positive", dt));
-  for (double q : o.verlet_q)
-    if (!(q > 0)) throw std::runtime_error(fmt::format("--verlet-q {:g}: must be positive", q));
+  for (double quality_factor : o.verlet_quality_factors)
+    if (!(quality_factor > 0))
+      throw std::runtime_error(fmt::format("--verlet-q {:g}: must be positive", quality_factor));
   for (double tol : o.chebyshev_tolerance)
     if (!(tol > 0 && std::isfinite(tol)))
       throw std::runtime_error(fmt::format("--chebyshev-tolerance {:g}: must be positive", tol));
@@ -215,14 +217,15 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     const double bound_unit = 4.0 / d;  // stability bound of Verlet: 4 Q^2 / D
     for (double rate : o.rates) {
       res.references.push_back({d, rate, "relaxed", accuracy_packings(d), {}, {}, {}});
-      auto add = [&](const std::string& engine, const std::string& integrator, double q, double dt,
-                     bool reference, const std::string& start = "relaxed") {
+      auto add = [&](const std::string& engine, const std::string& integrator,
+                     double quality_factor, double dt, bool reference,
+                     const std::string& start = "relaxed") {
         Method m;
         m.dim = d;
         m.rate = rate;
         m.engine = engine;
         m.integrator = integrator;
-        m.q = q;
+        m.quality_factor = quality_factor;
         m.dt = dt;
         m.is_reference = reference;
         m.start = start;
@@ -261,13 +264,17 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
         add("jam", "chebyshev", 0, 0.1, false);
         res.methods.back().tolerance = tol;
       }
-      for (double q : o.verlet_q) {
-        for (double f : o.verlet_fraction) add("jam", "verlet", q, f * bound_unit * q * q, false);
+      for (double quality_factor : o.verlet_quality_factors) {
+        for (double f : o.verlet_fraction)
+          add("jam", "verlet", quality_factor, f * bound_unit * quality_factor * quality_factor,
+              false);
         if (lammps)
           for (double f : o.lammps_fraction) {
-            add("lammps", "verlet", q, f * bound_unit * q * q, false);
+            add("lammps", "verlet", quality_factor,
+                f * bound_unit * quality_factor * quality_factor, false);
             res.methods.back().process_wall.resize(o.seeds);
-            add("lammps-shifted", "verlet", q, f * bound_unit * q * q, false);  // same runs
+            add("lammps-shifted", "verlet", quality_factor,
+                f * bound_unit * quality_factor * quality_factor, false);  // same runs
             res.methods.back().process_wall.resize(o.seeds);
           }
       }
@@ -276,17 +283,18 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
   // LAMMPS data files: one per (dimension, seed, Q).
   if (lammps) {
     for (const auto& [key, start] : starts)
-      for (double q : o.verlet_q)
+      for (double quality_factor : o.verlet_quality_factors)
         write_start(
-            start, q,
-            (work / fmt::format("start_{}d_s{}_q{:g}.data", key.first, key.second, q)).string());
+            start, quality_factor,
+            (work / fmt::format("start_{}d_s{}_q{:g}.data", key.first, key.second, quality_factor))
+                .string());
   }
   // ... and one per (start, dimension, seed) for the jam processes.
   for (const auto& [key, start] : starts)
-    write_start(start, kDefaults.q,
+    write_start(start, kDefaults.quality_factor,
                 (work / process_data(key.first, key.second, "relaxed")).string());
   for (const auto& [key, start] : unrelaxed)
-    write_start(start, kDefaults.q,
+    write_start(start, kDefaults.quality_factor,
                 (work / process_data(key.first, key.second, "unrelaxed")).string());
   // Every (method, seed) is a task; longest first so that the pool ends together.
   std::vector<std::function<void()>> tasks;
@@ -316,14 +324,15 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
           m.process_wall[s] = r.wall;
         } else if (m.engine == "lammps") {
           r = repeated_process(o.process_repeats, [&] {
-            return run_lammps_compression(work, o.reference_dir,
-                                          fmt::format("start_{}d_s{}_q{:g}.data", m.dim, s, m.q),
-                                          fmt::format("m{}_s{}.log", mi, s), m.dim, m.rate, m.dt,
-                                          o.start_packing(m.dim), phi);
+            return run_lammps_compression(
+                work, o.reference_dir,
+                fmt::format("start_{}d_s{}_q{:g}.data", m.dim, s, m.quality_factor),
+                fmt::format("m{}_s{}.log", mi, s), m.dim, m.rate, m.dt, o.start_packing(m.dim),
+                phi);
           });
         } else {
           const std::string integrator = m.is_reference ? std::string("heun") : m.integrator;
-          r = run_jam(start_of(m, s), m.rate, integrator, m.q, m.tolerance, m.dt, phi);
+          r = run_jam(start_of(m, s), m.rate, integrator, m.quality_factor, m.tolerance, m.dt, phi);
         }
         m.wall[s] = r.wall;
         m.pressure[s] = r.pressure;
@@ -333,8 +342,8 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
           res.methods[mi + 1].pressure[s] = r.pressure_shifted;
         }
         fmt::print(stderr, "  [{}/{}] {}D rate {:g} {} {} {} q {:g} dt {:g} seed {}: {:.2f} s\n",
-                   ++done, total, m.dim, m.rate, m.start, m.engine, m.integrator, m.q, m.dt, s,
-                   r.wall);
+                   ++done, total, m.dim, m.rate, m.start, m.engine, m.integrator, m.quality_factor,
+                   m.dt, s, r.wall);
       });
     }
   }

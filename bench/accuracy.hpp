@@ -43,7 +43,7 @@ struct AccuracyOptions {
   std::vector<double> heun_dt{0.01, 0.02, 0.05, 0.1};
   // Local error tolerances (d_s) of the adaptive Chebyshev integrator (its first step 0.1).
   std::vector<double> chebyshev_tolerance{1e-2, 3e-3, 1e-3, 1e-4};
-  std::vector<double> verlet_q{0.1, 0.03};
+  std::vector<double> verlet_quality_factors{0.1, 0.03};
   std::vector<double> verlet_fraction{0.8};
   std::vector<double> lammps_fraction{0.8};
   double reference_dt = 0.01;
@@ -71,7 +71,7 @@ struct Method {
   std::string start = "relaxed";  // relaxed | unrelaxed (jam-process and its references)
   std::vector<std::string> args;  // jam-process: options of `jam sim` beyond the defaults
   std::string integrator;         // euler | heun | verlet | reference-h | reference-h/2 | ...
-  double q = 0.0;                 // inertial only
+  double quality_factor = 0.0;    // inertial only
   double dt = 0.0;
   double tolerance = 0.0;                       // chebyshev only (dt is then its first step)
   std::vector<double> wall;                     // per seed, seconds

@@ -20,7 +20,7 @@ namespace {
 const SimConfig kJamDefaults;
 
 std::string label(const Method& m) {
-  if (m.integrator == "verlet") return fmt::format("{} verlet Q={:g}", m.engine, m.q);
+  if (m.integrator == "verlet") return fmt::format("{} verlet Q={:g}", m.engine, m.quality_factor);
   if (m.integrator == "chebyshev")
     return fmt::format("{} chebyshev tol {:g}", m.engine, m.tolerance);
   return fmt::format("{} {}", m.engine, m.integrator);
@@ -68,7 +68,7 @@ std::string process_table(const AccuracyResult& r) {
       if (m.dim != ref.dim || m.rate != ref.rate || m.start != ref.start) continue;
       if (m.engine != "jam-process" && m.engine != "lammps") continue;
       const std::string name = m.engine == "lammps"
-                                   ? fmt::format("LAMMPS Q {:g}, dt {:g}", m.q, m.dt)
+                                   ? fmt::format("LAMMPS Q {:g}, dt {:g}", m.quality_factor, m.dt)
                                    : "jam " + m.integrator;
       const std::string ratio =
           defaults && defaults->process_wall_median > 0
@@ -93,7 +93,7 @@ void write_accuracy_report(const AccuracyOptions& o, const AccuracyResult& r) {
     csv += fmt::format(
         "{},{:g},{},{},{},{:g},{:g},{:.6g},{:.6g},{:.4g},{:.4g},{:.4g},{:.4g},{:.4g},{:.4g},"
         "{:.4g},{:.4g},{:g}\n",
-        m.dim, m.rate, m.start, m.engine, m.integrator, m.q, m.dt, m.wall_median,
+        m.dim, m.rate, m.start, m.engine, m.integrator, m.quality_factor, m.dt, m.wall_median,
         m.process_wall_median, m.error[0], m.error[1], m.error[2], m.error_se[0], m.error_se[1],
         m.error_se[2], m.max_error, m.max_error_se, m.tolerance);
   }

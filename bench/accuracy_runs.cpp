@@ -79,13 +79,14 @@ RunResult compress(System<D>& sys, Stepper& stepper, double dt, const std::array
 }
 
 template <int D>
-RunResult jam_run(const Start& start, double rate, const std::string& integrator, double q,
-                  double tolerance, double dt, const std::array<double, 3>& phi) {
+RunResult jam_run(const Start& start, double rate, const std::string& integrator,
+                  double quality_factor, double tolerance, double dt,
+                  const std::array<double, 3>& phi) {
   const Species<D> species;
   ParticleData<D> p = particles_of<D>(start);
   const double volume = total_particle_volume(p, species);
   System<D> sys(std::move(p), species, CompressingBox<D>{start.box_length, rate, volume}, 0.3);
-  return with_integrator<D>(integrator, sys.size(), StepperOptions{q, tolerance, dt},
+  return with_integrator<D>(integrator, sys.size(), StepperOptions{quality_factor, tolerance, dt},
                             [&](auto& stepper) { return compress(sys, stepper, dt, phi); });
 }
 
@@ -107,22 +108,23 @@ Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed, double phi, dou
   return dim == 2 ? relaxed<2>(n, seed, phi, relax_time) : relaxed<3>(n, seed, phi, relax_time);
 }
 
-void write_start(const Start& start, double q, const std::string& path) {
+void write_start(const Start& start, double quality_factor, const std::string& path) {
   if (start.dim == 2) {
-    const auto m = Species<2>().masses(q);
+    const auto m = Species<2>().masses(quality_factor);
     write_lammps_data(path, particles_of<2>(start), start.box_length, m[0], m[1],
                       "jam bench accuracy start");
   } else {
-    const auto m = Species<3>().masses(q);
+    const auto m = Species<3>().masses(quality_factor);
     write_lammps_data(path, particles_of<3>(start), start.box_length, m[0], m[1],
                       "jam bench accuracy start");
   }
 }
 
-RunResult run_jam(const Start& start, double rate, const std::string& integrator, double q,
-                  double tolerance, double dt, const std::array<double, 3>& phi) {
-  return start.dim == 2 ? jam_run<2>(start, rate, integrator, q, tolerance, dt, phi)
-                        : jam_run<3>(start, rate, integrator, q, tolerance, dt, phi);
+RunResult run_jam(const Start& start, double rate, const std::string& integrator,
+                  double quality_factor, double tolerance, double dt,
+                  const std::array<double, 3>& phi) {
+  return start.dim == 2 ? jam_run<2>(start, rate, integrator, quality_factor, tolerance, dt, phi)
+                        : jam_run<3>(start, rate, integrator, quality_factor, tolerance, dt, phi);
 }
 
 RunResult run_lammps_compression(const std::filesystem::path& dir,

@@ -36,19 +36,20 @@ Start start_from(const ParticleData<D>& p, double box_length) {
 
 Start relaxed_start(int dim, std::int64_t n, std::uint64_t seed, double phi, double relax_time);
 
-/// Writes the start as a LAMMPS data file with the masses of quality factor q.
-void write_start(const Start& start, double q, const std::string& path);
+/// Writes the start as a LAMMPS data file with the masses of the given quality factor Q.
+void write_start(const Start& start, double quality_factor, const std::string& path);
 
 /// jam from the start at the rate: returns the pressures at the packings and the wall time
-/// of the compression. integrator: euler | heun | verlet (q used for verlet).
+/// of the compression. integrator: euler | heun | verlet (quality_factor used for verlet).
 struct RunResult {
   std::array<double, 3> pressure{};
   std::array<double, 3> pressure_shifted{};  // LAMMPS only: the line of step m read at (m-1) dt
   double wall = 0.0;
   double process_wall = 0.0;  // LAMMPS: the whole lmp process (start-up and reading included)
 };
-RunResult run_jam(const Start& start, double rate, const std::string& integrator, double q,
-                  double tolerance, double dt, const std::array<double, 3>& phi);
+RunResult run_jam(const Start& start, double rate, const std::string& integrator,
+                  double quality_factor, double tolerance, double dt,
+                  const std::array<double, 3>& phi);
 
 /// LAMMPS from the data file (in dir) at the rate and dt. pressure: the thermo as printed
 /// (step m at time m dt); pressure_shifted: read at (m-1) dt with the volume of that time.

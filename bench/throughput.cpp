@@ -32,7 +32,7 @@ double median(std::vector<double> v) {
   const std::size_t k = v.size() / 2;
   return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
 }
-constexpr double kRate = 1e-4, kDt = 0.01, kLammpsQ = 0.1;
+constexpr double kRate = 1e-4, kDt = 0.01, kLammpsQualityFactor = 0.1;
 
 template <int D>
 System<D> near_jamming(std::int64_t n) {
@@ -98,7 +98,7 @@ void measure_size(const ThroughputOptions& o, std::int64_t n, const fs::path& wo
   single.cores = 2;
   LammpsRequest r;
   if (o.lammps) {
-    const auto masses = sys.species.masses(kLammpsQ);
+    const auto masses = sys.species.masses(kLammpsQualityFactor);
     r.data = fmt::format("start_{}d_{}.data", D, n);
     write_lammps_data((work / r.data).string(), sys.particles, sys.box.length(0.0), masses[0],
                       masses[1], fmt::format("jam bench throughput, dim {} n {}", D, n));
@@ -106,7 +106,7 @@ void measure_size(const ThroughputOptions& o, std::int64_t n, const fs::path& wo
     r.reference = o.reference_dir;
     r.dim = D;
     r.rate = kRate;
-    r.dt = 0.8 * 4 * kLammpsQ * kLammpsQ / D;
+    r.dt = 0.8 * 4 * kLammpsQualityFactor * kLammpsQualityFactor / D;
     r.steps = std::max(10L, steps / 3);
     r.every = r.steps;
     one.lammps_steps = campaign.lammps_steps = single.lammps_steps = r.steps;

@@ -84,7 +84,7 @@ std::string external_text(const ExternalCampaign& c) {
                 {"diameter_ratio", c.diameter_ratio},
                 {"contact", c.contact},
                 {"dynamics", c.dynamics},
-                {"q", c.q},
+                {"q", c.quality_factor},
                 {"run", std::move(runs)},
                 {"set_aside", std::move(aside)}};
   std::ostringstream text;
@@ -151,7 +151,7 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
   c.diameter_ratio = number_of(t, "diameter_ratio", path);
   c.contact = text_of(t, "contact", path);
   c.dynamics = text_of(t, "dynamics", path);
-  c.q = number_of(t, "q", path);
+  c.quality_factor = number_of(t, "q", path);
   if (!is_plain_campaign_name(c.name))
     throw std::runtime_error(fmt::format(
         "{}: name '{}' is not one plain word (letters, digits and . _ + -)", path, c.name));
@@ -164,7 +164,7 @@ ExternalCampaign read_external_campaign(const std::string& directory) {
   model.diameter_ratio = c.diameter_ratio;
   model.contact = c.contact;
   model.dynamics = c.dynamics;
-  model.q = c.q;
+  model.quality_factor = c.quality_factor;
   validate_open_run_model(model, path);
   if (const auto* runs = t["run"].as_array()) {
     for (std::size_t k = 0; k < runs->size(); ++k) {

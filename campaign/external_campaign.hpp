@@ -41,7 +41,7 @@ struct ExternalCampaign {
   int dim = 0;
   double diameter_ratio = 0;
   std::string contact, dynamics;
-  double q = 0;
+  double quality_factor = 0;  // Q; the record's key "q"
   std::vector<ExternalRun> runs;
   std::vector<SetAside> set_aside;
 };

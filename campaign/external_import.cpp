@@ -131,9 +131,9 @@ std::string model_mismatch(const ExternalCampaign& c, const OpenRun& r) {
     return fmt::format("diameter_ratio {}, the campaign's {}", r.diameter_ratio, c.diameter_ratio);
   if (r.contact != c.contact)
     return fmt::format("contact {}, the campaign's {}", r.contact, c.contact);
-  if (r.dynamics != c.dynamics || std::abs(r.q - c.q) > 1e-12)
-    return fmt::format("dynamics {} (Q {}), the campaign's {} (Q {})", r.dynamics, r.q, c.dynamics,
-                       c.q);
+  if (r.dynamics != c.dynamics || std::abs(r.quality_factor - c.quality_factor) > 1e-12)
+    return fmt::format("dynamics {} (Q {}), the campaign's {} (Q {})", r.dynamics, r.quality_factor,
+                       c.dynamics, c.quality_factor);
   return "";
 }
 
@@ -166,7 +166,7 @@ ExternalCampaign open_campaign(const fs::path& d, const ImportOptions& o,
   c.phi_step = o.phi_step.value_or(0.0005);
   const OpenRun& r = first->run;
   c.dim = r.dim, c.diameter_ratio = r.diameter_ratio, c.contact = r.contact;
-  c.dynamics = r.dynamics, c.q = r.q;
+  c.dynamics = r.dynamics, c.quality_factor = r.quality_factor;
   fs::create_directories(d / "runs");
   write_external_campaign(d.string(), c);
   return c;

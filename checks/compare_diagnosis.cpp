@@ -20,7 +20,7 @@ bool same_number(double a, double b) {
 
 /// "overdamped", or "inertial (Q 2)".
 std::string dynamics_words(const SideModel& m) {
-  return m.dynamics == "inertial" ? fmt::format("inertial (Q {:g})", m.q) : m.dynamics;
+  return m.dynamics == "inertial" ? fmt::format("inertial (Q {:g})", m.quality_factor) : m.dynamics;
 }
 
 }  // namespace
@@ -30,11 +30,12 @@ std::optional<SideModel> campaign_model(const std::string& directory) {
   try {
     if (is_external_campaign(directory)) {
       const ExternalCampaign c = read_external_campaign(directory);
-      return SideModel{c.dim, c.diameter_ratio, c.contact, c.dynamics, c.q};
+      return SideModel{c.dim, c.diameter_ratio, c.contact, c.dynamics, c.quality_factor};
     }
     if (std::filesystem::exists(std::filesystem::path(directory) / "campaign.toml")) {
       const Campaign c = stored_campaign(directory);
-      return SideModel{c.run.dim, c.run.diameter_ratio, c.run.contact, c.run.dynamics, c.run.q};
+      return SideModel{c.run.dim, c.run.diameter_ratio, c.run.contact, c.run.dynamics,
+                       c.run.quality_factor};
     }
   } catch (const std::exception&) {
     // A record that does not read says nothing of the model; the statistics name it.
@@ -51,9 +52,9 @@ std::string model_difference(const SideModel& dir, const SideModel& ref) {
   if (dir.contact != ref.contact)
     parts.push_back(fmt::format("contact {} against {}", dir.contact, ref.contact));
   // Q matters only to inertial dynamics (an overdamped record may carry any).
-  const bool q_differs =
-      dir.dynamics == "inertial" && ref.dynamics == "inertial" && !same_number(dir.q, ref.q);
-  if (dir.dynamics != ref.dynamics || q_differs)
+  const bool quality_factor_differs = dir.dynamics == "inertial" && ref.dynamics == "inertial" &&
+                                      !same_number(dir.quality_factor, ref.quality_factor);
+  if (dir.dynamics != ref.dynamics || quality_factor_differs)
     parts.push_back(
         fmt::format("dynamics {} against {}", dynamics_words(dir), dynamics_words(ref)));
   std::string out;

@@ -26,7 +26,7 @@ struct SideModel {
   int dim = 0;
   double diameter_ratio = 0;
   std::string contact, dynamics;
-  double q = 0;  // inertial only
+  double quality_factor = 0;  // inertial only
 };
 
 /// DIR's model from DIR/external.toml or DIR/campaign.toml; nullopt when it has neither (a

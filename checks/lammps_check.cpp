@@ -24,7 +24,7 @@ namespace jam::checks {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kRate = 1e-3, kDt = 0.005, kQ = 0.1;
+constexpr double kRate = 1e-3, kDt = 0.005, kQualityFactor = 0.1;
 constexpr int kSteps = 400;
 
 // Tolerances. Positions: round-off (1e-16 L per step, operations in another order) and the
@@ -94,7 +94,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
                                         std::string(Contact::kName) == HarmonicContact::kName
                                             ? std::string()
                                             : std::string(Contact::kName) + " ",
-                                        kQ, kDt, kSteps);
+                                        kQualityFactor, kDt, kSteps);
   const bool live = o.use_lmp && lmp_available();
   std::vector<Verdict> out;
   if (!live && !fs::exists(stored / "lammps.log")) {
@@ -104,7 +104,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   // The start: the stored one (so the stored LAMMPS result applies), or a fresh one when
   // regenerating.
   if (o.regenerate || !fs::exists(stored / "start.data")) {
-    write_relaxed_start({D, D == 2 ? 0.80 : 0.60, kQ, kDt, "inertial", "1e-6", 17},
+    write_relaxed_start({D, D == 2 ? 0.80 : 0.60, kQualityFactor, kDt, "inertial", "1e-6", 17},
                         dir / "start.data");
   } else {
     copy_file_atomically((stored / "start.data").string(), (dir / "start.data").string());
@@ -125,7 +125,8 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
         << lammps_version(dir / "lammps.log") << "\"\n"
         << "input = \"reference/lammps/compress_inertial.in with the " << Contact::kName
         << " table of sim/io/lammps_table.hpp\"\n"
-        << fmt::format("rate = {:g}\ndt = {:g}\nq = {:g}\nsteps = {}\n", kRate, kDt, kQ, kSteps)
+        << fmt::format("rate = {:g}\ndt = {:g}\nq = {:g}\nsteps = {}\n", kRate, kDt, kQualityFactor,
+                       kSteps)
         << "regenerate = \"jam check lammps DIR --regenerate-reference (needs lmp)\"\n"
         << "jam_version = \"" << kVersion << "\"\n"
         << "date = \"" << today() << "\"\n";
@@ -142,7 +143,7 @@ std::vector<Verdict> compare_dimension(const LammpsCheckOptions& o) {
   b.n_given = b.phi_init_given = false;
   b.relax = false;
   b.dynamics = "inertial";
-  b.q = kQ;
+  b.quality_factor = kQualityFactor;
   b.dt = kDt;
   b.contact = Contact::kName;
   b.compression_rate = kRate;

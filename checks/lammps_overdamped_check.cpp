@@ -29,7 +29,7 @@ namespace jam::checks {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kOverdampedRate = 1e-3, kOverdampedQ = 0.03;
+constexpr double kOverdampedRate = 1e-3, kOverdampedQualityFactor = 0.03;
 // The band of a sample mean of 4 chaotic trajectories: 3 standard errors.
 constexpr double kErrors = 3.0;
 constexpr int kSamples = 4;
@@ -40,14 +40,14 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
   const fs::path ref(o.reference_directory), stored = ref / fmt::format("overdamped-{}d", D);
   const fs::path dir = fs::path(o.work_directory) / fmt::format("overdamped-{}d", D);
   fs::create_directories(dir);
-  const std::string label =
-      fmt::format("{}D overdamped vs LAMMPS Q={:g}, {} samples", D, kOverdampedQ, kSamples);
+  const std::string label = fmt::format("{}D overdamped vs LAMMPS Q={:g}, {} samples", D,
+                                        kOverdampedQualityFactor, kSamples);
   const bool live = o.use_lmp && lmp_available();
   if (!live && !fs::exists(stored / "lammps_0.log")) {
     return inconclusive("lammps", label, "no lmp on the PATH and no stored LAMMPS result");
   }
   // LAMMPS's step: half its stability bound 2 m_s/gamma_s = 4 Q^2 / D.
-  const double dt_lammps = 0.5 * 4 * kOverdampedQ * kOverdampedQ / D;
+  const double dt_lammps = 0.5 * 4 * kOverdampedQualityFactor * kOverdampedQualityFactor / D;
   const double t_stop = std::log(phi_stop / phi0) / (D * kOverdampedRate);
   const long steps = static_cast<long>(std::ceil(t_stop / dt_lammps));
   std::vector<std::vector<double>> deltas;                  // [sample][grid point]
@@ -60,9 +60,9 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
                       log = fmt::format("lammps_{}.log", k);
     if (o.regenerate || !fs::exists(stored / start)) {
       // Relaxed with jam's overdamped dynamics; masses of Q for LAMMPS.
-      write_relaxed_start(
-          {D, phi0, kOverdampedQ, 0.01, "overdamped", "1e-12", static_cast<std::uint64_t>(100 + k)},
-          dir / start);
+      write_relaxed_start({D, phi0, kOverdampedQualityFactor, 0.01, "overdamped", "1e-12",
+                           static_cast<std::uint64_t>(100 + k)},
+                          dir / start);
     } else {
       copy_file_atomically((stored / start).string(), (dir / start).string());
     }
@@ -113,7 +113,7 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
                "# Stored LAMMPS results for `jam check lammps`, overdamped comparison ({}D)\n", D)
         << "lammps = \"" << lammps_version(dir / "lammps_0.log") << "\"\n"
         << fmt::format("q = {:g}\ndt = {:.17g}\nrate = {:g}\nsteps = {}\nsamples = {}\n",
-                       kOverdampedQ, dt_lammps, kOverdampedRate, steps, kSamples)
+                       kOverdampedQualityFactor, dt_lammps, kOverdampedRate, steps, kSamples)
         << "regenerate = \"jam check lammps DIR --regenerate-reference (needs lmp)\"\n";
   }
   // Mean and standard error over samples at each packing; the worst point decides.
@@ -154,8 +154,9 @@ Verdict compare_overdamped(const LammpsCheckOptions& o) {
                           effect_text(v, worst), effect_text(v, worst_error), worst_phi,
                           live ? "LAMMPS run now" : "stored LAMMPS result");
   // The overlay and residuals the report draws: sample means on the packing grid.
-  v.values = {
-      {"dim", static_cast<double>(D)}, {"compression_rate", kOverdampedRate}, {"q", kOverdampedQ}};
+  v.values = {{"dim", static_cast<double>(D)},
+              {"compression_rate", kOverdampedRate},
+              {"q", kOverdampedQualityFactor}};
   v.curves = {{"grid", grid},
               {"pressure_jam", mean_p_jam},
               {"pressure_lammps", mean_p_lmp},

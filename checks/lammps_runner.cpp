@@ -59,7 +59,7 @@ void write_relaxed_start(const StartSpec& spec, const fs::path& data) {
   a.phi_stop = spec.phi * 1.001;  // the start is written before any compression step
   a.compression_rate = 1e-3;
   a.dynamics = spec.dynamics;
-  a.q = spec.q;
+  a.quality_factor = spec.quality_factor;
   a.dt = spec.dt;
   a.relax_energy = spec.relax_energy;
   a.seed = spec.seed;

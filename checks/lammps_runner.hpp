@@ -22,7 +22,7 @@ void run_lammps(const std::filesystem::path& dir, const std::filesystem::path& r
 /// given dynamics) to the energy target, written as a LAMMPS data file with the masses of Q.
 struct StartSpec {
   int dim = 2;
-  double phi = 0.8, q = 0.1, dt = 0.01;
+  double phi = 0.8, quality_factor = 0.1, dt = 0.01;
   std::string dynamics = "overdamped";
   std::string relax_energy = "1e-12";
   std::uint64_t seed = 1;

@@ -20,7 +20,7 @@ struct StatsOptions {
   bool pool_sizes = false;             // average the sizes together (after the finite-size check)
   std::optional<double> fit_phi_init;  // ensembles of this phi_init are fitted (default: lowest)
   int order = 5;
-  std::optional<double> fixed_phi_j, fixed_q, fixed_inv_znu;
+  std::optional<double> fixed_phi_j, fixed_rate_exponent, fixed_inv_znu;
   std::vector<double> half_windows = {0.03, 0.02, 0.01};  // phi windows: fitted phi_J +- these
   bool fit = true;
   // The verdicts the fit may use, declared by the caller (fit_verdicts.hpp); none by default.
@@ -34,7 +34,7 @@ inline ScalingFitOptions fit_options(const StatsOptions& o, int order, double ha
   ScalingFitOptions f;
   f.order = order;
   f.fixed_phi_j = o.fixed_phi_j;
-  f.fixed_q = o.fixed_q;
+  f.fixed_rate_exponent = o.fixed_rate_exponent;
   f.fixed_inv_znu = o.fixed_inv_znu;
   f.half_window = half_window;
   f.rate_max = rate_max;

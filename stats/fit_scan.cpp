@@ -16,7 +16,8 @@ bool agree(const ScalingFitResult& a, const ScalingFitResult& b) {
   auto close = [](double x, double ex, double y, double ey) {
     return std::abs(x - y) <= kAgreement * std::sqrt(ex * ex + ey * ey);
   };
-  return close(a.phi_j, a.phi_j_err, b.phi_j, b.phi_j_err) && close(a.q, a.q_err, b.q, b.q_err) &&
+  return close(a.phi_j, a.phi_j_err, b.phi_j, b.phi_j_err) &&
+         close(a.rate_exponent, a.rate_exponent_err, b.rate_exponent, b.rate_exponent_err) &&
          close(a.inv_znu, a.inv_znu_err, b.inv_znu, b.inv_znu_err);
 }
 

@@ -241,8 +241,8 @@ Fitted iterate_window(const std::vector<FitEnsemble>& ens, const Means& m,
 }
 
 void check_bounds(const std::vector<double>& par, const ScalingFitOptions& o) {
-  if (!o.fixed_q && (par[kQ] < kBound || par[kQ] > 1 - kBound)) {
-    throw FitError(fmt::format("fit ends on a bound: q = {:.6g} (0 < q < 1)", par[kQ]));
+  if (!o.fixed_rate_exponent && (par[kRateExponent] < kBound || par[kRateExponent] > 1 - kBound)) {
+    throw FitError(fmt::format("fit ends on a bound: q = {:.6g} (0 < q < 1)", par[kRateExponent]));
   }
   if (!o.fixed_inv_znu && (par[kA] < kBound || par[kA] > 1 / kBound)) {
     throw FitError(fmt::format("fit ends on a bound: 1/(z nu) = {:.6g} (> 0)", par[kA]));
@@ -250,7 +250,8 @@ void check_bounds(const std::vector<double>& par, const ScalingFitOptions& o) {
 }
 
 std::vector<double> derived(const std::vector<double>& par) {
-  return {par[kPhiJ], par[kQ], par[kA], (1.0 - par[kQ]) / par[kA], par[kQ] / par[kA]};
+  return {par[kPhiJ], par[kRateExponent], par[kA], (1.0 - par[kRateExponent]) / par[kA],
+          par[kRateExponent] / par[kA]};
 }
 
 }  // namespace
@@ -271,12 +272,12 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
   } else {
     std::tie(par[kPhiJ], start) = crossover(ens, full_means, o);
   }
-  par[kQ] = o.fixed_q.value_or(0.5);
+  par[kRateExponent] = o.fixed_rate_exponent.value_or(0.5);
   par[kA] = o.fixed_inv_znu.value_or(0.5);
   std::vector<std::size_t> free;
   std::vector<std::string> fixed;
   (o.fixed_phi_j ? fixed.push_back("phi_J") : free.push_back(kPhiJ));
-  (o.fixed_q ? fixed.push_back("q") : free.push_back(kQ));
+  (o.fixed_rate_exponent ? fixed.push_back("q") : free.push_back(kRateExponent));
   (o.fixed_inv_znu ? fixed.push_back("1/(z nu)") : free.push_back(kA));
   for (std::size_t k = kC0; k < par.size(); ++k) free.push_back(k);
   {
@@ -341,7 +342,7 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
   for (std::size_t k = 0; k < fixed.size(); ++k) r.fixed += (k ? ", " : "") + fixed[k];
   const std::vector<double> plain = derived(best.par);
   r.phi_j_plain = plain[0];
-  r.q_plain = plain[1];
+  r.rate_exponent_plain = plain[1];
   r.inv_znu_plain = plain[2];
   r.beta_plain = plain[3];
   r.y_plain = plain[4];
@@ -416,20 +417,20 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
   }
   // Held parameters are exact, and so are the exponents they determine.
   if (o.fixed_phi_j) est[0] = *o.fixed_phi_j, err[0] = 0.0;
-  if (o.fixed_q) est[1] = *o.fixed_q, err[1] = 0.0;
+  if (o.fixed_rate_exponent) est[1] = *o.fixed_rate_exponent, err[1] = 0.0;
   if (o.fixed_inv_znu) est[2] = *o.fixed_inv_znu, err[2] = 0.0;
-  if (o.fixed_q && o.fixed_inv_znu) {
+  if (o.fixed_rate_exponent && o.fixed_inv_znu) {
     est[3] = (1.0 - est[1]) / est[2], err[3] = 0.0;
     est[4] = est[1] / est[2], err[4] = 0.0;
   }
   r.phi_j = est[0];
   refuse_outside_compressed_range(ens, o, r.phi_j);
-  r.q = est[1];
+  r.rate_exponent = est[1];
   r.inv_znu = est[2];
   r.beta = est[3];
   r.y = est[4];
   r.phi_j_err = err[0];
-  r.q_err = err[1];
+  r.rate_exponent_err = err[1];
   r.inv_znu_err = err[2];
   r.beta_err = err[3];
   r.y_err = err[4];
@@ -477,7 +478,7 @@ ScalingFitResult fit_scaling(const std::vector<FitEnsemble>& ens, const ScalingF
       const double p = full_means.mean[e][k], dp = full_means.error[e][k];
       if (!(p > 0)) continue;
       const double ln_rate = std::log(ens[e].rate);
-      const double scale = std::exp(-best.par[kQ] * ln_rate);
+      const double scale = std::exp(-best.par[kRateExponent] * ln_rate);
       r.collapse.push_back({ens[e].rate, ens[e].phi[k],
                             scaling_variable(best.par, ens[e].phi[k], ln_rate), p * scale,
                             dp * scale, used.count({e, k}) > 0});

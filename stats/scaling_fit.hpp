@@ -34,7 +34,7 @@ struct ScalingFitOptions {
   double half_window = 0.01;  // phi window: the fitted phi_J +- this (an outer iteration)
   double rate_max = 1.0;
   double x_max = 1.0;
-  std::optional<double> fixed_phi_j, fixed_q, fixed_inv_znu;
+  std::optional<double> fixed_phi_j, fixed_rate_exponent, fixed_inv_znu;
   bool jackknife = true;
   int max_iterations = 30;  // of the window's re-centring
   double tolerance = 1e-4;  // the window has settled when phi_J moves less than this
@@ -61,10 +61,11 @@ constexpr double kMaxRelativeError = 0.5;
 
 struct ScalingFitResult {
   // Jackknife bias-corrected estimates (plain fit values if jackknife is off) and errors.
-  double phi_j = 0, q = 0, inv_znu = 0, beta = 0, y = 0;
-  double phi_j_err = 0, q_err = 0, inv_znu_err = 0, beta_err = 0, y_err = 0;
+  // rate_exponent is Eq. 1's q (not the quality factor Q of inertial runs).
+  double phi_j = 0, rate_exponent = 0, inv_znu = 0, beta = 0, y = 0;
+  double phi_j_err = 0, rate_exponent_err = 0, inv_znu_err = 0, beta_err = 0, y_err = 0;
   // The plain fit to all samples.
-  double phi_j_plain = 0, q_plain = 0, inv_znu_plain = 0, beta_plain = 0, y_plain = 0;
+  double phi_j_plain = 0, rate_exponent_plain = 0, inv_znu_plain = 0, beta_plain = 0, y_plain = 0;
   std::vector<double> coefficients;  // c_0 .. c_K of the plain fit
   std::size_t points = 0, free_parameters = 0, samples = 0;
   std::size_t min_points_per_rate = 0;  // the fewest points of any fitted rate in the window

@@ -16,13 +16,13 @@ namespace {
 
 // Internal variables of the bounded parameters, and back.
 double to_internal(std::size_t k, double value) {
-  if (k == kQ) return std::log(value / (1.0 - value));
+  if (k == kRateExponent) return std::log(value / (1.0 - value));
   if (k == kA) return std::log(value);
   return value;
 }
 
 double to_physical(std::size_t k, double u) {
-  if (k == kQ) return 1.0 / (1.0 + std::exp(-u));
+  if (k == kRateExponent) return 1.0 / (1.0 + std::exp(-u));
   if (k == kA) return std::exp(u);
   return u;
 }
@@ -50,7 +50,7 @@ int jacobian(const gsl_vector* v, void* data, gsl_matrix* j) {
   const auto par = expand(pr, v);
   const std::size_t order = par.size() - kC0 - 1;
   // d(physical)/d(internal): q (1 - q) for the logistic, 1/(z nu) for the exponential.
-  const double dq = par[kQ] * (1.0 - par[kQ]), da = par[kA];
+  const double dq = par[kRateExponent] * (1.0 - par[kRateExponent]), da = par[kA];
   std::vector<double> d(par.size());
   for (std::size_t i = 0; i < pr.points.size(); ++i) {
     const Point& p = pr.points[i];
@@ -60,7 +60,7 @@ int jacobian(const gsl_vector* v, void* data, gsl_matrix* j) {
     for (std::size_t n = order; n >= 1; --n)
       dlnf_dx = dlnf_dx * x + static_cast<double>(n) * par[kC0 + n];
     d[kPhiJ] = -dlnf_dx * scale;
-    d[kQ] = p.ln_rate * dq;
+    d[kRateExponent] = p.ln_rate * dq;
     d[kA] = -dlnf_dx * x * p.ln_rate * da;
     double power = 1.0;
     for (std::size_t n = 0; n <= order; ++n, power *= x) d[kC0 + n] = power;
@@ -81,7 +81,7 @@ double model(const std::vector<double>& par, double phi, double ln_rate) {
   const double x = scaling_variable(par, phi, ln_rate);
   double ln_f = 0.0;
   for (std::size_t n = par.size() - 1; n >= kC0; --n) ln_f = ln_f * x + par[n];
-  return par[kQ] * ln_rate + ln_f;
+  return par[kRateExponent] * ln_rate + ln_f;
 }
 
 Solution solve(const Problem& pr_in) {
@@ -123,7 +123,7 @@ Solution solve(const Problem& pr_in) {
   if (status != GSL_SUCCESS || !std::isfinite(s.chi2)) {
     throw FitError(
         fmt::format("fit did not converge: {} (at phi_J {:.5g}, q {:.4g}, 1/(z nu) {:.4g})",
-                    gsl_strerror(status), s.par[kPhiJ], s.par[kQ], s.par[kA]));
+                    gsl_strerror(status), s.par[kPhiJ], s.par[kRateExponent], s.par[kA]));
   }
   return s;
 }
@@ -131,26 +131,30 @@ Solution solve(const Problem& pr_in) {
 void linear_start(Problem& pr) {
   std::vector<std::size_t> linear;
   for (std::size_t k : pr.free)
-    if (k == kQ || k >= kC0) linear.push_back(k);
-  const bool q_free = std::find(linear.begin(), linear.end(), std::size_t{kQ}) != linear.end();
+    if (k == kRateExponent || k >= kC0) linear.push_back(k);
+  const bool rate_exponent_free =
+      std::find(linear.begin(), linear.end(), std::size_t{kRateExponent}) != linear.end();
   const auto n = static_cast<Eigen::Index>(pr.points.size());
   Eigen::MatrixXd a(n, static_cast<Eigen::Index>(linear.size()));
   Eigen::VectorXd b(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Point& p = pr.points[static_cast<std::size_t>(i)];
     const double x = scaling_variable(pr.full, p.phi, p.ln_rate);
-    const double rhs = q_free ? p.ln_p : p.ln_p - pr.full[kQ] * p.ln_rate;
+    const double rhs = rate_exponent_free ? p.ln_p : p.ln_p - pr.full[kRateExponent] * p.ln_rate;
     for (std::size_t c = 0; c < linear.size(); ++c) {
       const std::size_t k = linear[c];
       a(i, static_cast<Eigen::Index>(c)) =
-          (k == kQ ? p.ln_rate : std::pow(x, static_cast<double>(k - kC0))) / p.sigma;
+          (k == kRateExponent ? p.ln_rate : std::pow(x, static_cast<double>(k - kC0))) / p.sigma;
     }
     b(i) = rhs / p.sigma;
   }
   const Eigen::VectorXd sol = a.colPivHouseholderQr().solve(b);
   for (std::size_t c = 0; c < linear.size(); ++c)
     pr.full[linear[c]] = sol(static_cast<Eigen::Index>(c));
-  if (q_free) pr.full[kQ] = std::isfinite(pr.full[kQ]) ? std::clamp(pr.full[kQ], 0.02, 0.98) : 0.5;
+  if (rate_exponent_free)
+    pr.full[kRateExponent] = std::isfinite(pr.full[kRateExponent])
+                                 ? std::clamp(pr.full[kRateExponent], 0.02, 0.98)
+                                 : 0.5;
 }
 
 bool same_points(const std::vector<Point>& a, const std::vector<Point>& b) {

@@ -12,7 +12,7 @@
 
 namespace jam::stats::solver {
 
-enum { kPhiJ = 0, kQ = 1, kA = 2, kC0 = 3 };
+enum { kPhiJ = 0, kRateExponent = 1, kA = 2, kC0 = 3 };
 
 struct Point {
   std::size_t ensemble, index;

@@ -118,7 +118,7 @@ void write_fit(h5::File& f, const std::string& group, const ScalingFitResult& r,
   auto attr = [&](const char* name, double v) { f.write_attribute(name, v, group); };
   // Bias-corrected (jackknife) values with their errors, and the plain fit beside them.
   const double values[][3] = {{r.phi_j, r.phi_j_err, r.phi_j_plain},
-                              {r.q, r.q_err, r.q_plain},
+                              {r.rate_exponent, r.rate_exponent_err, r.rate_exponent_plain},
                               {r.inv_znu, r.inv_znu_err, r.inv_znu_plain},
                               {r.beta, r.beta_err, r.beta_plain},
                               {r.y, r.y_err, r.y_plain}};
@@ -200,8 +200,8 @@ void write_scan(h5::File& f, const std::string& group, const FitScan& scan) {
                                     r ? r->phi_max : nan,
                                     r ? r->phi_j : nan,
                                     r ? r->phi_j_err : nan,
-                                    r ? r->q : nan,
-                                    r ? r->q_err : nan,
+                                    r ? r->rate_exponent : nan,
+                                    r ? r->rate_exponent_err : nan,
                                     r ? r->inv_znu : nan,
                                     r ? r->inv_znu_err : nan,
                                     r ? r->beta : nan,
@@ -429,9 +429,10 @@ std::string format_stats_summary(const CampaignStats& s) {
           "representative: phi_J {:.5f}({:.5f}) [plain {:.5f}], q {:.4f} [{:.4f}], "
           "1/(z nu) {:.4f} [{:.4f}], beta {:.3f} [{:.3f}], y {:.3f} [{:.3f}]; "
           "fixed: {}; quality {}{}\n",
-          r->phi_j, r->phi_j_err, r->phi_j_plain, r->q, r->q_plain, r->inv_znu, r->inv_znu_plain,
-          r->beta, r->beta_plain, r->y, r->y_plain, r->fixed.empty() ? "nothing" : r->fixed,
-          r->quality, r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
+          r->phi_j, r->phi_j_err, r->phi_j_plain, r->rate_exponent, r->rate_exponent_plain,
+          r->inv_znu, r->inv_znu_plain, r->beta, r->beta_plain, r->y, r->y_plain,
+          r->fixed.empty() ? "nothing" : r->fixed, r->quality,
+          r->quality_reason.empty() ? "" : " (" + r->quality_reason + ")");
       out << "  chosen: " << scan->reason << "\n";
       if (scan == &s.fit && s.papers_protocol) {
         const PapersProtocolFit& p = *s.papers_protocol;

@@ -13,15 +13,15 @@ namespace jam::test {
 using jam::stats::FitEnsemble;
 
 struct Truth {
-  double phi_j = 0.8415, q = 0.30, inv_znu = 0.27;
+  double phi_j = 0.8415, rate_exponent = 0.30, inv_znu = 0.27;
   std::vector<double> c = {0.0, 1.5, -0.3, 0.05};  // ln f(x), cubic
-  double beta() const { return (1 - q) / inv_znu; }
-  double y() const { return q / inv_znu; }
+  double beta() const { return (1 - rate_exponent) / inv_znu; }
+  double y() const { return rate_exponent / inv_znu; }
   double pressure(double phi, double rate) const {
     const double x = (phi - phi_j) / std::pow(rate, inv_znu);
     double ln_f = 0.0;
     for (std::size_t n = c.size(); n-- > 0;) ln_f = ln_f * x + c[n];
-    return std::pow(rate, q) * std::exp(ln_f);
+    return std::pow(rate, rate_exponent) * std::exp(ln_f);
   }
 };
 

@@ -42,7 +42,7 @@ struct Design {
   int samples = 8;
   double scatter = 0.01;  // of one run's pressure
   std::string dynamics = "overdamped", contact = "harmonic";
-  double q = 0.0;
+  double quality_factor = 0.0;
 };
 
 /// One run: p = 1e-3 exp(30 (phi - 0.84)) (1 + 1e-3 - exp(-(phi - 0.8) / 0.0015)) exp(eps),
@@ -51,7 +51,7 @@ struct Design {
 jam::OpenRun synthetic_run(int sample, const Design& d, std::mt19937_64& rng) {
   jam::OpenRun r = jam::test::open_run_of(64, 1e-4, 0.80, sample);
   r.dynamics = d.dynamics;
-  r.q = d.q;
+  r.quality_factor = d.quality_factor;
   r.contact = d.contact;
   std::normal_distribution<double> g(0.0, 1.0);
   const double rho = std::exp(-0.001 / 0.005);
@@ -122,7 +122,7 @@ BOOST_AUTO_TEST_CASE(a_model_difference_is_named_in_every_verdict) {
   const StatsData ref = campaign(root, "ref", {}, 1);
   Design inertial;
   inertial.dynamics = "inertial";
-  inertial.q = 2;
+  inertial.quality_factor = 2;
   const auto named = compare(campaign(root, "inertial", inertial, 2), ref);
   BOOST_TEST_REQUIRE(!named.empty());
   for (const auto& v : named) {

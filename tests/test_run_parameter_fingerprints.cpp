@@ -60,7 +60,7 @@ BOOST_AUTO_TEST_CASE(read_from_lammps_data) {
 BOOST_AUTO_TEST_CASE(inertial) {
   SimConfig c;
   c.dynamics = "inertial";
-  c.q = 0.01;
+  c.quality_factor = 0.01;
   c.dt = 0.0001;
   c.seed = 9223372036854775807ULL;
   c.relax_energy = "1e-14";

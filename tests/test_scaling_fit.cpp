@@ -79,13 +79,13 @@ BOOST_AUTO_TEST_CASE(one_sigma_intervals_cover_the_truth_about_68_percent) {
 BOOST_AUTO_TEST_CASE(fixed_exponents_are_reported_and_held) {
   const Truth t;
   ScalingFitOptions o = cubic_options();
-  o.fixed_q = t.q;
+  o.fixed_rate_exponent = t.rate_exponent;
   o.fixed_inv_znu = t.inv_znu;
   const ScalingFitResult r = fit_scaling(synthetic(t, 2), o);
   BOOST_TEST(r.fixed == "q, 1/(z nu)");
-  BOOST_TEST(r.q == t.q);
+  BOOST_TEST(r.rate_exponent == t.rate_exponent);
   BOOST_TEST(r.inv_znu == t.inv_znu);
-  BOOST_TEST(r.q_err == 0.0);
+  BOOST_TEST(r.rate_exponent_err == 0.0);
   BOOST_TEST(std::abs(r.phi_j - t.phi_j) < 3 * r.phi_j_err);
   BOOST_TEST(r.free_parameters == 5u);  // phi_J and c_0 .. c_3
 }
@@ -110,21 +110,22 @@ BOOST_AUTO_TEST_CASE(chi2_with_the_sample_covariance_is_near_one_on_the_true_mod
 BOOST_AUTO_TEST_CASE(planted_truths_away_from_the_paper_are_recovered) {
   Truth two;
   two.phi_j = 0.826;
-  two.q = 0.35;
+  two.rate_exponent = 0.35;
   two.inv_znu = 0.32;
   Truth three;  // 3D-like, on packings 0.60 .. 0.72
   three.phi_j = 0.660;
-  three.q = 0.25;
+  three.rate_exponent = 0.25;
   three.inv_znu = 0.22;
   for (const Truth* t : {&two, &three}) {
     const auto data = t == &three ? synthetic(*t, 21, 10, 0.60, 0.72) : synthetic(*t, 21);
     const ScalingFitResult r = fit_scaling(data, cubic_options());
     BOOST_TEST_MESSAGE("planted phi_J " << t->phi_j << ": " << r.phi_j << " +- " << r.phi_j_err
-                                        << ", q " << r.q << " +- " << r.q_err << ", 1/(z nu) "
-                                        << r.inv_znu << " +- " << r.inv_znu_err << ", "
-                                        << r.iterations << " iterations; " << r.start);
+                                        << ", q " << r.rate_exponent << " +- "
+                                        << r.rate_exponent_err << ", 1/(z nu) " << r.inv_znu
+                                        << " +- " << r.inv_znu_err << ", " << r.iterations
+                                        << " iterations; " << r.start);
     BOOST_TEST(std::abs(r.phi_j - t->phi_j) < 3 * r.phi_j_err);
-    BOOST_TEST(std::abs(r.q - t->q) < 3 * r.q_err);
+    BOOST_TEST(std::abs(r.rate_exponent - t->rate_exponent) < 3 * r.rate_exponent_err);
     BOOST_TEST(std::abs(r.inv_znu - t->inv_znu) < 3 * r.inv_znu_err);
     BOOST_TEST(0.5 * (r.phi_min + r.phi_max) == r.phi_j_plain, boost::test_tools::tolerance(1e-12));
   }
@@ -155,7 +156,7 @@ BOOST_AUTO_TEST_CASE(impossible_fits_fail_with_a_message) {
 // failure naming it, not a result. Data without a crossover give no start.
 BOOST_AUTO_TEST_CASE(a_fit_on_a_bound_or_without_a_start_is_no_result) {
   Truth flat;
-  flat.q = 0.0;
+  flat.rate_exponent = 0.0;
   flat.inv_znu = 0.3;
   ScalingFitOptions o = cubic_options();
   o.fixed_phi_j = flat.phi_j;  // the start needs a crossover, which q = 0 has not

@@ -40,7 +40,7 @@ inline OpenRun frames_attributes(const h5::File& f, const OpenRunSchema& schema)
   r.diameter_ratio = f.read_attribute_double("diameter_ratio");
   r.contact = f.read_attribute_string("contact");
   r.dynamics = f.has_attribute("dynamics") ? f.read_attribute_string("dynamics") : "overdamped";
-  if (r.dynamics == "inertial") need("q"), r.q = f.read_attribute_double("q");
+  if (r.dynamics == "inertial") need("q"), r.quality_factor = f.read_attribute_double("q");
   r.compression_rate = f.read_attribute_double("compression_rate");
   r.phi_init = f.read_attribute_double("phi_init");
   r.simulator = f.read_attribute_string("simulator");

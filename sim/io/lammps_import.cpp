@@ -109,7 +109,7 @@ void import_dimension(const LammpsImport& r, const LammpsThermo& log) {
   c.dt = log.dt;
   c.dynamics = "inertial";
   c.integrator = "lammps";
-  c.q = std::sqrt(small_mass(r.data)) * D / 2.0;
+  c.quality_factor = std::sqrt(small_mass(r.data)) * D / 2.0;
   c.seed = 0;
   c.relax = false;
   c.phi_step = 0.0;  // the thermo interval sets the output points, not a packing grid
@@ -213,7 +213,7 @@ void import_lammps_log(const LammpsImport& r) {
   run.diameter_ratio = *r.diameter_ratio;
   run.contact = r.contact;
   run.sample = *r.sample;
-  if (r.q) run.dynamics = "inertial", run.q = *r.q;
+  if (r.quality_factor) run.dynamics = "inertial", run.quality_factor = *r.quality_factor;
   run.simulator = "lammps";
   run.simulator_version = log.version;
   run.source = r.log;

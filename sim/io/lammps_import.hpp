@@ -34,7 +34,7 @@ struct LammpsImport {
   std::map<std::string, std::string> columns;
   std::optional<int> dim;
   std::optional<std::int64_t> n, sample;
-  std::optional<double> rate, phi_init, diameter_ratio, q;
+  std::optional<double> rate, phi_init, diameter_ratio, quality_factor;
   std::string contact = "harmonic";
 };
 

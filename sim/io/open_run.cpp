@@ -53,13 +53,14 @@ void validate_open_run_model(const OpenRun& r, const std::string& where,
   if (std::find(schema.contacts.begin(), schema.contacts.end(), r.contact) == schema.contacts.end())
     refuse(where, fmt::format("contact '{}' must be {}", r.contact, or_list(schema.contacts)));
   if (r.dynamics == "inertial") {
-    if (!(r.q > 0.0 && std::isfinite(r.q)))
-      refuse(where, fmt::format("q {} must be > 0 and finite for inertial dynamics", r.q));
+    if (!(r.quality_factor > 0.0 && std::isfinite(r.quality_factor)))
+      refuse(where,
+             fmt::format("q {} must be > 0 and finite for inertial dynamics", r.quality_factor));
   } else if (r.dynamics != "overdamped") {
     refuse(where, fmt::format("dynamics '{}' must be {}", r.dynamics, or_list(kDynamics)));
-  } else if (r.q != 0.0) {
-    refuse(where,
-           fmt::format("q {} is only for dynamics 'inertial' (dynamics is 'overdamped')", r.q));
+  } else if (r.quality_factor != 0.0) {
+    refuse(where, fmt::format("q {} is only for dynamics 'inertial' (dynamics is 'overdamped')",
+                              r.quality_factor));
   }
 }
 
@@ -219,12 +220,12 @@ OpenRun read_open_run(const std::string& path, const OpenRunSchema& schema) {
     r.contact = r.jam_native ? string_or(f, "contact", "harmonic") : required_string(f, "contact");
     r.dynamics = required_string(f, "dynamics");
     if (r.dynamics == "inertial") {
-      r.q = required_number(f, "q");
+      r.quality_factor = required_number(f, "q");
     } else if (f.has_attribute("q")) {
       // jam's own run files store Q 0 for overdamped runs; an open run states q only when
       // inertial (check_model refuses any other value).
-      r.q = f.read_attribute_double("q");
-      if (!r.jam_native && r.q == 0.0)
+      r.quality_factor = f.read_attribute_double("q");
+      if (!r.jam_native && r.quality_factor == 0.0)
         throw std::runtime_error(fmt::format(
             "{}: q 0 is only for dynamics 'inertial' (dynamics is '{}')", path, r.dynamics));
     }
@@ -265,7 +266,7 @@ void write_open_run(const std::string& path, const OpenRun& r, const OpenRunSche
     f.write_attribute("diameter_ratio", r.diameter_ratio);
     f.write_attribute("contact", r.contact);
     f.write_attribute("dynamics", r.dynamics);
-    if (r.dynamics == "inertial") f.write_attribute("q", r.q);
+    if (r.dynamics == "inertial") f.write_attribute("q", r.quality_factor);
     f.write_attribute("compression_rate", r.compression_rate);
     f.write_attribute("phi_init", r.phi_init);
     f.write_attribute("simulator", r.simulator);

@@ -25,7 +25,7 @@ struct OpenRun {
   double diameter_ratio = 1.4;
   std::string contact = "harmonic";
   std::string dynamics = "overdamped";
-  double q = 0.0;  // inertial only
+  double quality_factor = 0.0;  // Q, inertial only (attribute "q")
   double compression_rate = 0.0, phi_init = 0.0;
   std::string simulator, simulator_version;
   std::int64_t sample = 0;

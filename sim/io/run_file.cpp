@@ -144,7 +144,7 @@ std::vector<std::string> planned_parameters(const SimConfig& c) {
           "dt=" + g(c.dt),
           "dynamics=" + c.dynamics,
           "integrator=" + c.resolved_integrator(),
-          "q=" + g(c.dynamics == "inertial" ? c.q : 0.0),
+          "q=" + g(c.dynamics == "inertial" ? c.quality_factor : 0.0),
           "seed=" + std::to_string(static_cast<std::int64_t>(c.seed)),
           "skin=" + g(c.skin),
           "diameter_ratio=" + g(c.diameter_ratio),

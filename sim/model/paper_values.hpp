@@ -13,7 +13,7 @@ struct PaperValues {
   double phi_j, beta, y;
   double phi_j_error, beta_error, y_error;  // the paper's quoted errors (last digits)
   double znu() const { return beta + y; }
-  double q() const { return y / znu(); }
+  double rate_exponent() const { return y / znu(); }  // q of p ~ rate^q f(x)
   double inv_znu() const { return 1.0 / znu(); }
 };
 

@@ -411,7 +411,7 @@ class CompressionRun {
   }
 
   void write_configuration(const std::string& path, double t, const char* what) const {
-    const auto masses = sys_.species.masses(c_.q);
+    const auto masses = sys_.species.masses(c_.quality_factor);
     write_lammps_data(path, sys_.particles, sys_.box.length(t), masses[0], masses[1],
                       fmt::format("jam {} configuration, dim {} n {} phi {:.17g} seed {}", what, D,
                                   sys_.size(), sys_.box.packing_fraction(t), c_.seed));

@@ -22,7 +22,7 @@ RunSummary run_with(const SimConfig& c, const RunControl& control, ParticleData<
   at_rest.compression_rate = 0.0;
   System<D, Contact> sys(std::move(particles), species, at_rest, c.skin);
   sys.set_threads(c.threads);
-  const StepperOptions options{c.q, c.relaxation_tolerance(), c.dt};
+  const StepperOptions options{c.quality_factor, c.relaxation_tolerance(), c.dt};
   return with_integrator<D>(meta.integrator, sys.size(), options,
                             [&]<class Stepper>(Stepper& stepper) {
                               return detail::CompressionRun<D, Contact, Stepper>(

@@ -126,7 +126,7 @@ std::vector<RunParameter> make_table() {
        .attribute = "integrator",
        .resolve = resolved_integrator},
       {.name = "q",
-       .field = &SimConfig::q,
+       .field = &SimConfig::quality_factor,
        .help = "Quality factor Q (inertial dynamics only)",
        .campaign = C::optional,
        .identity = I::word,

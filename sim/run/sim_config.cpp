@@ -202,20 +202,20 @@ void validate(const SimConfig& c) {
   validate_integrator(c);
   if (c.seed > kMaxSeed) reject("seed", std::to_string(c.seed), "must be in [0, 2^63 - 1]");
   if (c.dynamics == "inertial") {
-    require_finite_positive("q", c.q);
-    if (c.q > kMaxQ) {
-      reject("q", str(c.q),
+    require_finite_positive("q", c.quality_factor);
+    if (c.quality_factor > kMaxQualityFactor) {
+      reject("q", str(c.quality_factor),
              "must be in (0, 1]: the inertial model stands for the strongly overdamped "
              "regime (Q < 1)");
     }
     // Explicit drag in velocity Verlet is unstable beyond dt = 2 m_s / gamma_s, which is
     // 2 Q^2 k_d V_s = 4 Q^2 / D in these units.
-    const double bound = 4.0 * c.q * c.q / c.dim;
+    const double bound = 4.0 * c.quality_factor * c.quality_factor / c.dim;
     if (c.dt >= bound) {
       reject("dt", str(c.dt),
              fmt::format("unstable for inertial dynamics with --q {:g}: dt must be below "
                          "2 m_s/gamma_s = {:.3g}",
-                         c.q, bound));
+                         c.quality_factor, bound));
     }
   }
   if (!std::isfinite(c.checkpoint_interval) || c.checkpoint_interval < 0.0) {

@@ -73,7 +73,7 @@ struct SimConfig {
   // largest, every rearrangement anywhere in the box shortens the step, so that steps shorten as
   // N grows: docs/performance.md, "The error norm", measures both).
   std::string error_norm = "max";
-  double q = 0.03;  // quality factor, inertial dynamics only
+  double quality_factor = 0.03;  // Q, inertial dynamics only (run parameter "q")
   std::uint64_t seed = 1;
   double skin = 0.3;
   // Threads of this one run (a campaign runs one single-threaded run per core instead). The
@@ -161,7 +161,7 @@ std::uint64_t parse_seed(const std::string& option, const std::string& text);
 
 /// The inertial model's quality factor Q is meaningful in the strongly overdamped regime the
 /// paper works in (Q = 0.01 in 2D, 0.0225 in 3D, "Q < 1"): --q must lie in (0, 1].
-constexpr double kMaxQ = 1.0;
+constexpr double kMaxQualityFactor = 1.0;
 
 /// Checks every parameter that does not need the configuration; throws ConfigError.
 void validate(const SimConfig& c);

@@ -40,7 +40,7 @@ class StabilityGuard {
  public:
   StabilityGuard(const SimConfig& c, const Species<D>& species)
       : dt_(c.dt), integrator_(c.resolved_integrator()), inertial_(c.dynamics == "inertial") {
-    inertia_ = inertial_ ? species.masses(c.q) : species.drag;
+    inertia_ = inertial_ ? species.masses(c.quality_factor) : species.drag;
   }
 
   /// Stiffness of the current contacts: lambda_max for overdamped dynamics (a rate), omega_max

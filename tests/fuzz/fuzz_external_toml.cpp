@@ -38,8 +38,8 @@ bool same_number(double a, double b) {
 void require_same(const jam::ExternalCampaign& x, const jam::ExternalCampaign& y) {
   bool same = x.name == y.name && same_number(x.phi_step, y.phi_step) && x.dim == y.dim &&
               same_number(x.diameter_ratio, y.diameter_ratio) && x.contact == y.contact &&
-              x.dynamics == y.dynamics && same_number(x.q, y.q) && x.runs.size() == y.runs.size() &&
-              x.set_aside.size() == y.set_aside.size();
+              x.dynamics == y.dynamics && same_number(x.quality_factor, y.quality_factor) &&
+              x.runs.size() == y.runs.size() && x.set_aside.size() == y.set_aside.size();
   for (std::size_t k = 0; same && k < x.runs.size(); ++k) {
     const auto &a = x.runs[k], &b = y.runs[k];
     same = a.name == b.name && a.n == b.n && same_number(a.phi_init, b.phi_init) &&
