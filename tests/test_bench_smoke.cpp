@@ -14,12 +14,13 @@
 #include <vector>
 
 #include "process.hpp"
+#include "scratch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kDir = fs::temp_directory_path() / ("jam-bench-smoke-" + std::to_string(::getpid()));
+const jam::test::ScratchDir kDir("bench-smoke");
 
 struct Csv {
   std::vector<std::string> header;
@@ -60,12 +61,6 @@ int run_jam(const std::string& args) {
 bool have_lmp() {
   return !jam::find_program("lmp").empty();
 }
-
-struct Cleanup {
-  Cleanup() { fs::create_directories(kDir); }
-  ~Cleanup() { fs::remove_all(kDir); }
-};
-BOOST_GLOBAL_FIXTURE(Cleanup);
 
 }  // namespace
 

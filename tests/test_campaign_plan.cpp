@@ -14,12 +14,13 @@
 #include <vector>
 
 #include "process.hpp"
+#include "scratch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kDir = fs::temp_directory_path() / ("jam-plan-" + std::to_string(::getpid()));
+const jam::test::ScratchDir kDir("plan");
 
 jam::test::Outcome run_jam(const std::string& args) {
   return jam::test::run_jam_logged(kDir / "output.txt", args);
@@ -32,10 +33,6 @@ fs::path write_campaign(const std::string& name, const std::string& body) {
                       << body << "output = \"" << (kDir / name).string() << "\"\n";
   return file;
 }
-
-struct Cleanup {
-  ~Cleanup() { fs::remove_all(kDir); }
-} cleanup;
 
 // A coefficient as the plan prints it ("{:+.2f}").
 std::string fmt_two(double x) {

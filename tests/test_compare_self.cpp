@@ -9,17 +9,13 @@
 #include <string>
 
 #include "process.hpp"
+#include "scratch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kDir =
-    fs::temp_directory_path() / ("jam-compare-self-" + std::to_string(::getpid()));
-
-struct Cleanup {
-  ~Cleanup() { fs::remove_all(kDir); }
-} cleanup;
+const jam::test::ScratchDir kDir("compare-self");
 
 bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;

@@ -11,17 +11,14 @@
 
 #include "campaign/manifest.hpp"
 #include "process.hpp"
+#include "scratch.hpp"
 #include "sim/io/hdf5_file.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kDir = fs::temp_directory_path() / ("jam-manifest-" + std::to_string(::getpid()));
-
-struct Cleanup {
-  ~Cleanup() { fs::remove_all(kDir); }
-} cleanup;
+const jam::test::ScratchDir kDir("manifest");
 
 jam::test::Outcome run_jam(const std::string& args) {
   return jam::test::run_jam_logged(kDir / "output.txt", args);

@@ -12,16 +12,13 @@
 #include <sstream>
 
 #include "process.hpp"
+#include "scratch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kDir = fs::temp_directory_path() / ("jam-pipeline-" + std::to_string(::getpid()));
-
-struct Cleanup {
-  ~Cleanup() { fs::remove_all(kDir); }
-} cleanup;
+const jam::test::ScratchDir kDir("pipeline");
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;

@@ -13,6 +13,7 @@
 
 #include "open_run_fixture.hpp"
 #include "process.hpp"
+#include "scratch.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/io/open_run.hpp"
 
@@ -20,13 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kDir = fs::temp_directory_path() / ("jam-fresh-" + std::to_string(::getpid()));
-
-struct Cleanup {
-  Cleanup() { fs::create_directories(kDir); }
-  ~Cleanup() { fs::remove_all(kDir); }
-};
-BOOST_GLOBAL_FIXTURE(Cleanup);
+const jam::test::ScratchDir kDir("fresh");
 
 /// An open run of N 64 from phi 0.8 at rate 10^log10_rate whose pressure is `factor` times a
 /// common curve (with a small sample-dependent scatter).

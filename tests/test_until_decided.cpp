@@ -18,22 +18,17 @@
 #include <thread>
 
 #include "process.hpp"
+#include "scratch.hpp"
 #include "sim/io/process.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kDir = fs::temp_directory_path() / ("jam-until-" + std::to_string(::getpid()));
+const jam::test::ScratchDir kDir("until");
 
 using jam::test::Outcome;
 using jam::test::slurp;
-
-struct Cleanup {
-  Cleanup() { fs::create_directories(kDir); }
-  ~Cleanup() { fs::remove_all(kDir); }
-};
-BOOST_GLOBAL_FIXTURE(Cleanup);
 
 Outcome run_jam(const std::string& args) {
   return jam::test::run_jam_logged(kDir / "output.txt", args);
