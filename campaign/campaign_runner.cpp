@@ -95,7 +95,7 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
 
   // Rank 0 decides what is pending and everybody works from that one list, so no run is done
   // twice even while other ranks already start writing checkpoints.
-  std::vector<std::int64_t> pending, flat_tasks;
+  std::vector<std::int64_t> pending, task_codes;
   std::vector<std::string> task_notes;
   std::size_t already_done = 0;
   double earlier_estimated = 0.0, earlier_steps = 0.0;  // of the done runs, for the ETA
@@ -117,11 +117,12 @@ int run_campaign(const Campaign& c, const CampaignRunOptions& options, const Ran
       }
     }
     RunTasks t = plan_tasks(plan, pending, options.retry_failed);
-    flat_tasks = flatten(t);
+    task_codes = tasks_for_broadcast(t);
     task_notes = std::move(t.notes);
   }
   // Every rank learns the same tasks (a chained run with the run it continues from).
-  const RunTasks planned = unflatten(broadcast_from_root(std::move(flat_tasks)), plan.size());
+  const RunTasks planned =
+      tasks_from_broadcast(broadcast_from_root(std::move(task_codes)), plan.size());
   const std::vector<std::vector<std::size_t>>& tasks = planned.tasks;
   std::size_t to_run = 0, starts_only = 0;
   std::vector<double> task_costs;

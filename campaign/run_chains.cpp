@@ -99,31 +99,31 @@ double task_cost(const std::vector<PlannedRun>& plan, const RunTasks& tasks,
   return cost;
 }
 
-std::vector<std::int64_t> flatten(const RunTasks& tasks) {
-  std::vector<std::int64_t> flat;
+std::vector<std::int64_t> tasks_for_broadcast(const RunTasks& tasks) {
+  std::vector<std::int64_t> codes;
   for (const auto& t : tasks.tasks) {
     for (const auto k : t) {
       const auto index = static_cast<std::int64_t>(k);
-      flat.push_back(tasks.start_only[k] ? -(index + 2) : index);
+      codes.push_back(tasks.start_only[k] ? start_only_code(index) : index);
     }
-    flat.push_back(-1);
+    codes.push_back(kEndOfTask);
   }
-  return flat;
+  return codes;
 }
 
-RunTasks unflatten(const std::vector<std::int64_t>& flat, std::size_t runs) {
+RunTasks tasks_from_broadcast(const std::vector<std::int64_t>& codes, std::size_t runs) {
   RunTasks out;
   out.start_only.assign(runs, false);
   out.tasks.emplace_back();
-  for (const auto k : flat) {
-    if (k == -1) {
+  for (const auto c : codes) {
+    if (c == kEndOfTask) {
       out.tasks.emplace_back();
-    } else if (k < -1) {
-      const auto index = static_cast<std::size_t>(-k - 2);
+    } else if (c < kEndOfTask) {
+      const auto index = static_cast<std::size_t>(kEndOfTask - 1 - c);  // start_only_code's inverse
       out.start_only[index] = true;
       out.tasks.back().push_back(index);
     } else {
-      out.tasks.back().push_back(static_cast<std::size_t>(k));
+      out.tasks.back().push_back(static_cast<std::size_t>(c));
     }
   }
   out.tasks.pop_back();

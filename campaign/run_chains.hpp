@@ -34,9 +34,12 @@ RunTasks plan_tasks(const std::vector<PlannedRun>& plan, const std::vector<std::
 double task_cost(const std::vector<PlannedRun>& plan, const RunTasks& tasks,
                  const std::vector<std::size_t>& task);
 
-/// Tasks as one array for MPI broadcast (-1 ends each task; a start-only run k is -(k + 2)),
-/// and back (`runs`: the plan's size).
-std::vector<std::int64_t> flatten(const RunTasks& tasks);
-RunTasks unflatten(const std::vector<std::int64_t>& flat, std::size_t runs);
+/// Tasks as one array of integers for an MPI broadcast, and back (`runs`: the plan's size). Each
+/// task is its runs' indices followed by kEndOfTask; a run done only to its start (start_only)
+/// is written as start_only_code(k), a number below kEndOfTask, so that one array carries both.
+inline constexpr std::int64_t kEndOfTask = -1;
+constexpr std::int64_t start_only_code(std::int64_t run) { return kEndOfTask - 1 - run; }
+std::vector<std::int64_t> tasks_for_broadcast(const RunTasks& tasks);
+RunTasks tasks_from_broadcast(const std::vector<std::int64_t>& codes, std::size_t runs);
 
 }  // namespace jam
