@@ -12,11 +12,11 @@ schema, or from both readers, fails too.
 import copy
 import json
 import re
-import subprocess
 
 import pytest
 
 import jamio
+import schema_agreement
 from jamio import checks_schema
 
 
@@ -98,22 +98,11 @@ CASES = [
 
 
 def jam_says(jam, path):
-    """(ok, message) of `jam validate --checks path`."""
-    r = subprocess.run([str(jam), "validate", "--checks", str(path)], capture_output=True,
-                       text=True, timeout=60)
-    assert r.returncode in (0, 1), r.stderr
-    line = r.stdout.strip()
-    assert line.startswith(str(path) + ": "), line
-    return r.returncode == 0, line[len(str(path)) + 2:]
+    return schema_agreement.jam_says(jam, "checks", path)
 
 
 def jamio_says(path):
-    try:
-        jamio.load_checks(str(path))
-        return True, "ok"
-    except jamio.JamioError as e:
-        assert str(e).startswith(str(path) + ": "), str(e)
-        return False, str(e)[len(str(path)) + 2:]
+    return schema_agreement.jamio_says(jamio.load_checks, jamio.JamioError, path)
 
 
 def named(message):

@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 import jamio
+import schema_agreement
 from jamio import stats_schema
 
 CAMPAIGN = """name = "schema"
@@ -57,22 +58,11 @@ def fresh(jam, tmp_path_factory):
 
 
 def jam_says(jam, path):
-    """(ok, message) of `jam validate --stats path`."""
-    r = subprocess.run([str(jam), "validate", "--stats", str(path)], capture_output=True,
-                       text=True, timeout=60)
-    assert r.returncode in (0, 1), r.stderr
-    line = r.stdout.strip()
-    assert line.startswith(str(path) + ": "), line
-    return r.returncode == 0, line[len(str(path)) + 2:]
+    return schema_agreement.jam_says(jam, "stats", path)
 
 
 def jamio_says(path):
-    try:
-        jamio.load_stats(str(path))
-        return True, "ok"
-    except jamio.JamioError as e:
-        assert str(e).startswith(str(path) + ": "), str(e)
-        return False, str(e)[len(str(path)) + 2:]
+    return schema_agreement.jamio_says(jamio.load_stats, jamio.JamioError, path)
 
 
 def named(message):
