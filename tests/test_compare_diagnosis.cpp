@@ -27,7 +27,9 @@
 #include "checks/compare_diagnosis.hpp"
 #include "checks/regression_check.hpp"
 #include "checks/stats_data.hpp"
+#include "compare_campaigns.hpp"
 #include "open_run_fixture.hpp"
+#include "scratch.hpp"
 #include "sim/io/open_run.hpp"
 #include "stats/campaign_stats.hpp"
 
@@ -36,65 +38,21 @@ using namespace jam::checks;
 
 namespace {
 
-struct Design {
-  double start_shift = 0.0;  // the pressure times 1 + start_shift exp(-(phi - 0.80) / 0.004)
-  double shift = 0.0;        // ... and times 1 + shift everywhere
-  int samples = 8;
-  double scatter = 0.01;  // of one run's pressure
-  std::string dynamics = "overdamped", contact = "harmonic";
-  double quality_factor = 0.0;
+/// Its campaigns: 1% scatter, a planted shift everywhere, each run with a jamming point.
+struct Design : jam::test::CompareDesign {
+  Design() {
+    scatter = 0.01;
+    jamming_point = true;
+  }
 };
 
-/// One run: p = 1e-3 exp(30 (phi - 0.84)) (1 + 1e-3 - exp(-(phi - 0.8) / 0.0015)) exp(eps),
-/// eps an Ornstein-Uhlenbeck process (correlation length 0.005); Z rising from 3.5; a jamming
-/// point near 0.84.
-jam::OpenRun synthetic_run(int sample, const Design& d, std::mt19937_64& rng) {
-  jam::OpenRun r = jam::test::open_run_of(64, 1e-4, 0.80, sample);
-  r.dynamics = d.dynamics;
-  r.quality_factor = d.quality_factor;
-  r.contact = d.contact;
-  std::normal_distribution<double> g(0.0, 1.0);
-  const double rho = std::exp(-0.001 / 0.005);
-  double eps = d.scatter * g(rng);
-  for (int k = 0; 0.80 + 0.001 * k <= 0.86 + 1e-9; ++k) {
-    const double phi = 0.80 + 0.001 * k;
-    if (k > 0) eps = rho * eps + d.scatter * std::sqrt(1 - rho * rho) * g(rng);
-    const double build_up = 1 + 1e-3 - std::exp(-(phi - 0.80) / 0.0015);
-    const double planted = (1 + d.shift) * (1 + d.start_shift * std::exp(-(phi - 0.80) / 0.004));
-    r.packing_fraction.push_back(phi);
-    r.pressure.push_back(1e-3 * std::exp(30 * (phi - 0.84)) * build_up * planted * std::exp(eps));
-    r.contacts_per_particle.push_back(3.5 + 15 * (phi - 0.80));
-  }
-  r.jamming_packing_fraction = 0.84 + 0.002 * g(rng);
-  return r;
-}
+const jam::test::ScratchDir kDir("compare-diagnosis");
 
-fs::path scratch() {
-  const fs::path d =
-      fs::temp_directory_path() / ("jam-compare-diagnosis-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch() { return kDir.path(); }
 
-/// A campaign of such runs imported into root/name, averaged; its stats.h5 as compare reads it.
 StatsData campaign(const fs::path& root, const std::string& name, const Design& d,
                    std::uint64_t seed) {
-  const fs::path sources = root / (name + "-sources"), dir = root / name;
-  fs::remove_all(sources);
-  fs::remove_all(dir);
-  fs::create_directories(sources);
-  std::mt19937_64 rng(seed);
-  std::vector<std::string> files;
-  for (int s = 0; s < d.samples; ++s) {
-    files.push_back((sources / ("run" + std::to_string(s) + ".h5")).string());
-    jam::write_open_run(files.back(), synthetic_run(s, d, rng));
-  }
-  jam::import_runs(dir.string(), files, {});
-  jam::stats::StatsOptions o;
-  o.fit = false;  // one rate: REF's range is past the transients to its end
-  jam::stats::write_stats_file((dir / "stats.h5").string(),
-                               jam::stats::compute_campaign_stats(dir.string(), o), o);
-  return read_stats(dir.string());
+  return jam::test::compare_campaign(root, name, d, seed);
 }
 
 std::vector<Verdict> compare(const StatsData& dir, const StatsData& ref) {

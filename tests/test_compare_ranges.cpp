@@ -21,7 +21,9 @@
 #include "checks/checks.hpp"
 #include "checks/regression_check.hpp"
 #include "checks/stats_data.hpp"
+#include "compare_campaigns.hpp"
 #include "open_run_fixture.hpp"
+#include "scratch.hpp"
 #include "sim/io/open_run.hpp"
 #include "stats/campaign_stats.hpp"
 
@@ -30,62 +32,18 @@ using namespace jam::checks;
 
 namespace {
 
-struct Design {
-  double shift = 0.0;       // the pressure multiplied by 1 + shift for phi > 0.82
-  double stop = 0.86;       // the last output packing of every run ...
-  double stop_first = NAN;  // ... but of sample 0, when given
-  int every = 1;            // every how many of the 0.001-spaced points is written
-  double scatter = 0.05;    // of one run's pressure
+/// Its campaigns: 5% scatter, a planted shift above phi 0.82.
+struct Design : jam::test::CompareDesign {
+  Design() { shift_above = 0.82; }
 };
 
-/// One run: p = 1e-3 exp(30 (phi - 0.84)) (1 + 1e-3 - exp(-(phi - 0.8) / 0.0015)) exp(eps),
-/// eps an Ornstein-Uhlenbeck process (5% unless given, correlation length 0.005); Z rising
-/// from 3.5.
-jam::OpenRun synthetic_run(int sample, const Design& d, std::mt19937_64& rng) {
-  jam::OpenRun r = jam::test::open_run_of(64, 1e-4, 0.80, sample);
-  std::normal_distribution<double> g(0.0, 1.0);
-  const double rho = std::exp(-0.001 / 0.005), scatter = d.scatter;
-  double eps = scatter * g(rng);
-  const double stop = sample == 0 && std::isfinite(d.stop_first) ? d.stop_first : d.stop;
-  for (int k = 0; 0.80 + 0.001 * k <= stop + 1e-9; ++k) {
-    const double phi = 0.80 + 0.001 * k;
-    if (k > 0) eps = rho * eps + scatter * std::sqrt(1 - rho * rho) * g(rng);
-    if (k % d.every != 0) continue;
-    const double build_up = 1 + 1e-3 - std::exp(-(phi - 0.80) / 0.0015);
-    r.packing_fraction.push_back(phi);
-    r.pressure.push_back(1e-3 * std::exp(30 * (phi - 0.84)) * build_up *
-                         (phi > 0.82 ? 1 + d.shift : 1.0) * std::exp(eps));
-    r.contacts_per_particle.push_back(3.5 + 15 * (phi - 0.80));
-  }
-  return r;
-}
+const jam::test::ScratchDir kDir("compare-ranges");
 
-/// A campaign of 8 such runs imported into root/name, averaged; its stats.h5 as compare reads it.
+fs::path scratch() { return kDir.path(); }
+
 StatsData campaign(const fs::path& root, const std::string& name, const Design& d,
                    std::uint64_t seed) {
-  const fs::path sources = root / (name + "-sources"), dir = root / name;
-  fs::remove_all(sources);
-  fs::remove_all(dir);
-  fs::create_directories(sources);
-  std::mt19937_64 rng(seed);
-  std::vector<std::string> files;
-  for (int s = 0; s < 8; ++s) {
-    files.push_back((sources / ("run" + std::to_string(s) + ".h5")).string());
-    jam::write_open_run(files.back(), synthetic_run(s, d, rng));
-  }
-  jam::import_runs(dir.string(), files, {});
-  jam::stats::StatsOptions o;
-  o.fit = false;  // one rate: no scaling fit, so REF's range is past the transients to its end
-  jam::stats::write_stats_file((dir / "stats.h5").string(),
-                               jam::stats::compute_campaign_stats(dir.string(), o), o);
-  return read_stats(dir.string());
-}
-
-fs::path scratch() {
-  const fs::path d =
-      fs::temp_directory_path() / ("jam-compare-ranges-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  return jam::test::compare_campaign(root, name, d, seed);
 }
 
 /// The pooled compare verdicts (what these cases are about: the range judged); the regions
