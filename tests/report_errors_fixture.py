@@ -119,6 +119,8 @@ def small_campaign(out):
     for name in ("stats.h5", "checks.json", "campaign.toml"):
         shutil.copy(os.path.join(SOURCE, CAMPAIGN, name), out)
     with h5py.File(os.path.join(out, "stats.h5"), "r+") as f:
+        # Trimmed here, so no longer what `jam stats` sealed: the cases plant their own faults.
+        f.attrs.pop("checksum", None)
         for name in list(f["ensembles"]):
             g = f["ensembles"][name]
             if int(g.attrs["n"]) not in SIZES or float(g.attrs["log10_rate"]) not in RATES:

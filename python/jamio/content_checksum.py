@@ -1,7 +1,6 @@
 """The content checksum jam seals its HDF5 files with (sim/io/content_checksum.cpp), computed
-the same way, so that a reader in Python can tell a stats.h5 changed since `jam stats` wrote it
-(seal_problem). load_stats does not call it yet: the tests that plant edits in sealed files
-must first take the seal out, as tests/test_stats_schema.py does.
+the same way, so that load_stats refuses a stats.h5 changed since `jam stats` wrote it, as jam
+does (seal_problem).
 
 FNV-1a (64 bit) over the file's content in a fixed order: from the root, each group's
 attributes (by name; the root's `checksum` left out), then its links (by name): a group as

@@ -10,6 +10,7 @@ import h5py
 
 from .hdf5 import (Group, array, attrs, group, member, members, optional_group, read_hdf5,
                    require, units)
+from .content_checksum import seal_problem
 from .stats_schema import check_stats
 
 # The root attributes every stats.h5 has.
@@ -222,7 +223,11 @@ def _coefficient_units(g):
 
 
 def _read_stats(path, f):
-    check_stats(f)  # reference/schema/stats.toml, as jam checks it
+    # The seal first, then reference/schema/stats.toml: jam's order, so both name one problem.
+    problem = seal_problem(f)
+    if problem:
+        raise ValueError(f"{problem}: changed since `jam stats` wrote it")
+    check_stats(f)
     root = attrs(f)
     for key in REQUIRED:
         if key not in root:
