@@ -31,6 +31,7 @@ import tempfile
 from script_files import Staged, fail, open_input
 
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+STORED_UNDER = os.path.join("reference", "results")
 
 
 def families_missing(stats):
@@ -82,19 +83,33 @@ def refit_stored_fits(jam, stored, work, tmp, order):
     return names
 
 
-def write_reports(jam, work, name):
-    """reports/NAME from the judged copy WORK (its checks.h5 holds the figures' curves, which
-    the stored result does not keep); reports/NAME-q-fixed from a copy refitted with the
+def stored_copy(root, name):
+    """An empty directory ROOT/reference/results/NAME for a working copy of a stored result:
+    a report drawn from it, run from ROOT, names the campaign by the stored result's path, not
+    by a temporary directory that is gone once the report is read."""
+    path = os.path.join(root, STORED_UNDER, name)
+    os.makedirs(path)
+    return path
+
+
+def draw_report(jam, root, name, out):
+    """jam report of ROOT/reference/results/NAME into OUT, run from ROOT (see stored_copy)."""
+    subprocess.run([jam, "report", os.path.join(STORED_UNDER, name), "--out", out, "--quiet"],
+                   check=True, cwd=root)
+
+
+def write_reports(jam, root, name):
+    """reports/NAME from the judged copy under ROOT (its checks.h5 holds the figures' curves,
+    which the stored result does not keep); reports/NAME-q-fixed from a copy refitted with the
     paper's q held, with the same verdicts (as scripts/reproduce.sh makes it)."""
+    work = os.path.join(root, STORED_UNDER, name)
     reports = os.path.join(SOURCE, "reports")
-    subprocess.run([jam, "report", work, "--out", os.path.join(reports, name), "--quiet"],
-                   check=True)
+    draw_report(jam, root, name, os.path.join(reports, name))
     q_fixed = os.path.join(reports, name + "-q-fixed")
     if not os.path.isdir(q_fixed):
         return
     with tempfile.TemporaryDirectory() as tmp:
-        held = os.path.join(tmp, name)
-        os.mkdir(held)
+        held = stored_copy(tmp, name)
         for f in ("stats.h5", "campaign.toml"):
             shutil.copy2(os.path.join(work, f), held)
         subprocess.run([jam, "stats", held, "--refit", "--order",
@@ -102,7 +117,7 @@ def write_reports(jam, work, name):
                        check=True, stdout=subprocess.DEVNULL)
         for f in ("checks.json", "checks.h5"):
             shutil.copy2(os.path.join(work, f), held)
-        subprocess.run([jam, "report", held, "--out", q_fixed, "--quiet"], check=True)
+        draw_report(jam, tmp, name, q_fixed)
 
 
 def main():
@@ -114,7 +129,7 @@ def main():
     ap.add_argument("--reports", action="store_true",
                     help="write reports/NAME (and NAME-q-fixed) anew afterwards")
     args = ap.parse_args()
-    stored = os.path.join(SOURCE, "reference", "results", args.name)
+    stored = os.path.join(SOURCE, STORED_UNDER, args.name)
     if not os.path.isfile(os.path.join(stored, "stats.h5")):
         sys.exit(f"rejudge: {stored}: no stored stats.h5")
     # Read before anything is replaced: a result re-judged must be recorded as such.
@@ -129,8 +144,7 @@ def main():
     version = subprocess.run([args.jam, "--version"], capture_output=True, text=True,
                              check=True).stdout.splitlines()[0].split()[-1]
     with tempfile.TemporaryDirectory() as tmp:
-        work = os.path.join(tmp, args.name)
-        os.mkdir(work)
+        work = stored_copy(tmp, args.name)
         for name in ("stats.h5", "campaign.toml"):
             shutil.copy2(os.path.join(stored, name), work)
         refit = families_missing(os.path.join(work, "stats.h5"))
@@ -169,7 +183,7 @@ def main():
             staged.text(path, json.dumps(provenance, indent=2) + "\n")
             staged.commit()
         if args.reports:
-            write_reports(args.jam, work, args.name)
+            write_reports(args.jam, tmp, args.name)
 
 
 if __name__ == "__main__":
