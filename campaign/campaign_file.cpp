@@ -114,9 +114,9 @@ void validate_chain(TableReader& r, const Campaign& c) {
 /// its value. The range must lie where the campaign compresses (above its lowest phi_init,
 /// below phi_stop): a range no run reaches would only ever be "nothing to judge".
 CampaignQuestion read_question(TableReader& r, const Campaign& c) {
-  CampaignQuestion q;
+  CampaignQuestion question;
   const toml::node* node = r.find("question", false);
-  if (!node) return q;
+  if (!node) return question;
   const toml::table* table = node->as_table();
   if (!table) r.fail("question", "must be a table ([question])");
   TableReader t(*table, r.path(), "question");
@@ -126,28 +126,29 @@ CampaignQuestion read_question(TableReader& r, const Campaign& c) {
     if (!(v > 0 && v < 1)) t.fail(key, fmt::format("{:g}: must be a packing in (0, 1)", v));
     return v;
   };
-  q.phi_min = packing("phi_min");
-  q.phi_max = packing("phi_max");
-  if (q.phi_min.has_value() != q.phi_max.has_value()) {
-    const char* missing = q.phi_min ? "phi_max" : "phi_min";
+  question.phi_min = packing("phi_min");
+  question.phi_max = packing("phi_max");
+  if (question.phi_min.has_value() != question.phi_max.has_value()) {
+    const char* missing = question.phi_min ? "phi_max" : "phi_min";
     t.fail(missing, "missing: phi_min and phi_max state the range judged together");
   }
-  if (q.states_range()) {
-    if (!(*q.phi_min < *q.phi_max))
-      t.fail("phi_max", fmt::format("{:g}: must exceed phi_min = {:g}", *q.phi_max, *q.phi_min));
-    if (!(*q.phi_min < c.run.phi_stop))
+  if (question.states_range()) {
+    if (!(*question.phi_min < *question.phi_max))
+      t.fail("phi_max",
+             fmt::format("{:g}: must exceed phi_min = {:g}", *question.phi_max, *question.phi_min));
+    if (!(*question.phi_min < c.run.phi_stop))
       t.fail("phi_min", fmt::format("{:g}: must lie below phi_stop = {:g} (no run reaches it)",
-                                    *q.phi_min, c.run.phi_stop));
+                                    *question.phi_min, c.run.phi_stop));
     const double lowest = *std::min_element(c.phi_init.begin(), c.phi_init.end());
-    if (!(*q.phi_max > lowest))
+    if (!(*question.phi_max > lowest))
       t.fail("phi_max", fmt::format("{:g}: must lie above the lowest phi_init = {:g} (no run is "
                                     "compressed there)",
-                                    *q.phi_max, lowest));
+                                    *question.phi_max, lowest));
   }
-  q.checks = t.strings("checks");
+  question.checks = t.strings("checks");
   const std::vector<std::string> known = question_check_names();
   std::set<std::string> seen;
-  for (const auto& name : q.checks) {
+  for (const auto& name : question.checks) {
     if (std::find(known.begin(), known.end(), name) == known.end())
       t.fail("checks",
              fmt::format("'{}': unknown check (one of {})", name, fmt::join(known, ", ")));
@@ -156,10 +157,10 @@ CampaignQuestion read_question(TableReader& r, const Campaign& c) {
   if (t.find("alpha", false)) {
     const double a = t.number("alpha", false, NAN);
     if (!(a > 0 && a < 0.5)) t.fail("alpha", fmt::format("{:g}: must be in (0, 0.5)", a));
-    q.alpha = a;
+    question.alpha = a;
   }
   t.reject_unknown_keys();
-  return q;
+  return question;
 }
 
 }  // namespace

@@ -143,9 +143,9 @@ void validate_until_decided(const UntilDecidedOptions& o) {
 }
 
 CampaignQuestion sequence_question(const Campaign& c, const UntilDecidedOptions& o) {
-  CampaignQuestion q = c.question;
-  if (!o.phi_min && !o.phi_max) return q;
-  if (!q.states_range() && !(o.phi_min && o.phi_max))
+  CampaignQuestion question = c.question;
+  if (!o.phi_min && !o.phi_max) return question;
+  if (!question.states_range() && !(o.phi_min && o.phi_max))
     throw std::invalid_argument(fmt::format(
         "{} {:g}: the campaign file states no range ([question] phi_min, phi_max) to take the "
         "other end from; give both --phi-min and --phi-max",
@@ -154,12 +154,12 @@ CampaignQuestion sequence_question(const Campaign& c, const UntilDecidedOptions&
     if (value && !(*value > 0 && *value < 1))
       throw std::invalid_argument(
           fmt::format("{} {:g}: must be a packing in (0, 1)", flag, *value));
-  q.phi_min = o.phi_min ? o.phi_min : q.phi_min;
-  q.phi_max = o.phi_max ? o.phi_max : q.phi_max;
-  if (!(*q.phi_min < *q.phi_max))
-    throw std::invalid_argument(
-        fmt::format("--phi-max {:g}: must exceed phi_min {:g}", *q.phi_max, *q.phi_min));
-  return q;
+  question.phi_min = o.phi_min ? o.phi_min : question.phi_min;
+  question.phi_max = o.phi_max ? o.phi_max : question.phi_max;
+  if (!(*question.phi_min < *question.phi_max))
+    throw std::invalid_argument(fmt::format("--phi-max {:g}: must exceed phi_min {:g}",
+                                            *question.phi_max, *question.phi_min));
+  return question;
 }
 
 namespace {

@@ -25,8 +25,8 @@ namespace {
 /// The checks' options of a look but its alpha (sequence_check_options), the range asked said
 /// to come from the command line where --phi-min/--phi-max gave it.
 checks::CheckOptions look_options(const Campaign& c, const UntilDecidedOptions& o,
-                                  const CampaignQuestion& q) {
-  checks::CheckOptions options = sequence_check_options(c, q);
+                                  const CampaignQuestion& question) {
+  checks::CheckOptions options = sequence_check_options(c, question);
   if (o.phi_min || o.phi_max)
     options.regions.asked_from = o.phi_min && o.phi_max
                                      ? "--phi-min, --phi-max"
@@ -43,23 +43,23 @@ bool uncovered(const checks::Verdict& v) {
 }
 
 /// " over the range asked, phi in [0.83, 0.85]" when the question states one.
-std::string asked_words(const CampaignQuestion& q) {
-  return q.states_range()
-             ? fmt::format(" over the range asked, phi in [{:g}, {:g}]", *q.phi_min, *q.phi_max)
-             : std::string();
+std::string asked_words(const CampaignQuestion& question) {
+  return question.states_range() ? fmt::format(" over the range asked, phi in [{:g}, {:g}]",
+                                               *question.phi_min, *question.phi_max)
+                                 : std::string();
 }
 
 /// The verdicts of a look: the statistical checks of `all`, or those the question wants.
-std::vector<checks::Verdict> judge_question(const Campaign& c, const CampaignQuestion& q,
+std::vector<checks::Verdict> judge_question(const Campaign& c, const CampaignQuestion& question,
                                             const checks::CheckOptions& options) {
   const checks::StatsData stats = checks::read_stats(c.output);
-  if (q.checks.empty()) return checks::run_check("all", stats, options);
+  if (question.checks.empty()) return checks::run_check("all", stats, options);
   std::vector<checks::Verdict> out;
-  for (const std::string& name : checks_to_run(q.checks)) {
+  for (const std::string& name : checks_to_run(question.checks)) {
     const checks::CheckEntry* e = checks::find_check(name);
     if (!e || !std::holds_alternative<checks::StatsCheck>(e->run)) continue;
     for (auto& v : checks::run_check(name, stats, options))
-      if (question_wants(q.checks, v.check)) out.push_back(std::move(v));
+      if (question_wants(question.checks, v.check)) out.push_back(std::move(v));
   }
   return out;
 }
@@ -200,10 +200,10 @@ bool judge_look(const Campaign& c, const UntilDecidedOptions& o, State& s,
 }
 
 nlohmann::json question_of(const Campaign& c, const UntilDecidedOptions& o) {
-  const CampaignQuestion q = sequence_question(c, o);
-  checks::CheckOptions options = look_options(c, o, q);
+  const CampaignQuestion question = sequence_question(c, o);
+  checks::CheckOptions options = look_options(c, o, question);
   options.alpha = o.alpha;
-  return {{"question", question_record(q, options)}, {"until_decided", true}};
+  return {{"question", question_record(question, options)}, {"until_decided", true}};
 }
 
 }  // namespace jam::design

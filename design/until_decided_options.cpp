@@ -36,30 +36,32 @@ std::string differs(const std::string& what, const json& recorded, const json& n
 /// checks in the question, the statistical checks of `all` and their parts
 /// (checks::run_check("all")); with them, every check of stats.h5 (and part of one) the
 /// question names, in `all` or not.
-bool judged_by_a_look(const CampaignQuestion& q, const checks::CheckEntry& e) {
+bool judged_by_a_look(const CampaignQuestion& question, const checks::CheckEntry& e) {
   if (std::holds_alternative<checks::LammpsCheck>(e.run)) return false;
-  if (q.checks.empty()) return e.in_all;
+  if (question.checks.empty()) return e.in_all;
   const checks::CheckEntry* runs = &e;
-  if (const auto* part = std::get_if<checks::PartOf>(&e.run)) runs = checks::find_check(part->check);
+  if (const auto* part = std::get_if<checks::PartOf>(&e.run))
+    runs = checks::find_check(part->check);
   return runs && std::holds_alternative<checks::StatsCheck>(runs->run) &&
-         question_wants(q.checks, std::string(e.name));
+         question_wants(question.checks, std::string(e.name));
 }
 
 }  // namespace
 
-checks::CheckOptions sequence_check_options(const Campaign& c, const CampaignQuestion& q) {
-  return check_options(JudgingArgs{}, "all", c.margins, c.regions, q);
+checks::CheckOptions sequence_check_options(const Campaign& c, const CampaignQuestion& question) {
+  return check_options(JudgingArgs{}, "all", c.margins, c.regions, question);
 }
 
-json sequence_record(const Campaign& c, const CampaignQuestion& q, double alpha) {
-  const checks::CheckOptions o = sequence_check_options(c, q);
+json sequence_record(const Campaign& c, const CampaignQuestion& question, double alpha) {
+  const checks::CheckOptions o = sequence_check_options(c, question);
   json margins = json::object(), judged = json::array();
   for (const auto& e : checks::check_registry()) {
     margins[std::string(e.name)] = o.margin(std::string(e.name));
-    if (judged_by_a_look(q, e)) judged.push_back(std::string(e.name));
+    if (judged_by_a_look(question, e)) judged.push_back(std::string(e.name));
   }
-  const json question =
-      q.states_range() ? json{{"phi_min", *q.phi_min}, {"phi_max", *q.phi_max}} : json(nullptr);
+  const json range_asked =
+      question.states_range() ? json{{"phi_min", *question.phi_min}, {"phi_max", *question.phi_max}}
+                              : json(nullptr);
   return {{"alpha", alpha},
           {"margins", margins},
           {"regions",
@@ -67,7 +69,7 @@ json sequence_record(const Campaign& c, const CampaignQuestion& q, double alpha)
             {"near", o.regions.near},
             {"far", o.regions.far}}},
           {"checks", judged},
-          {"question", question}};
+          {"question", range_asked}};
 }
 
 std::string sequence_difference(const json& recorded, const json& now) {

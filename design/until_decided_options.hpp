@@ -16,11 +16,11 @@ namespace jam::design {
 /// The checks' options of every look but its alpha: the campaign's margins and regions, as
 /// `jam check all` takes them from the campaign file, and the question asked (its range
 /// judged as the region "asked").
-checks::CheckOptions sequence_check_options(const Campaign& c, const CampaignQuestion& q);
+checks::CheckOptions sequence_check_options(const Campaign& c, const CampaignQuestion& question);
 
 /// The record: {alpha, margins: {check: margin}, regions: {phi_j, near, far}, checks: [...],
 /// question: {phi_min, phi_max}} (question null: no range asked).
-nlohmann::json sequence_record(const Campaign& c, const CampaignQuestion& q, double alpha);
+nlohmann::json sequence_record(const Campaign& c, const CampaignQuestion& question, double alpha);
 
 /// "" when `now` judges as `recorded` does; otherwise one line naming the first option that
 /// differs, with the value now and the recorded one.
