@@ -41,8 +41,9 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
       ->check(CLI::IsMember(names));
   c->add_option("directory", a.check.directory, "Campaign directory (after `jam stats`)")
       ->required();
-  // --alpha, --permutations, --phi-min, --phi-max, --margin, --reference-dir, --no-lmp: the
-  // table `jam pipeline` shares (design/judging_options.cpp).
+  // --alpha, --permutations, --phi-min, --phi-max, --phi-j, --region-near, --region-far,
+  // --margin, --reference-dir, --no-lmp, --with-lammps: the table `jam pipeline` shares
+  // (design/judging_options.cpp).
   add_judging_options(c, a.check.judging);
   c->add_option("--set-a", a.check.set_a,
                 "finite_size: first run set, e.g. n=1024,phi_init=0.6,rate=-4");
