@@ -1,9 +1,10 @@
 #pragma once
 // A checksum of everything an HDF5 file holds: every attribute (name, kind, value) and every
 // dataset (name, shape, values) of every group, in name order, except the attributes named in
-// `skip` (the checksum's own attribute). Run files, checkpoints and relaxed starts store it in
-// their attribute "checksum", so that a flipped bit anywhere, in the positions of a checkpoint
-// as much as in a run file's compression_rate, is caught before the file is trusted.
+// `skip` (the checksum's own attribute). Run files and stats.h5 store it in their attribute
+// "checksum", so that a flipped bit anywhere, in a table of stats.h5 as much as in a run file's
+// compression_rate, is caught before the file is trusted. (Checkpoints, relaxed and chained
+// starts are sealed whole in their HDF5 user block instead: sealed_file.hpp.)
 //
 // FNV-1a, 64 bit: a guard against damage (bit rot, a torn copy, a hand edit), not against
 // someone who forges files on purpose; it changes with any single flipped bit.
