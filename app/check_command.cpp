@@ -49,10 +49,11 @@ void add_check_command(CLI::App& app, CheckArgs& a) {
                 "finite_size: first run set, e.g. n=1024,phi_init=0.6,rate=-4");
   c->add_option("--set-b", a.check.set_b, "finite_size: second run set");
   c->add_option("--against", a.check.against,
-                "regression, chain, compare: the directory holding the stats.h5 to judge DIR "
-                "against (regression: a baseline, e.g. a stored result in reference/results/; "
-                "chain: the unchained control; compare: REF, the reference simulator's "
-                "campaign)");
+                "regression, chain, convergence, compare: the directory holding the stats.h5 "
+                "to judge DIR against (regression: a baseline, e.g. a stored result in "
+                "reference/results/; chain: the unchained control; convergence: the stricter "
+                "re-runs `jam campaign converge` wrote; compare: REF, the reference "
+                "simulator's campaign)");
   c->add_option("--tolerance", a.check.regression.tolerance,
                 "regression: largest relative difference of rerun samples (0: bitwise)");
   c->add_flag("--regenerate-reference", a.check.regenerate,

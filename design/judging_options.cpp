@@ -63,8 +63,9 @@ std::vector<JudgingOption> make_table() {
        }},
       {"--phi-j", "phi_j", &JudgingArgs::phi_j,
        "Pressure checks: the packing the regions below, at and above jamming are placed "
-       "around (default: the scaling fit's phi_J in stats.h5, else <phi_Ji> of the largest "
-       "size; none: no regions)",
+       "around (default: the campaign file's [regions] phi_j, else the scaling fit's phi_J "
+       "in stats.h5, else <phi_Ji> of the largest size, else where its <Z> crosses 2D; "
+       "none: no regions)",
        [](const JudgingArgs& a) {
          return packing(a.phi_j) ? "" : std::string("must be a packing in (0, 1)");
        }},
