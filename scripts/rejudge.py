@@ -10,7 +10,11 @@ were) and copied back with them.
 --refit refits every stored fit with the current rules from the stored tables (`jam stats
 --refit` at the stored order; the fits that hold the paper's values too, where stored:
 fit-q-fixed.json, fit-held.json) before judging, and stores stats.h5 and the fit-*.json files
-with checks.json. The runs and the averaged tables stay as they were. --reports then writes
+with checks.json. The runs and the averaged tables stay as they were. A refit reads the verdicts
+it consults (stats/fit_verdicts.hpp: the finite_size verdicts that let the paper's protocol pool
+sizes, the phi_init verdicts that clear a start's rates) from the stored checks.json, as `jam
+pipeline` gives them; when judging anew changes those verdicts, it refits and judges again
+until they hold (at most three rounds). --reports then writes
 the stored reports anew from the judged copy: reports/NAME/ and, where it exists,
 reports/NAME-q-fixed/ (the paper's q held, as scripts/reproduce.sh makes it).
 
@@ -53,6 +57,9 @@ def stored_order(stats):
 
 
 # The fits stored beside the result that hold the paper's values: file -> jam stats options.
+# What a refit reads: the tables, the campaign file, and the verdicts it consults.
+FIT_INPUTS = ("stats.h5", "campaign.toml", "checks.json")
+ROUNDS = 3
 HELD_FITS = {"fit-q-fixed.json": ("--fix-paper-q",),
              "fit-held.json": ("--fix-paper-exponents",)}
 
@@ -66,6 +73,28 @@ def to_json(source_dir, out_dir, name, order, options):
     return name
 
 
+def copy_fit_inputs(source, target):
+    """The files a refit of SOURCE reads, copied into TARGET (checks.json where there is one)."""
+    for f in FIT_INPUTS:
+        if f != "checks.json" or os.path.isfile(os.path.join(source, f)):
+            shutil.copy2(os.path.join(source, f), target)
+
+
+def consulted_verdicts(directory):
+    """The statuses of the verdicts in DIRECTORY/checks.json that a fit consults: finite_size's
+    and phi_init's pooled ones (None without checks.json)."""
+    path = os.path.join(directory, "checks.json")
+    if not os.path.isfile(path):
+        return None
+    try:
+        with open(path) as f:
+            verdicts = json.load(f)["verdicts"]
+        return sorted((v["check"], v["case"], v["status"]) for v in verdicts
+                      if v["check"] in ("finite_size", "phi_init") and v["region"] == "pooled")
+    except (ValueError, KeyError, TypeError):
+        return "unreadable"  # jam's own refit refuses it, or judges it anew
+
+
 def refit_stored_fits(jam, stored, work, tmp, order):
     """Each stored held fit redone from a copy of the stored tables; returns the file names
     written into WORK."""
@@ -75,8 +104,7 @@ def refit_stored_fits(jam, stored, work, tmp, order):
             continue
         held = os.path.join(tmp, "held-" + name)
         os.mkdir(held)
-        for f in ("stats.h5", "campaign.toml"):
-            shutil.copy2(os.path.join(work, f), held)
+        copy_fit_inputs(work, held)
         subprocess.run([jam, "stats", held, "--refit", "--order", str(order), *options],
                        check=True, stdout=subprocess.DEVNULL)
         names += (to_json(held, work, name, order, options),)
@@ -110,14 +138,21 @@ def write_reports(jam, root, name):
         return
     with tempfile.TemporaryDirectory() as tmp:
         held = stored_copy(tmp, name)
-        for f in ("stats.h5", "campaign.toml"):
-            shutil.copy2(os.path.join(work, f), held)
+        copy_fit_inputs(work, held)
         subprocess.run([jam, "stats", held, "--refit", "--order",
                         str(stored_order(os.path.join(held, "stats.h5"))), "--fix-paper-q"],
                        check=True, stdout=subprocess.DEVNULL)
-        for f in ("checks.json", "checks.h5"):
-            shutil.copy2(os.path.join(work, f), held)
+        shutil.copy2(os.path.join(work, "checks.h5"), held)
         draw_report(jam, tmp, name, q_fixed)
+
+
+def judge(jam, work):
+    """jam check all on WORK. --with-lammps: the stored results keep their LAMMPS self-checks,
+    which `check all` judges only when asked."""
+    done = subprocess.run([jam, "check", "all", work, "--no-lmp", "--with-lammps",
+                           "--reference-dir", os.path.join(SOURCE, "reference")])
+    if done.returncode not in (0, 1, 3):
+        sys.exit(f"rejudge: jam check exited {done.returncode}; nothing changed")
 
 
 def main():
@@ -145,24 +180,25 @@ def main():
                              check=True).stdout.splitlines()[0].split()[-1]
     with tempfile.TemporaryDirectory() as tmp:
         work = stored_copy(tmp, args.name)
-        for name in ("stats.h5", "campaign.toml"):
-            shutil.copy2(os.path.join(stored, name), work)
+        copy_fit_inputs(stored, work)
         refit = families_missing(os.path.join(work, "stats.h5"))
-        fits = ()
         if args.refit:
             refit = stored_order(os.path.join(work, "stats.h5"))
+        for _ in range(ROUNDS):
+            consulted = consulted_verdicts(work) if refit else None
+            if refit:
+                subprocess.run([args.jam, "stats", work, "--refit", "--order", str(refit)],
+                               check=True, stdout=subprocess.DEVNULL)
+            judge(args.jam, work)
+            if not refit or consulted_verdicts(work) == consulted:
+                break
+        else:
+            fail(f"rejudge: the verdicts the fit consults still change after {ROUNDS} rounds "
+                 "of refit and judgement; nothing changed")
+        fits = ()
+        if args.refit:
             fits = refit_stored_fits(args.jam, stored, work, tmp, refit)
-        if refit:
-            subprocess.run([args.jam, "stats", work, "--refit", "--order", str(refit)],
-                           check=True, stdout=subprocess.DEVNULL)
-            if args.refit:
-                fits += (to_json(work, work, "fit-free.json", refit, ()),)
-        # --with-lammps: the stored results keep their LAMMPS self-checks, which `check all`
-        # judges only when asked.
-        done = subprocess.run([args.jam, "check", "all", work, "--no-lmp", "--with-lammps",
-                               "--reference-dir", os.path.join(SOURCE, "reference")])
-        if done.returncode not in (0, 1, 3):
-            sys.exit(f"rejudge: jam check exited {done.returncode}; nothing changed")
+            fits += (to_json(work, work, "fit-free.json", refit, ()),)
         provenance["checks_rejudged"] = {
             "command": f"scripts/rejudge.py {args.name}",
             "code_version": version,

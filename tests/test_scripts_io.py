@@ -250,6 +250,64 @@ def test_rejudge_reads_provenance_before_replacing_anything(source, work):
     assert sorted(os.listdir(stored)) == ["campaign.toml", "checks.json", "provenance.json",
                                           "stats.h5"]
 
+def rejudge_refit_tree(source, work, stored_status):
+    """A scratch tree with a stored result whose checks.json holds one pooled finite_size
+    verdict of status STORED_STATUS, and a fake jam: `stats --refit` logs the statuses it finds
+    in its directory's checks.json (the verdicts a fit consults), `check all` writes the next
+    status of FAKE_STATUSES (comma-separated, round by round)."""
+    scratch_tree(source, work)
+    stored = os.path.join(work, "reference", "results", "demo")
+    os.makedirs(stored)
+    write_fit(os.path.join(stored, "stats.h5"))
+    with open(os.path.join(stored, "campaign.toml"), "w") as f:
+        f.write("name = 'demo'\n")
+    with open(os.path.join(stored, "provenance.json"), "w") as f:
+        json.dump({"name": "demo"}, f)
+    verdicts = ('{"verdicts": [{"check": "finite_size", "case": "n1 vs n2", '
+                '"region": "pooled", "status": "%s"}]}')
+    with open(os.path.join(stored, "checks.json"), "w") as f:
+        f.write(verdicts % stored_status)
+    log = os.path.join(work, "log")
+    jam = fake_program(os.path.join(work, "jam"), (
+        f"log = {log!r}\n"
+        "if sys.argv[1] == '--version':\n"
+        "    print('jam version 9.9')\n"
+        "elif sys.argv[1] == 'stats':\n"
+        "    d = sys.argv[2]\n"
+        "    seen = [v['status'] for v in json.load(open(os.path.join(d, 'checks.json')))\n"
+        "            ['verdicts']] if os.path.exists(os.path.join(d, 'checks.json')) else []\n"
+        "    open(log, 'a').write('stats ' + ' '.join(sys.argv[3:]) + ': ' + ','.join(seen) + '\\n')\n"
+        "else:\n"
+        "    rounds = open(log).read().count('check')\n"
+        "    open(log, 'a').write('check\\n')\n"
+        "    status = os.environ['FAKE_STATUSES'].split(',')[rounds]\n"
+        f"    open(os.path.join(sys.argv[3], 'checks.json'), 'w').write({verdicts!r} % status)\n"))
+    return stored, jam, log
+
+
+def test_rejudge_refits_with_the_stored_verdicts_until_they_hold(source, work):
+    # The stored finite_size verdict (inconclusive) is what the first refit consults; judged
+    # anew it passes, so the fit is redone with it and judged again, where it holds.
+    stored, jam, log = rejudge_refit_tree(source, work, "inconclusive")
+    env = dict(os.environ, FAKE_STATUSES="pass,pass,pass")
+    r = script(work, "rejudge.py", "demo", "--jam", jam, "--refit", env=env)
+    assert r.returncode == 0, r.stderr
+    refits = [line for line in slurp(log).decode().splitlines()
+              if line.startswith("stats --refit --order 2:")]
+    assert refits == ["stats --refit --order 2: inconclusive", "stats --refit --order 2: pass"]
+    with open(os.path.join(stored, "checks.json")) as f:
+        assert json.load(f)["verdicts"][0]["status"] == "pass"
+
+
+def test_rejudge_refuses_verdicts_that_never_settle(source, work):
+    stored, jam, log = rejudge_refit_tree(source, work, "inconclusive")
+    before = tree(stored)
+    env = dict(os.environ, FAKE_STATUSES="pass,fail,pass,fail")
+    r = script(work, "rejudge.py", "demo", "--jam", jam, "--refit", env=env)
+    refused(r, "still change after 3 rounds")
+    assert tree(stored) == before
+
+
 # cross_lammps.py, its steps faked: LAMMPS's ensemble (ensemble.json only, removed for
 # the ensemble named in FAKE_NO_ENSEMBLE), the import, and jam's pipeline; every file they
 # write holds FAKE_TAG, which says which invocation wrote it.
