@@ -164,6 +164,7 @@ def main():
     ap.add_argument("--reports", action="store_true",
                     help="write reports/NAME (and NAME-q-fixed) anew afterwards")
     args = ap.parse_args()
+    args.jam = os.path.abspath(args.jam)  # the reports are drawn from another directory
     stored = os.path.join(SOURCE, STORED_UNDER, args.name)
     if not os.path.isfile(os.path.join(stored, "stats.h5")):
         sys.exit(f"rejudge: {stored}: no stored stats.h5")
