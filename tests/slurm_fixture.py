@@ -254,17 +254,28 @@ def children(pid):
     return out
 
 
+def catches(pid, sig):
+    """Whether process pid has a handler installed for signal sig."""
+    with open(f"/proc/{pid}/status") as f:
+        masks = [int(line.split()[1], 16) for line in f if line.startswith("SigCgt:")]
+    return any(m >> (sig - 1) & 1 for m in masks)
+
+
 def campaign_run_child(pid):
-    """The one child of pid that runs the campaign (an argument `run`), once it is there: the
-    scripts first ask `jam campaign output`, a child of their own that must not be taken for
-    it (a SIGSTOP there would hold the wrong process)."""
+    """The one child of pid that runs the campaign (an argument `run`), once it is there and
+    catches SIGTERM. The scripts first ask `jam campaign output`, a child of their own that must
+    not be taken for it (a SIGSTOP there would hold the wrong process). Until jam has installed
+    its handler the child may still be the Python wrapper before its exec, or jam starting up:
+    a SIGTERM passed on there is fatal even to a stopped process (the kernel ends it at once),
+    so it would never be seen pending. On a loaded machine the other array task can start the
+    first run while this one is still there."""
     deadline = time.time() + 60
     while True:
         runs = []
         for child in children(pid):
             try:
                 with open(f"/proc/{child}/cmdline", "rb") as f:
-                    if b"run" in f.read().split(b"\0"):
+                    if b"run" in f.read().split(b"\0") and catches(child, signal.SIGTERM):
                         runs.append(child)
             except OSError:
                 continue
