@@ -1,5 +1,5 @@
 // Faults in a campaign directory, through the executable: run files corrupted in their data
-// (one flipped bit), truncated or incomplete are detected, listed by `campaign status`, left
+// (one flipped bit) or truncated are detected, listed by `campaign status`, left
 // out of `jam stats` with a warning, and redone identically by `campaign run`; a run whose time
 // step is unstable is marked failed with the error while the others finish; a full disk and an
 // unwritable directory give a clear error and leave earlier results intact; 1 and 2 threads
