@@ -1,6 +1,7 @@
 // The report of `jam bench accuracy`: CSV of every method, a markdown table per dimension and
 // rate, the reference's convergence, and the headline: wall time to reach 1% and 0.1% error
-// for jam's default (Euler, dt 0.01), jam's best and LAMMPS's best setting.
+// for jam's default (SimConfig's integrator at the rate's default tolerance or dt), jam's best
+// and LAMMPS's best setting.
 #include <fmt/format.h>
 
 #include <filesystem>

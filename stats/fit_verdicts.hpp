@@ -1,10 +1,11 @@
 #pragma once
 // The verdicts the scaling fit may use, as a declared input: data flow from stats to checks,
-// so stats/ never reads a verdict file. The caller (app/stats_command.cpp, app/pipeline_
-// command.cpp) reads DIR/checks.json through checks/verdict_file.hpp (checks::fit_verdicts)
-// and passes what it found here; stats.h5 records whether the fit used them and a digest of
-// them (`fit_verdicts`, `fit_verdicts_checksum`), which `jam pipeline` compares to decide
-// whether the fit is redone. Two uses:
+// so stats/ never reads a verdict file. The caller (design/stats_stage.cpp,
+// declared_fit_verdicts, for `jam stats`, the pilot, the looks of --until-decided and `jam
+// pipeline`) reads DIR/checks.json through checks/fit_inputs.hpp (checks::fit_verdicts, over
+// verdict_file.hpp) and passes what it found here; stats.h5 records whether the fit used them
+// and a digest of them (`fit_verdicts`, `fit_verdicts_checksum`), which `jam pipeline`
+// compares to decide whether the fit is redone. Two uses:
 //   - the phi_init check's verdicts clear the rates of a fitted phi_init above the lowest
 //     (fit_scan.hpp, read_clearance);
 //   - the finite_size check's pooled verdicts at constant phi allow the paper's protocol to

@@ -124,7 +124,7 @@ def load_run(path):
 
 def run_files(campaign_dir):
     """The finished run files of a campaign directory, `runs/*.h5` in name order: not the files
-    set aside or unfinished beside them (`*.h5.rejected`, `*.h5.<pid>.partial`,
+    set aside or unfinished beside them (`*.h5.rejected`, `*.h5.<pid>-<tid>.partial`,
     `*.h5.checkpoint`, reference/schema.md). Of an external campaign: `runs/<name>.h5` of
     each run external.toml lists, in name order (whether or not the file is still there),
     and no other file."""

@@ -3,8 +3,8 @@
 // force evaluations per step and its order in dt. Validation (sim_config.cpp), the default per
 // dynamics (SimConfig::resolved_integrator), the cost estimates of campaigns and benchmarks
 // and the help of --integrator all read it. The classes themselves are in one header each
-// (overdamped_euler.hpp, overdamped_heun.hpp, inertial_verlet.hpp), dispatched once per run in
-// sim/run/compression_run.cpp.
+// (overdamped_euler.hpp, overdamped_heun.hpp, overdamped_chebyshev.hpp, inertial_verlet.hpp),
+// listed in integrators.hpp and dispatched once per run in sim/run/compression_run.cpp.
 #include <array>
 #include <cmath>
 #include <string>

@@ -1,7 +1,8 @@
 #pragma once
 // The part of an integrator's state that must survive a checkpoint for a resumed run to be
 // bitwise identical to an uninterrupted one: named arrays of doubles. Euler and Heun keep
-// nothing between steps; velocity Verlet keeps velocities and the last total force.
+// nothing between steps; velocity Verlet keeps velocities and the last total force; the
+// Chebyshev integrator its next step size and its estimate of the stiffest mode.
 #include <string>
 #include <utility>
 #include <vector>

@@ -2,8 +2,9 @@
 // A file that appears under its final name only when complete (a symbolic link to a regular
 // file is written through, and a FIFO, device or directory there refused: output_path.hpp):
 // written to
-// "<path>.<pid>.partial" and renamed by commit(). The process id keeps two processes that
-// write the same name (by mistake) from writing into, or renaming, each other's file. Destroyed
+// "<path>.<pid>-<tid>.partial" and renamed by commit(). The process and thread ids keep two
+// processes, or two runs of one campaign process, that write the same name from writing into,
+// or renaming, each other's file (temporary_name, atomic_file.cpp). Destroyed
 // without commit(), it removes the partial file, so an error never leaves output that could be
 // mistaken for a result.
 #include <cstdio>
