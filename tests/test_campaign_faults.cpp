@@ -1,9 +1,10 @@
 // Faults in a campaign directory, through the executable: run files corrupted in their data
-// (one flipped bit) or truncated are detected, listed by `campaign status`, left
-// out of `jam stats` with a warning, and redone identically by `campaign run`; a run whose time
-// step is unstable is marked failed with the error while the others finish; a full disk and an
-// unwritable directory give a clear error and leave earlier results intact; 1 and 2 threads
-// give identical run files.
+// (one flipped bit), truncated or without their `complete` attribute are detected, listed by
+// `campaign status`, left out of `jam stats` with a warning, and redone identically by `campaign
+// run`; a run whose time step is unstable is marked failed with the error while the others finish;
+// a full disk and an unwritable directory give a clear error and leave earlier results intact; 1
+// and 2 threads give identical run files.
+#include <hdf5.h>
 #include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -74,10 +75,12 @@ BOOST_FIXTURE_TEST_SUITE(faults, Fixture)
 
 BOOST_AUTO_TEST_CASE(corrupt_run_files_are_detected_left_out_and_redone) {
   const fs::path dir = kDir / "c";
-  const fs::path file = write_campaign("c", kTiny, dir);
+  std::string text = kTiny;
+  text.replace(text.find("samples = 3"), 11, "samples = 4");
+  const fs::path file = write_campaign("c", text, dir);
   BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
   const auto first = run_files(dir);
-  BOOST_REQUIRE(first.size() == 3u);
+  BOOST_REQUIRE(first.size() == 4u);
   for (const auto& [name, bytes] : first)
     BOOST_TEST(jam::run_file_problem((dir / "runs" / name).string()) == "");
 
@@ -89,15 +92,25 @@ BOOST_AUTO_TEST_CASE(corrupt_run_files_are_detected_left_out_and_redone) {
   // Truncated to a tenth.
   const fs::path truncated = dir / "runs" / "n64_phi0.7000_r-2.00_s002.h5";
   fs::resize_file(truncated, fs::file_size(truncated) / 10);
+  // Its `complete` attribute deleted: every value intact, the file no longer says it ended.
+  const fs::path unfinished = dir / "runs" / "n64_phi0.7000_r-2.00_s003.h5";
+  const hid_t f = H5Fopen(unfinished.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  BOOST_REQUIRE(f >= 0);
+  BOOST_REQUIRE(H5Adelete(f, "complete") >= 0);
+  BOOST_REQUIRE(H5Fclose(f) >= 0);
+  BOOST_TEST(jam::run_file_problem(unfinished.string()).find("incomplete") != std::string::npos);
 
   Outcome o = run_jam("campaign status " + dir.string());
-  BOOST_TEST(o.output.find("corrupt  2") != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("corrupt  3") != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("corrupt n64_phi0.7000_r-2.00_s003: run file is incomplete") !=
+                 std::string::npos,
+             o.output);
   BOOST_TEST(o.output.find("corrupt n64_phi0.7000_r-2.00_s001: checksum") != std::string::npos,
              o.output);
   BOOST_TEST(o.output.find("n64_phi0.7000_r-2.00_s002") != std::string::npos, o.output);
 
   o = run_jam("stats " + dir.string());
-  BOOST_TEST(o.output.find("1 runs averaged, 2 skipped") != std::string::npos, o.output);
+  BOOST_TEST(o.output.find("1 runs averaged, 3 skipped") != std::string::npos, o.output);
   BOOST_TEST(
       o.output.find("warning: corrupt run n64_phi0.7000_r-2.00_s001 left out") != std::string::npos,
       o.output);
