@@ -355,6 +355,9 @@ BOOST_AUTO_TEST_CASE(a_lammps_log_that_is_not_this_model_is_refused) {
   l.diameter_ratio.reset();
   refused(l, "--diameter-ratio");
   l = generic(run);
+  l.sample.reset();  // the run's identity within its ensemble: never guessed
+  refused(l, "--sample: missing");
+  l = generic(run);
   l.dim = 3;
   refused(l, "--dim 3");
   l = generic(run);
