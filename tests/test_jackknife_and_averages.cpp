@@ -135,6 +135,19 @@ BOOST_AUTO_TEST_CASE(absurd_contact_numbers_are_an_error_not_a_huge_grid) {
   }
 }
 
+// A step whose grid over the runs' common range has more than 10^6 points (a damaged
+// phi_step: 1e-8 over [0.7505, 0.857] is about 1.07e7 points) is refused by its count, before
+// any of it is allocated (campaign/grid_limit.hpp); 1e-6 over the same range (1.07e5) is not.
+BOOST_AUTO_TEST_CASE(an_averaging_grid_beyond_a_million_points_is_refused) {
+  const std::vector<RunCurves> runs = {known_run(0, 3.0, 0.0), known_run(1, 3.2, 0.0)};
+  BOOST_CHECK_EXCEPTION(average_at_constant_phi(runs, 1e-8), std::runtime_error,
+                        [](const std::runtime_error& e) {
+                          return std::string(e.what()).find("points (at most 1e+06)") !=
+                                 std::string::npos;
+                        });
+  BOOST_TEST(average_at_constant_phi(runs, 1e-6).grid.size() > 100000u);
+}
+
 BOOST_AUTO_TEST_CASE(first_crossing_when_z_is_not_monotonic) {
   RunCurves r;
   r.phi = {0.80, 0.81, 0.82, 0.83, 0.84};
