@@ -3,7 +3,8 @@
 // neither redoes runs nor trips over the first runner's temporary files); two started together
 // leave one complete, consistent campaign. With campaign.toml deleted, a rerun at another dt
 // does not take the old runs for its own: they are set aside (never deleted) and redone, and
-// `jam stats` averages only runs of the planned parameters.
+// `jam stats` averages only runs of the planned parameters. The owner removes only jam's own
+// temporaries.
 #include <unistd.h>
 
 #include <boost/test/unit_test.hpp>
@@ -106,6 +107,34 @@ BOOST_AUTO_TEST_CASE(two_runners_at_once) {
       }
     }
   }
+}
+
+// A runner that owns the whole directory removes the temporaries a killed jam left
+// ("<name>.<pid>-<tid>.partial", AtomicFile's names) in the directory, runs/, starts/ and
+// chain/, and nothing else: a user's "x.partial", a name without the pid-tid part, and a
+// directory named like a temporary stay where they are.
+BOOST_AUTO_TEST_CASE(only_jams_own_temporaries_are_removed) {
+  const fs::path dir = kDir / "temporaries";
+  const fs::path file = write_campaign("temporaries", kSmall, dir);
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  const std::vector<fs::path> stale = {dir / "manifest.toml.123-456.partial",
+                                       dir / "runs" / "n64_phi0.7000_r-2.50_s000.h5.7-8.partial",
+                                       dir / "starts" / "s000.h5.99-1.partial",
+                                       dir / "chain" / "c.h5.5-6.partial"};
+  const std::vector<fs::path> kept = {dir / "notes.partial", dir / "runs" / "x.partial",
+                                      dir / "runs" / "a.h5.partial", dir / "runs" / "b.7.partial",
+                                      dir / "starts" / "s.h5.1-x.partial"};
+  for (const auto& f : stale) {
+    fs::create_directories(f.parent_path());
+    std::ofstream(f) << "left by a killed jam\n";
+  }
+  for (const auto& f : kept) std::ofstream(f) << "the user's\n";
+  const fs::path folder = dir / "runs" / "saved.1-2.partial";
+  fs::create_directories(folder);
+  BOOST_REQUIRE(run_jam("campaign run --quiet " + file.string()).status == 0);
+  for (const auto& f : stale) BOOST_TEST(!fs::exists(f), f);
+  for (const auto& f : kept) BOOST_TEST(slurp(f) == "the user's\n", f);
+  BOOST_TEST(fs::is_directory(folder));
 }
 
 BOOST_AUTO_TEST_CASE(runs_of_other_parameters_are_not_taken_for_done) {
