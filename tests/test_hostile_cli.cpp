@@ -125,6 +125,47 @@ BOOST_AUTO_TEST_CASE(fifo_read_start_refused_not_waited_on) {
   BOOST_TEST(lines(o) == 1u, o.output);
 }
 
+// A LAMMPS log or data file that is a FIFO: refused in one line naming it, before it is
+// opened (an open would wait for a writer for ever), and left where it is.
+BOOST_AUTO_TEST_CASE(fifo_lammps_log_and_data_refused_not_waited_on) {
+  const fs::path log = kDir / "lammps.log", data = kDir / "start.data";
+  BOOST_REQUIRE(::mkfifo(log.c_str(), 0600) == 0);
+  const std::string out = " --out " + (kDir / "imported.h5").string();
+  Outcome o = jam_within(60, "import lammps " + log.string() + out +
+                                 " --column pressure=Press --column volume=Volume"
+                                 " --rate 1e-3 --diameter-ratio 1.4 --sample 0");
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(mentions(o, log.string()), o.output);
+  BOOST_TEST(mentions(o, "FIFO"), o.output);
+  BOOST_TEST(lines(o) == 1u, o.output);
+  // The bundled input's route: a stored log that imports with its stored data file.
+  BOOST_REQUIRE(::mkfifo(data.c_str(), 0600) == 0);
+  const fs::path ref = fs::path(JAM_SOURCE_DIR) / "reference" / "lammps" / "inertial-2d";
+  o = jam_within(
+      60, "import lammps " + (ref / "lammps.log").string() + out + " --data " + data.string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(mentions(o, data.string()), o.output);
+  BOOST_TEST(mentions(o, "FIFO"), o.output);
+  BOOST_TEST(lines(o) == 1u, o.output);
+  BOOST_TEST(fs::is_fifo(log));
+  BOOST_TEST(fs::is_fifo(data));
+  BOOST_TEST(!fs::exists(kDir / "imported.h5"));
+}
+
+// checks.json as a FIFO where a verdict file is read (here the scatter model of `campaign plan
+// --scatter-from DIR`): refused in one line naming it, not waited on, and left where it is.
+BOOST_AUTO_TEST_CASE(fifo_checks_json_refused_not_waited_on) {
+  const fs::path dir = kDir / "fifo-checks", checks = dir / "checks.json";
+  fs::create_directories(dir);
+  BOOST_REQUIRE(::mkfifo(checks.c_str(), 0600) == 0);
+  const Outcome o = jam_within(
+      60, "campaign plan " + small_campaign("plan").string() + " --scatter-from " + dir.string());
+  BOOST_TEST(o.status == 2, o.output);
+  BOOST_TEST(mentions(o, checks.string() + ": is a FIFO"), o.output);
+  BOOST_TEST(lines(o) == 1u, o.output);
+  BOOST_TEST(fs::is_fifo(checks));
+}
+
 BOOST_AUTO_TEST_CASE(fifos_named_like_a_pending_run_and_its_record_do_not_hang_the_campaign) {
   const fs::path file = small_campaign("fifo");
   const fs::path runs = kDir / "fifo" / "runs";
