@@ -92,8 +92,8 @@ HOSTILE_RUNS = {
 def _outside(data, hostile):
     """Files whose members are kept outside them, in data/run.h5 and the campaign's stats.h5
     (regular files: what a file names must be refused unopened, wherever it points), by name:
-    pressure an external link, a soft link through an external link, external storage; a
-    stats.h5 whose ensemble group is an external link."""
+    pressure an external link, a soft link through an external link, external storage, a
+    virtual dataset; a stats.h5 whose ensemble group is an external link."""
     run = os.path.join(data, "run.h5")
     stats = os.path.join(data, "campaign", "stats.h5")
     raw = os.path.join(hostile, "pressure.raw")
@@ -114,6 +114,13 @@ def _outside(data, hostile):
         del f["pressure"]
         f.create_dataset("pressure", shape=(m,), dtype="f8", external=[(raw, 0, 8 * m)])
 
+    def virtual_dataset(f):
+        m = len(f["packing_fraction"])
+        layout = h5py.VirtualLayout(shape=(m,), dtype="f8")
+        layout[:] = h5py.VirtualSource(run, "pressure", shape=(m,))
+        del f["pressure"]
+        f.create_virtual_dataset("pressure", layout)
+
     def external_group(f):
         del f.attrs["checksum"]  # the link itself is the case, not the seal it breaks
         name = f"ensembles/{sorted(f['ensembles'])[0]}/constant_phi"
@@ -121,6 +128,7 @@ def _outside(data, hostile):
         f[name] = h5py.ExternalLink(stats, "/" + name)
     return {"external-link.h5": (run, external_link), "soft-link-out.h5": (run, soft_link),
             "external-storage.h5": (run, external_storage),
+            "virtual-pressure.h5": (run, virtual_dataset),
             "stats-external-link.h5": (stats, external_group)}
 
 
@@ -283,7 +291,7 @@ def case_sample_and_seed_whole_numbers(data, source):
 
 def case_members_outside_the_file_refused(data, source):
     """pressure an external link to another run file, a soft link through an external link,
-    values kept in another file, an ensemble's group an external link in stats.h5: each
+    values kept in another file (external storage, a virtual dataset), an ensemble's group an external link in stats.h5: each
     refused, naming the member, and nothing opened (followed, a FIFO there blocked the read for
     ever); in a child stopped after 30 s."""
     hostile = os.path.join(data, "broken", "hostile")
@@ -295,6 +303,9 @@ def case_members_outside_the_file_refused(data, source):
         expect_child_error(load, path, [path, "'/elsewhere' is an external link",
                                         "not followed"])
         path = os.path.join(hostile, "external-storage.h5")
+        expect_child_error(load, path, [path, "dataset '/pressure'", "another file",
+                                        "not read"])
+        path = os.path.join(hostile, "virtual-pressure.h5")
         expect_child_error(load, path, [path, "dataset '/pressure'", "another file",
                                         "not read"])
     path = os.path.join(hostile, "stats-external-link.h5")
