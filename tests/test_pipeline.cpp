@@ -3,8 +3,10 @@
 // check stage gives one line of counts); run again it redoes nothing. The check options are
 // `jam check`'s: checks.json records those it was judged with, other options judge again (and
 // the same ones do not), and a bad value is one line naming it, before any run. `jam check` on
-// the same directory prints one table per check with its cases whole.
+// the same directory prints one table per check with its cases whole. Statistics are averaged
+// again when the runs' digest changes, not when they are merely touched.
 #include <boost/test/unit_test.hpp>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -220,4 +222,36 @@ BOOST_AUTO_TEST_CASE(a_sigint_while_the_report_is_drawn_leaves_no_report) {
   BOOST_TEST(!fs::exists(report));
   BOOST_TEST(partial_reports("int-report") == 0u);
   BOOST_TEST((fs::last_write_time(kDir / "p" / "checks.json") == checks));
+}
+
+// The stats stage is redone by the runs' digest, as `jam check` judges freshness: runs merely
+// touched (newer modification times, the same content) leave every stage up to date; samples
+// added to the campaign file are run, averaged again, judged again and drawn again.
+BOOST_AUTO_TEST_CASE(stats_are_averaged_again_when_the_runs_change_not_when_touched) {
+  const fs::path file = kDir / "digest.toml", output = kDir / "digest";
+  auto campaign = [&](int samples) {
+    std::ofstream(file) << "name = \"digest\"\ndim = 2\nsizes = [64]\nphi_init = [0.70]\n"
+                           "log10_rates = [-2.5, -3.0]\nsamples = "
+                        << samples
+                        << "\nphi_stop = 0.80\nphi_step = 0.002\ndt = 0.02\nseed = 5\n"
+                           "output = \""
+                        << output.string() << "\"\n";
+  };
+  const std::string args = "pipeline " + file.string() + " --jobs 2 --no-lmp --report " +
+                           (kDir / "digest-report").string();
+  campaign(2);
+  BOOST_TEST_REQUIRE(jam::test::run_jam_logged(kDir / "digest.txt", args).status == 0);
+  const auto averaged = fs::last_write_time(output / "stats.h5");
+  const auto later = fs::file_time_type::clock::now() + std::chrono::seconds(5);
+  for (const auto& e : fs::directory_iterator(output / "runs"))
+    fs::last_write_time(e.path(), later);
+  const auto touched = jam::test::run_jam_logged(kDir / "digest.txt", args);
+  BOOST_TEST(touched.status == 0, touched.output);
+  BOOST_TEST(count(touched.output, "is up to date") == 3, touched.output);
+  BOOST_TEST((fs::last_write_time(output / "stats.h5") == averaged));
+  campaign(3);
+  const auto added = jam::test::run_jam_logged(kDir / "digest.txt", args);
+  BOOST_TEST(added.status == 0, added.output);
+  BOOST_TEST(count(added.output, "is up to date") == 0, added.output);
+  BOOST_TEST(added.output.find("6 runs averaged") != std::string::npos, added.output);
 }
