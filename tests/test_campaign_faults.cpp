@@ -181,7 +181,15 @@ Outcome earlier_results_survive(const fs::path& dir, const jam::test::Limits& li
 // not marked failed, so the same command finishes them once the space is back.
 BOOST_AUTO_TEST_CASE(file_size_limit_like_a_full_disk) {
   const fs::path dir = kDir / "limit";
+  // HDF5 keeps the memory of a file whose writes and close failed (its free lists and cache:
+  // the library offers no way to release a file it could not flush); the process ends at once,
+  // but under LeakSanitizer (scripts/sanitize.sh) that exit status would replace jam's. Leak
+  // detection is off for this one invocation, so that the status is jam's.
+  const char* asan = std::getenv("ASAN_OPTIONS");
+  const std::string kept = asan ? asan : "";
+  ::setenv("ASAN_OPTIONS", (kept + ":detect_leaks=0").c_str(), 1);
   const Outcome o = earlier_results_survive(dir, {4096}, "could not write its output");
+  asan ? ::setenv("ASAN_OPTIONS", kept.c_str(), 1) : ::unsetenv("ASAN_OPTIONS");
   // Counted apart from failed runs, and exit 2 (a fault of the machine, not of a run): the
   // one or two runs under way when the first write failed, none started after it.
   BOOST_TEST(o.status == 2, o.output);
