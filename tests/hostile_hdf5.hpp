@@ -1,9 +1,9 @@
 #pragma once
 // Hostile HDF5 files for the tests and fuzz targets of the readers: valid templates written by
-// jam's own writers, and edits made with the HDF5 C API that a damaged or forged file could
-// carry (an attribute turned into an array or another class, a dataset of another length or
-// class, a declared but unwritten dataset, a link that makes a group contain itself, a flipped
-// bit in a dimension).
+// jam's own writers (a run file, a checkpoint, a start, a stats.h5), and edits made with the
+// HDF5 C API that a damaged or forged file could carry (an attribute turned into an array or
+// another class, a dataset of another length or class, a declared but unwritten dataset, a link
+// that makes a group contain itself, a flipped bit in a dimension).
 #include <hdf5.h>
 
 #include <cstdint>
@@ -19,6 +19,8 @@
 #include "sim/io/chain_start.hpp"
 #include "sim/io/checkpoint.hpp"
 #include "sim/io/hdf5_file.hpp"
+#include "sim/io/run_file.hpp"
+#include "sim/run/compression_run.hpp"
 
 namespace jam::test {
 
@@ -261,6 +263,26 @@ inline bool flip_dimension(const std::filesystem::path& file, const std::string&
   }
   std::ofstream(file, std::ios::binary | std::ios::trunc) << original;
   return false;
+}
+
+/// A sound run file DIR/NAME of N = 64, 2D, 0.70 -> 0.72 (5 output points), written by jam in
+/// a fraction of a second: the file a case plants its fault in.
+inline std::filesystem::path valid_run_file(const std::filesystem::path& dir,
+                                            const std::string& name) {
+  SimConfig c;
+  c.n = 64;
+  c.phi_init = 0.7;
+  c.phi_stop = 0.72;
+  c.phi_step = 0.005;
+  c.compression_rate = 1e-2;
+  c.seed = 3;
+  c.quiet = true;
+  c.checkpoint_interval = 0;
+  c.out = (dir / name).string();
+  run_compression(c);
+  if (const std::string why = run_file_problem(c.out); !why.empty())
+    throw std::runtime_error("the template run file is not sound: " + why);
+  return c.out;
 }
 
 /// A checkpoint of N = 8 particles in 2D with `points` output points and two kept

@@ -16,7 +16,6 @@
 #include "hostile_hdf5.hpp"
 #include "scratch.hpp"
 #include "sim/io/run_file.hpp"
-#include "sim/run/compression_run.hpp"
 
 namespace fs = std::filesystem;
 using jam::test::Editor;
@@ -25,21 +24,8 @@ namespace {
 
 const jam::test::ScratchDir kDir("checksum-walk");
 
-/// A run file of N = 64, 2D, 0.70 -> 0.72, written by jam and sound.
 fs::path valid_run_file(const std::string& name) {
-  jam::SimConfig c;
-  c.n = 64;
-  c.phi_init = 0.7;
-  c.phi_stop = 0.72;
-  c.phi_step = 0.005;
-  c.compression_rate = 1e-2;
-  c.seed = 3;
-  c.quiet = true;
-  c.checkpoint_interval = 0;
-  c.out = (kDir / name).string();
-  jam::run_compression(c);
-  BOOST_REQUIRE(jam::run_file_problem(c.out).empty());
-  return c.out;
+  return jam::test::valid_run_file(kDir.path(), name);
 }
 
 /// The run file's problem contains `text`, on one line.

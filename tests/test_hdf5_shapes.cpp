@@ -100,22 +100,8 @@ void expect(const Isolated& r, const std::string& text) {
   BOOST_TEST(r.message.find('\n') == std::string::npos, "not one line: " << r.message);
 }
 
-/// A run file of N = 64, 2D, 0.70 -> 0.72 (5 output points), written by jam (a fraction of a
-/// second).
 fs::path valid_run_file(const std::string& name) {
-  jam::SimConfig c;
-  c.n = 64;
-  c.phi_init = 0.7;
-  c.phi_stop = 0.72;
-  c.phi_step = 0.005;
-  c.compression_rate = 1e-2;
-  c.seed = 3;
-  c.quiet = true;
-  c.checkpoint_interval = 0;
-  c.out = (kDir / name).string();
-  jam::run_compression(c);
-  BOOST_REQUIRE(jam::run_file_problem(c.out).empty());
-  return c.out;
+  return jam::test::valid_run_file(kDir, name);
 }
 
 std::string run_file_problem(const fs::path& file) {
