@@ -361,11 +361,13 @@ int print_campaign_status(const std::string& directory, bool json) {
   std::map<RunStatus, std::size_t> totals;
   std::map<std::pair<std::int64_t, double>, std::map<double, std::map<RunStatus, int>>> table;
   std::vector<std::string> problems;
+  std::size_t unverified = 0;  // done, but of schema 1: its attributes carry no checksum
   nlohmann::json runs = nlohmann::json::object();
   for (const auto& run : plan) {
     std::string detail;
     const RunStatus s = run_status(run, &detail);
     ++totals[s];
+    if (s == RunStatus::kDone && !detail.empty()) ++unverified;
     ++table[{run.n, run.phi_init}][run.log10_rate][s];
     if (s == RunStatus::kFailed || s == RunStatus::kCorrupt) {
       problems.push_back(fmt::format("  {} {}: {}", to_string(s), run.name, detail));
@@ -391,6 +393,11 @@ int print_campaign_status(const std::string& directory, bool json) {
                       RunStatus::kFailed, RunStatus::kCorrupt}) {
     fmt::print("  {:8} {}\n", to_string(s), totals[s]);
   }
+  if (unverified > 0)
+    fmt::print(
+        "  unverified: {} of the done runs (written before run files checksummed their "
+        "attributes; --json names them)\n",
+        unverified);
   fmt::print("\n{:>8} {:>9}", "N", "phi_init");
   for (double lr : c.log10_rates) fmt::print(" {:>10}", fmt::format("rate 1e{:g}", lr));
   fmt::print("   (done/samples)\n");
