@@ -164,7 +164,8 @@ def main():
     ap.add_argument("--reports", action="store_true",
                     help="write reports/NAME (and NAME-q-fixed) anew afterwards")
     args = ap.parse_args()
-    args.jam = os.path.abspath(args.jam)  # the reports are drawn from another directory
+    if os.sep in args.jam:  # a path, not a name on PATH: the reports are drawn elsewhere
+        args.jam = os.path.abspath(args.jam)
     stored = os.path.join(SOURCE, STORED_UNDER, args.name)
     if not os.path.isfile(os.path.join(stored, "stats.h5")):
         sys.exit(f"rejudge: {stored}: no stored stats.h5")
