@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "campaign/toml_file.hpp"
+#include "sim/dynamics/integrator_list.hpp"
 #include "sim/io/atomic_file.hpp"
 #include "sim/run/sim_config.hpp"
 
@@ -51,14 +52,19 @@ std::string convergence_campaign_text(const Campaign& c, const ConvergenceChoice
                      c.samples));
   if (!(choice.tolerance_factor > 0 && choice.tolerance_factor < 1))
     fail(fmt::format("tolerance factor {:g}: must be in (0, 1)", choice.tolerance_factor));
-  // A fixed-step integrator (euler, heun) is redone by the error-controlled one at a tenth of
-  // its default tolerance: what converged means does not depend on the step the campaign took.
-  const bool chebyshev = c.run.resolved_integrator() == "chebyshev";
+  // A fixed-step integrator (euler, heun) is redone by its dynamics' error-controlled one at a
+  // tenth of that one's default tolerance: what converged means does not depend on the step the
+  // campaign took. A dynamics without one has no stricter setting to name.
+  const std::string_view adaptive = adaptive_integrator_of(c.run.dynamics);
+  if (adaptive.empty())
+    fail(fmt::format("dynamics '{}' has no error-controlled integrator to redo its runs with",
+                     c.run.dynamics));
+  const bool kept = c.run.resolved_integrator() == adaptive;
   double tolerance = HUGE_VAL;
   for (double r : rates)
     tolerance = std::min(tolerance,
-                         chebyshev ? resolved_tolerance(c, r)
-                                   : auto_tolerance(std::pow(10.0, r), c.run.dense_output, false));
+                         kept ? resolved_tolerance(c, r)
+                              : auto_tolerance(std::pow(10.0, r), c.run.dense_output, false));
   tolerance *= choice.tolerance_factor;
 
   toml::table t = toml::parse(c.source_text);
@@ -70,8 +76,8 @@ std::string convergence_campaign_text(const Campaign& c, const ConvergenceChoice
   t.insert_or_assign("samples", choice.samples);
   t.insert_or_assign("tolerance", fmt::format("{:.3g}", tolerance));
   t.insert_or_assign("error_norm", "max");
-  if (!chebyshev) {
-    t.insert_or_assign("integrator", "chebyshev");
+  if (!kept) {
+    t.insert_or_assign("integrator", std::string(adaptive));
     t.erase("dt");
   }
   if (choice.phi_stop) t.insert_or_assign("phi_stop", *choice.phi_stop);

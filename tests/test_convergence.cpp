@@ -146,3 +146,32 @@ BOOST_AUTO_TEST_CASE(default_tolerance_passes_and_a_loose_one_fails) {
   BOOST_TEST(out.find("its start cannot be judged from here") != std::string::npos, out);
   fs::remove_all(kDir);
 }
+
+// A fixed-step campaign is redone by its dynamics' error-controlled integrator (read from the
+// integrator list, not named by hand), without the campaign's step; a dynamics that has none
+// is refused in one line, and nothing is written.
+BOOST_AUTO_TEST_CASE(fixed_step_campaigns_are_redone_by_the_adaptive_integrator) {
+  fs::create_directories(kDir);
+  auto write = [](const std::string& name, const std::string& keys) {
+    const fs::path file = kDir / (name + ".toml");
+    std::ofstream(file) << "name = \"" << name << "\"\ndim = 2\nsizes = [128]\n"
+                        << "phi_init = [0.70]\nlog10_rates = [-4.0]\nsamples = 4\n"
+                        << "phi_stop = 0.86\nseed = 3\n" << keys << "output = \""
+                        << (kDir / "runs" / name).string() << "\"\n";
+    return file;
+  };
+  std::string out;
+  const fs::path heun = write("heun", "integrator = \"heun\"\ndt = 0.05\n");
+  BOOST_TEST_REQUIRE(run_jam("campaign converge " + heun.string() + " --samples 2", &out) == 0,
+                     out);
+  const std::string text = slurp(kDir / "heun-convergence.toml");
+  BOOST_TEST(text.find("integrator = 'chebyshev'") != std::string::npos, text);
+  BOOST_TEST(text.find("dt = ") == std::string::npos, text);
+  const fs::path inertial = write("inertial", "dynamics = \"inertial\"\ndt = 0.001\n");
+  BOOST_TEST(run_jam("campaign converge " + inertial.string() + " --samples 2", &out) == 2, out);
+  BOOST_TEST(out.find("dynamics 'inertial' has no error-controlled integrator") !=
+                 std::string::npos,
+             out);
+  BOOST_TEST(!fs::exists(kDir / "inertial-convergence.toml"));
+  fs::remove_all(kDir);
+}

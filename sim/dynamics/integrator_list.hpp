@@ -67,6 +67,14 @@ inline bool is_adaptive_integrator(std::string_view name) {
   return i && i->force_evaluations == 0;
 }
 
+/// The error-controlled integrator of `dynamics` ("" when it has none): what a convergence
+/// re-run uses, whatever step the campaign took.
+inline std::string_view adaptive_integrator_of(std::string_view dynamics) {
+  for (const auto& i : kIntegrators)
+    if (i.dynamics == dynamics && i.force_evaluations == 0) return i.name;
+  return {};
+}
+
 /// Force evaluations per step of the integrator `name` (1 for an unknown name).
 inline int force_evaluations_per_step(std::string_view name) {
   const IntegratorInfo* i = find_integrator(name);
