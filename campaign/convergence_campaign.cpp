@@ -62,9 +62,9 @@ std::string convergence_campaign_text(const Campaign& c, const ConvergenceChoice
   const bool kept = c.run.resolved_integrator() == adaptive;
   double tolerance = HUGE_VAL;
   for (double r : rates)
-    tolerance = std::min(tolerance,
-                         kept ? resolved_tolerance(c, r)
-                              : auto_tolerance(std::pow(10.0, r), c.run.dense_output, false));
+    tolerance =
+        std::min(tolerance, kept ? resolved_tolerance(c, r)
+                                 : auto_tolerance(std::pow(10.0, r), c.run.dense_output, false));
   tolerance *= choice.tolerance_factor;
 
   toml::table t = toml::parse(c.source_text);
