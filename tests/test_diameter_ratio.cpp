@@ -18,6 +18,7 @@
 #include "sim/initial_state.hpp"
 #include "sim/io/hdf5_file.hpp"
 #include "sim/neighbor/brute_force_pairs.hpp"
+#include "sim/observables/observables.hpp"
 
 namespace fs = std::filesystem;
 using jam::testing::listed_pairs;
@@ -59,7 +60,51 @@ void neighbors_at_ratio(double ratio, double phi) {
   BOOST_TEST(contacts_seen > 0u);
 }
 
+/// The oracle of the rattler rule: contacts from the O(N^2) search (r < d_ij), then particles
+/// with fewer than D + 1 contacts among those left dropped until none is. Written apart from
+/// sim/observables/rattlers.hpp; returns {rattlers, Z over the non-rattlers}.
+template <int D>
+std::pair<std::size_t, double> rattlers_by_hand(const jam::System<D>& sys, double box_length) {
+  const auto contacts = jam::brute_force_pairs(sys.particles, sys.species, box_length, 0.0);
+  std::vector<bool> gone(sys.size(), false);
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<int> degree(sys.size(), 0);
+    for (auto [i, j] : contacts)
+      if (!gone[i] && !gone[j]) ++degree[i], ++degree[j];
+    for (std::size_t i = 0; i < sys.size(); ++i)
+      if (!gone[i] && degree[i] < D + 1) gone[i] = changed = true;
+  }
+  std::size_t left = 0, kept_contacts = 0;
+  for (std::size_t i = 0; i < sys.size(); ++i) left += !gone[i];
+  for (auto [i, j] : contacts) kept_contacts += !gone[i] && !gone[j];
+  return {sys.size() - left, left ? 2.0 * double(kept_contacts) / double(left) : 0.0};
+}
+
+template <int D>
+void rattlers_at_ratio(double ratio, double phi) {
+  auto sys = random_system<D>(512, phi, ratio, 0.0);
+  const auto obs = jam::measure(sys, 0.0, true);
+  const auto [rattlers, z] = rattlers_by_hand(sys, sys.box.length(0.0));
+  // Both outcomes occur at these packings, so the count is a real comparison, not 0 = 0.
+  BOOST_TEST_REQUIRE(rattlers > 0u);
+  BOOST_TEST_REQUIRE(rattlers < sys.size());
+  BOOST_TEST(obs.rattler_fraction == double(rattlers) / double(sys.size()));
+  BOOST_TEST(obs.contacts_per_particle_no_rattlers == z, boost::test_tools::tolerance(1e-12));
+}
+
 }  // namespace
+
+// The rattler rule counts contacts only: at every diameter ratio it removes what the contact
+// graph of the O(N^2) search says, whatever the sizes that made the graph.
+BOOST_AUTO_TEST_CASE(rattlers_follow_the_contact_graph_at_any_ratio) {
+  for (double ratio : {1.0, 1.4, 2.0}) {
+    BOOST_TEST_CONTEXT("ratio " << ratio) {
+      rattlers_at_ratio<2>(ratio, 0.80);
+      rattlers_at_ratio<3>(ratio, 0.60);
+    }
+  }
+}
 
 BOOST_AUTO_TEST_CASE(neighbor_list_and_packing) {
   for (double ratio : {1.0, 1.4, 2.0}) {
