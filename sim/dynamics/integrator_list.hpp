@@ -5,6 +5,7 @@
 // and the help of --integrator all read it. The classes themselves are in one header each
 // (overdamped_euler.hpp, overdamped_heun.hpp, overdamped_chebyshev.hpp, inertial_verlet.hpp),
 // listed in integrators.hpp and dispatched once per run in sim/run/compression_run.cpp.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -20,6 +21,11 @@ struct IntegratorInfo {
   int order;                  // global error ~ dt^order
   bool is_default;            // a default of its dynamics ...
   double default_max_rate;    // ... at compression rates up to this (the lowest bound wins)
+  // A run's resident memory per particle, 2D and 3D, one thread: the system, neighbor list and
+  // everything the integrator keeps (whole jam sim processes at N = 2^18 less N = 256, Poisson
+  // starts at phi 0.80 and 0.60; tests/test_memory_estimate.py). The run limits' estimate
+  // (run_limits.cpp) adds its headroom.
+  std::array<double, 2> bytes_per_particle;
 };
 
 inline constexpr double kAnyRate = 1e300;
@@ -31,12 +37,13 @@ inline constexpr double kAnyRate = 1e300;
 // ensemble-mean pressure within 2.3e-4 of a converged reference throughout. Heun at dt 0.1 was
 // the default before (2.5-4x cheaper than Euler at equal accuracy).
 inline constexpr std::array<IntegratorInfo, 4> kIntegrators = {{
-    {"euler", "overdamped", 1, 1, false, 0.0},
-    {"heun", "overdamped", 2, 2, false, 0.0},
-    // Runge-Kutta-Chebyshev with error control: its steps and stages adapt to the run.
-    {"chebyshev", "overdamped", 0, 2, true, kAnyRate},
-    {"verlet", "inertial", 1, 2, true,
-     kAnyRate},  // forces at the new positions serve the next step too
+    {"euler", "overdamped", 1, 1, false, 0.0, {103, 141}},
+    {"heun", "overdamped", 2, 2, false, 0.0, {135, 190}},
+    // Runge-Kutta-Chebyshev with error control: its steps and stages adapt to the run. Its
+    // memory: five stage arrays and the Lanczos estimate's four vectors and contact terms.
+    {"chebyshev", "overdamped", 0, 2, true, kAnyRate, {296, 482}},
+    // Forces at the new positions serve the next step too.
+    {"verlet", "inertial", 1, 2, true, kAnyRate, {135, 191}},
 }};
 
 /// The dynamics, in the order of the list ("overdamped", "inertial").
@@ -73,6 +80,16 @@ inline std::string_view adaptive_integrator_of(std::string_view dynamics) {
   for (const auto& i : kIntegrators)
     if (i.dynamics == dynamics && i.force_evaluations == 0) return i.name;
   return {};
+}
+
+/// Measured resident bytes per particle of a run with integrator `name` in `dim` dimensions,
+/// one thread (the largest entry's for an unknown name).
+inline double bytes_per_particle(std::string_view name, int dim) {
+  const std::size_t d = dim == 2 ? 0 : 1;
+  if (const IntegratorInfo* i = find_integrator(name)) return i->bytes_per_particle[d];
+  double most = 0.0;
+  for (const auto& i : kIntegrators) most = std::max(most, i.bytes_per_particle[d]);
+  return most;
 }
 
 /// Force evaluations per step of the integrator `name` (1 for an unknown name).

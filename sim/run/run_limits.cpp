@@ -11,9 +11,13 @@
 namespace jam {
 namespace {
 
-// Bytes per particle of a run: positions, forces, neighbor list, cells and the integrator's
-// stage arrays; measured 102-164 B in 2D and 3D (docs/performance.md), rounded up.
-constexpr double kBytesPerParticle = 256.0;
+// A run's memory per particle is measured per integrator and dimension (integrator_list.hpp:
+// 103-296 B in 2D, 141-482 B in 3D, one thread); each further thread adds its force scratch,
+// measured 36-41 B in 2D and 40-48 B in 3D. The estimate takes 1.25 times the measurements:
+// packings denser than the measured starts keep more contacts (+4% at phi 1.0 in 2D, +8% at
+// 0.80 in 3D) and the allocator rounds up.
+constexpr double kMemoryHeadroom = 1.25;
+constexpr double kBytesPerParticlePerExtraThread[2] = {41.0, 48.0};
 
 }  // namespace
 
@@ -47,8 +51,10 @@ RunEstimate estimate_run(const SimConfig& c, std::int64_t n) {
   // with --jamming-point each keeps a configuration too (an upper bound: all of them).
   const double per_point =
       8.0 * (7 + c.dim * c.dim) + (c.jamming_point ? 8.0 * c.dim * static_cast<double>(n) : 0.0);
+  const double per_particle = bytes_per_particle(integrator, c.dim) +
+                              (c.threads - 1) * kBytesPerParticlePerExtraThread[c.dim == 2 ? 0 : 1];
   e.memory_bytes =
-      kBytesPerParticle * static_cast<double>(n) * c.threads + 2.0 * per_point * e.output_points;
+      kMemoryHeadroom * per_particle * static_cast<double>(n) + 2.0 * per_point * e.output_points;
   return e;
 }
 
